@@ -1,0 +1,133 @@
+// `hapticut run`: a headless simulation of a model, with an optional press, a JSON report and mesh export.
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <iostream>
+
+#include "commands.h"
+#include "hapticut/mesh/io/mesh_file.h"
+#include "hapticut/scene/headless_run.h"
+#include "model_source.h"
+#include "terminal.h"
+
+namespace hapticut::app {
+
+namespace {
+
+struct RunOptions {
+    std::string model = "heart";
+    int triangles = 1619;
+    std::string integrator = "rk4";
+    double dt_s = 1e-3;
+    long steps = 1000;
+    std::string forceAt, force;
+    double forceUntil_s = -1;
+    std::string exportMesh, report;
+};
+
+int run(const RunOptions& o) {
+    const auto scheme = physics::parseScheme(o.integrator);
+    if (!scheme) {
+        std::cerr << "hapticut run: unknown integrator '" << o.integrator << "': expected euler, midpoint, rk4 or symplectic\n";
+        return 2;
+    }
+    scene::RunConfig config;
+    config.scheme = *scheme;
+    config.dt_s = o.dt_s;
+    config.steps = o.steps;
+    if (o.forceAt.empty() != o.force.empty()) {
+        std::cerr << "hapticut run: --force-at and --force go together\n";
+        return 2;
+    }
+    if (!o.force.empty()) {
+        const auto at = parseVec3(o.forceAt), force = parseVec3(o.force);
+        if (!at || !force) {
+            std::cerr << "hapticut run: --force-at and --force take three numbers 'X,Y,Z', found '" << (at ? o.force : o.forceAt) << "'\n";
+            return 2;
+        }
+        config.force = scene::PointForce{*at, *force, o.forceUntil_s >= 0 ? o.forceUntil_s : 1e300};
+    }
+
+    const auto source = loadModelSource(o.model, o.triangles);
+    if (!source) return 1;
+    physics::MassSpringModel model = buildSimulationModel(*source);
+    std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes, " << model.springs.size() << " springs, "
+              << physics::schemeName(config.scheme) << ", dt " << config.dt_s << " s, " << config.steps << " steps\n";
+
+    Progress progress("simulating");
+    const scene::RunResult r = scene::runHeadless(model, config, [&](long done, long total) { progress.update(done, total); });
+    progress.finish();
+
+    std::cout << "simulated " << r.simTime_s << " s in " << r.wallTime_s << " s wall; step " << r.step_us.mean << " us mean, "
+              << r.step_us.p99 << " us p99 (" << r.substeps << " substep" << (r.substeps == 1 ? "" : "s") << " each, stable below "
+              << r.stableStep_s * 1e3 << " ms)\n";
+    if (config.force)
+        std::cout << "pressed node " << r.forceNode << " with " << config.force->force_N.norm() << " N: displaced "
+                  << r.forceNodeDisplacementAtRelease_m * 1e3 << " mm at release, " << r.forceNodeDisplacementEnd_m * 1e3 << " mm at the end\n";
+    std::cout << "max displacement " << r.maxDisplacement_m * 1e3 << " mm during the run, " << r.finalMaxDisplacement_m * 1e3
+              << " mm at the end; kinetic energy at the end " << r.kineticEnergyEnd_J << " J; non-finite steps " << r.nanEvents << "\n";
+
+    int status = r.nanEvents > 0 ? 3 : 0;
+    if (!o.exportMesh.empty()) {
+        mesh::SurfaceMesh deformed = source->mesh;
+        deformed.positions = model.nodes.position;
+        mesh::computeFaceNormals(deformed);
+        if (const auto error = mesh::io::saveMesh(o.exportMesh, deformed, source->physics)) {
+            std::cerr << error->toString() << "\n";
+            status = 1;
+        } else {
+            std::cout << "wrote the deformed mesh to " << o.exportMesh << "\n";
+        }
+    }
+    if (!o.report.empty()) {
+        nlohmann::ordered_json j;
+        j["model"] = source->name;
+        j["vertices"] = source->mesh.positions.size();
+        j["faces"] = source->mesh.faces.size();
+        j["springs"] = model.springs.size();
+        j["integrator"] = physics::schemeName(config.scheme);
+        j["dt"] = config.dt_s;
+        j["steps"] = r.steps;
+        j["substeps"] = r.substeps;
+        j["stable_dt_s"] = r.stableStep_s;
+        j["sim_time_s"] = r.simTime_s;
+        j["wall_time_s"] = r.wallTime_s;
+        j["step_us"] = toJson(r.step_us);
+        j["max_displacement_m"] = r.maxDisplacement_m;
+        j["final_max_displacement_m"] = r.finalMaxDisplacement_m;
+        j["kinetic_energy_end_J"] = r.kineticEnergyEnd_J;
+        j["nan_events"] = r.nanEvents;
+        j["total_mass_kg"] = physics::totalMass(model);
+        if (config.force) {
+            j["force"] = {{"node", r.forceNode},
+                          {"at_m", toJson(config.force->at_m)},
+                          {"force_N", toJson(config.force->force_N)},
+                          {"until_s", std::min(config.force->until_s, r.simTime_s)},
+                          {"node_displacement_at_release_m", r.forceNodeDisplacementAtRelease_m},
+                          {"node_displacement_end_m", r.forceNodeDisplacementEnd_m}};
+        }
+        if (!writeJson(o.report, j)) return 1;
+        std::cout << "wrote the report to " << o.report << "\n";
+    }
+    return status;
+}
+
+}  // namespace
+
+Command addRunCommand(CLI::App& app) {
+    auto o = std::make_shared<RunOptions>();
+    CLI::App* cmd = app.add_subcommand("run", "Simulate a model headless and report what happened");
+    cmd->add_option("--model", o->model, "'heart' (procedural) or a model file (.txt thesis format, .obj, .ply)")->capture_default_str();
+    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->capture_default_str()->check(CLI::Range(12, 20'000'000));
+    cmd->add_option("--integrator", o->integrator, "euler, midpoint, rk4 or symplectic")->capture_default_str();
+    cmd->add_option("--dt", o->dt_s, "Time step in seconds")->capture_default_str()->check(CLI::Range(1e-7, 1.0));
+    cmd->add_option("--steps", o->steps, "Number of steps")->capture_default_str()->check(CLI::Range(0L, 1'000'000'000L));
+    cmd->add_option("--force-at", o->forceAt, "Point X,Y,Z (m): the force goes to the nearest node");
+    cmd->add_option("--force", o->force, "Force FX,FY,FZ (N)");
+    cmd->add_option("--force-until", o->forceUntil_s, "Release the force at this simulated time (s); default: never");
+    cmd->add_option("--export-mesh", o->exportMesh, "Write the final deformed mesh (.txt, .obj or .ply)");
+    cmd->add_option("--report", o->report, "Write a JSON report");
+    return [o] { return run(*o); };
+}
+
+}  // namespace hapticut::app

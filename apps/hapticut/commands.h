@@ -1,0 +1,20 @@
+// The subcommands of the hapticut executable; each adds itself to the CLI and runs when chosen.
+#pragma once
+
+#include <functional>
+
+namespace CLI {
+class App;
+}
+
+namespace hapticut::app {
+
+/// Registers a subcommand; the returned function runs it after parsing and gives the exit code.
+using Command = std::function<int()>;
+
+Command addRunCommand(CLI::App& app);
+Command addInfoCommand(CLI::App& app);
+Command addConvertCommand(CLI::App& app);
+Command addBenchCommand(CLI::App& app);
+
+}  // namespace hapticut::app

@@ -1,0 +1,39 @@
+// hapticut: one executable with git-style subcommands (run, info, convert, bench).
+#include <CLI/CLI.hpp>
+
+#include <clocale>
+#include <iostream>
+#include <vector>
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+    std::setlocale(LC_ALL, "");  // the user's locale for messages; files are parsed locale-independently
+    CLI::App app{"Hapticut: haptic soft-tissue simulator (mass-spring organ models, proxy haptics, cutting)", "hapticut"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "hapticut 0.1.0");
+
+    using hapticut::app::Command;
+    std::vector<std::pair<CLI::App*, Command>> commands;
+    for (auto add : {hapticut::app::addRunCommand, hapticut::app::addInfoCommand, hapticut::app::addConvertCommand,
+                     hapticut::app::addBenchCommand}) {
+        Command run = add(app);
+        commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
+    }
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    for (auto& [sub, run] : commands)
+        if (sub->parsed()) {
+            try {
+                return run();
+            } catch (const std::exception& e) {
+                std::cerr << "hapticut: " << e.what() << "\n";
+                return 1;
+            }
+        }
+    return 1;
+}

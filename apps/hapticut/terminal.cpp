@@ -1,0 +1,54 @@
+// Terminal helpers: progress line, vector arguments, JSON files.
+#include "terminal.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "hapticut/mesh/io/line_reader.h"
+#include "hapticut/mesh/io/load_error.h"
+
+namespace hapticut::app {
+
+Progress::Progress(std::string label) : label_(std::move(label)), enabled_(isatty(STDERR_FILENO) != 0) {}
+
+void Progress::update(long done, long total) {
+    if (!enabled_ || total <= 0) return;
+    std::fprintf(stderr, "\r%s %3ld%%  (%ld/%ld)", label_.c_str(), 100 * done / total, done, total);
+    std::fflush(stderr);
+}
+
+void Progress::finish() {
+    if (enabled_) std::fprintf(stderr, "\r\033[K");
+}
+
+std::optional<Vec3> parseVec3(const std::string& text) {
+    Vec3 v;
+    std::size_t start = 0;
+    for (int k = 0; k < 3; ++k) {
+        const std::size_t comma = text.find(',', start);
+        if ((k < 2) == (comma == std::string::npos)) return std::nullopt;
+        const std::string part = text.substr(start, k < 2 ? comma - start : std::string::npos);
+        if (!mesh::io::parseFiniteDouble(part, v[k])) return std::nullopt;
+        start = comma + 1;
+    }
+    return v;
+}
+
+nlohmann::ordered_json toJson(const Summary& s) {
+    return {{"mean", s.mean}, {"p50", s.p50}, {"p99", s.p99}, {"max", s.max}};
+}
+
+nlohmann::ordered_json toJson(const Vec3& v) { return nlohmann::ordered_json::array({v.x(), v.y(), v.z()}); }
+
+bool writeJson(const std::filesystem::path& file, const nlohmann::ordered_json& json) {
+    if (const auto error = mesh::io::writeTextFileAtomically(file, json.dump(2) + "\n")) {
+        std::cerr << error->toString() << "\n";
+        return false;
+    }
+    return true;
+}
+
+}  // namespace hapticut::app

@@ -1,0 +1,36 @@
+// Terminal helpers: a progress line for long runs, vector arguments, JSON files.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "hapticut/common/stats.h"
+#include "hapticut/geometry/vec.h"
+
+namespace hapticut::app {
+
+/// Progress on stderr, only when it is a terminal: "label  42%  (420/1000)".
+class Progress {
+public:
+    explicit Progress(std::string label);
+    void update(long done, long total);
+    void finish();
+
+private:
+    std::string label_;
+    bool enabled_;
+};
+
+/// Parses "X,Y,Z" (locale-independent); empty on anything else.
+std::optional<Vec3> parseVec3(const std::string& text);
+
+nlohmann::ordered_json toJson(const Summary& s);
+nlohmann::ordered_json toJson(const Vec3& v);
+
+/// Writes JSON (indented) through a temporary file; prints the error and returns false on failure.
+bool writeJson(const std::filesystem::path& file, const nlohmann::ordered_json& json);
+
+}  // namespace hapticut::app

@@ -1,0 +1,22 @@
+// Wavefront OBJ: read (polygons fan-triangulated, per-corner UVs kept) and write, keeping vertex indices.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "hapticut/common/result.h"
+#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/mesh/surface_mesh.h"
+
+namespace hapticut::mesh::io {
+
+struct ImportedMesh {
+    SurfaceMesh mesh;  // edges from the faces, normals computed
+    std::vector<LoadWarning> warnings;
+};
+
+Result<ImportedMesh, LoadError> parseObj(std::string_view text, const std::filesystem::path& file_for_errors);
+std::string formatObj(const SurfaceMesh& mesh);
+
+}  // namespace hapticut::mesh::io

@@ -1,0 +1,64 @@
+// A headless simulation run with per-step timing.
+#include "hapticut/scene/headless_run.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace hapticut::scene {
+
+std::uint32_t nearestNode(const physics::MassSpringModel& model, const Vec3& point) {
+    std::uint32_t best = 0;
+    double bestD2 = 1e300;
+    for (std::uint32_t i = 0; i < model.nodes.size(); ++i) {
+        const double d2 = (model.nodes.restPosition[i] - point).squaredNorm();
+        if (d2 < bestD2) bestD2 = d2, best = i;
+    }
+    return best;
+}
+
+RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config, const std::function<void(long, long)>& progress) {
+    using Clock = std::chrono::steady_clock;
+    RunResult r;
+    physics::Stepper stepper(config.scheme);
+    stepper.prepare(model);
+    r.stableStep_s = stepper.stableStep_s();
+    r.substeps = stepper.substepsFor(config.dt_s);
+
+    std::vector<double> stepTimes(static_cast<std::size_t>(std::max(config.steps, 0L)));
+    bool released = false;
+    if (config.force) r.forceNode = nearestNode(model, config.force->at_m);
+    auto nodeDisplacement = [&] { return (model.nodes.position[r.forceNode] - model.nodes.restPosition[r.forceNode]).norm(); };
+    const long progressEvery = std::max(1L, config.steps / 100);
+
+    const auto start = Clock::now();
+    for (long i = 0; i < config.steps; ++i) {
+        const double t = static_cast<double>(i) * config.dt_s;
+        if (config.force) {
+            const bool on = t < config.force->until_s;
+            if (!on && !released) {
+                released = true;
+                r.forceNodeDisplacementAtRelease_m = nodeDisplacement();
+            }
+            model.nodes.externalForce[r.forceNode] = on ? config.force->force_N : Vec3::Zero();
+        }
+        const auto t0 = Clock::now();
+        const physics::StepResult step = stepper.step(model, config.dt_s);
+        stepTimes[static_cast<std::size_t>(i)] = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+        if (!step.finite) ++r.nanEvents;
+        r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model));
+        if (progress && (i + 1) % progressEvery == 0) progress(i + 1, config.steps);
+    }
+    r.wallTime_s = std::chrono::duration<double>(Clock::now() - start).count();
+    r.steps = config.steps;
+    r.simTime_s = static_cast<double>(config.steps) * config.dt_s;
+    r.step_us = summarize(stepTimes);
+    r.finalMaxDisplacement_m = physics::maxDisplacement(model);
+    r.kineticEnergyEnd_J = physics::kineticEnergy(model);
+    if (config.force) {
+        if (!released) r.forceNodeDisplacementAtRelease_m = nodeDisplacement();
+        r.forceNodeDisplacementEnd_m = nodeDisplacement();
+    }
+    return r;
+}
+
+}  // namespace hapticut::scene

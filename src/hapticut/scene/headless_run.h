@@ -1,0 +1,49 @@
+// A headless simulation run: step a model for a while, optionally pressing one node, and measure it.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "hapticut/common/stats.h"
+#include "hapticut/physics/integrators.h"
+#include "hapticut/physics/mass_spring_model.h"
+
+namespace hapticut::scene {
+
+struct PointForce {
+    Vec3 at_m = Vec3::Zero();        // the force goes to the node nearest this point
+    Vec3 force_N = Vec3::Zero();
+    double until_s = 1e300;          // released at this simulated time
+};
+
+struct RunConfig {
+    physics::Scheme scheme = physics::Scheme::RungeKutta4;
+    double dt_s = 1e-3;
+    long steps = 1000;
+    std::optional<PointForce> force;
+};
+
+struct RunResult {
+    long steps = 0;
+    double simTime_s = 0, wallTime_s = 0;
+    Summary step_us;                 // wall time per step
+    int substeps = 1;                // per step, chosen for stability
+    double stableStep_s = 0;
+    double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
+    double kineticEnergyEnd_J = 0;
+    long nanEvents = 0;
+    // Only with a force:
+    std::uint32_t forceNode = 0;
+    double forceNodeDisplacementAtRelease_m = 0;  // |x - rest| of the pressed node when released (or at the end)
+    double forceNodeDisplacementEnd_m = 0;
+};
+
+/// Index of the node whose rest position is nearest `point`.
+std::uint32_t nearestNode(const physics::MassSpringModel& model, const Vec3& point);
+
+/// Runs the model; `progress(done, total)` is called about a hundred times, if given.
+RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
+                      const std::function<void(long, long)>& progress = {});
+
+}  // namespace hapticut::scene
