@@ -16,5 +16,6 @@ Command addRunCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);
+Command addAssetsCommand(CLI::App& app);
 
 }  // namespace hapticut::app

@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
     using hapticut::app::Command;
     std::vector<std::pair<CLI::App*, Command>> commands;
     for (auto add : {hapticut::app::addRunCommand, hapticut::app::addInfoCommand, hapticut::app::addConvertCommand,
-                     hapticut::app::addBenchCommand}) {
+                     hapticut::app::addBenchCommand, hapticut::app::addAssetsCommand}) {
         Command run = add(app);
         commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
     }

@@ -94,7 +94,8 @@ void Stepper::prepare(const MassSpringModel& model) {
 
 int Stepper::substepsFor(double dt_s) const {
     if (!autoSubstep_ || stableDt_ <= 0 || dt_s <= stableDt_) return 1;
-    return static_cast<int>(std::min(std::ceil(dt_s / stableDt_), 1e6));
+    // The small tolerance keeps an exact multiple (10 x the stable step) from rounding up to 11.
+    return static_cast<int>(std::min(std::ceil(dt_s / stableDt_ * (1 - 1e-12)), 1e6));
 }
 
 StepResult Stepper::step(MassSpringModel& model, double dt_s) {

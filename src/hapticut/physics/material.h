@@ -12,10 +12,15 @@ namespace hapticut::physics {
 /// proportion to its share of the surface area (a third of each adjacent face).
 struct Material {
     double totalMass_kg = 0.3;
-    double structuralStiffness_N = 0.12;          // k·L; at 7 mm edges, 17 N/m per spring
-    double structuralDamping_Ns = 2.4e-4;         // d·L; k_d/k_s = 2 ms, enough for explicit Euler at 1 ms
-    double positioningStiffness_N_per_m3 = 1.4e5;  // per m² of surface: 1 N on 7 cm² of tissue moves it ~1 cm
-    double positioningDamping_Ns_per_m3 = 660;    // per m² of surface: about 0.3 of critical damping
+    double structuralStiffness_N = 0.024;          // k·L; at 5.6 mm edges (1,619 heart), 4.3 N/m per spring
+    double structuralDamping_Ns = 2.7e-5;          // d·L; k_d/k_s = 1.1 ms, see below
+    double positioningStiffness_N_per_m3 = 2.2e6;  // per m² of surface; ω = 400 rad/s for a node on its anchor
+    double positioningDamping_Ns_per_m3 = 5600;    // per m² of surface; about half of critical damping
+    // Why these: explicit Euler needs c > ω² dt in every mode and symplectic Euler ω²dt² + 2c·dt <= 4,
+    // so on the stiffest node of the 1,619-triangle heart (ω²dt² ≈ 0.7 at dt = 1 ms) the damping ratio
+    // k_d/k_s must sit near 1.1 ms for all four integrators to run at 1 ms without substeps (the
+    // estimates are 1.25 ms for Euler, 2.1 midpoint, 2.6 RK4 and 1.07 symplectic Euler). Finer
+    // meshes are stiffer per node and get substeps automatically (see Stepper).
 };
 
 /// Builds the model with the material spread by edge length and area. Springs come from mesh.edges.

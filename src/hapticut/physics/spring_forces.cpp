@@ -1,22 +1,34 @@
 // Force terms of the mass-spring model.
 #include "hapticut/physics/spring_forces.h"
 
+#include <cmath>
+
 namespace hapticut::physics {
 
 void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
+    // Raw restrict pointers: without them the compiler must assume that every store into f may change
+    // the springs' arrays, and reloads each array's base pointer on every iteration.
     const std::size_t count = s.size();
-    const std::uint32_t* a = s.a.data();
-    const std::uint32_t* b = s.b.data();
+    const std::uint32_t* __restrict a = s.a.data();
+    const std::uint32_t* __restrict b = s.b.data();
+    const double* __restrict rest = s.restLength.data();
+    const double* __restrict ks = s.stiffness.data();
+    const double* __restrict kd = s.damping.data();
+    const double* __restrict xp = x.data()->data();
+    const double* __restrict vp = v.data()->data();
+    double* __restrict fp = f.data()->data();
     for (std::size_t i = 0; i < count; ++i) {
-        const Vec3 d = x[b[i]] - x[a[i]];
-        const double len2 = d.squaredNorm();
+        const std::size_t ia = 3 * std::size_t{a[i]}, ib = 3 * std::size_t{b[i]};
+        const double dx = xp[ib] - xp[ia], dy = xp[ib + 1] - xp[ia + 1], dz = xp[ib + 2] - xp[ia + 2];
+        const double len2 = dx * dx + dy * dy + dz * dz;
         if (len2 < 1e-24) continue;  // coincident nodes have no direction; a fresh cut can produce them
         const double invLen = 1 / std::sqrt(len2);
-        const double stretchRate = (v[b[i]] - v[a[i]]).dot(d) * invLen;  // m/s
-        const double magnitude = s.stiffness[i] * (len2 * invLen - s.restLength[i]) + s.damping[i] * stretchRate;
-        const Vec3 fa = (magnitude * invLen) * d;
-        f[a[i]] += fa;
-        f[b[i]] -= fa;
+        const double dvx = vp[ib] - vp[ia], dvy = vp[ib + 1] - vp[ia + 1], dvz = vp[ib + 2] - vp[ia + 2];
+        const double stretchRate = (dvx * dx + dvy * dy + dvz * dz) * invLen;  // m/s
+        const double scale = (ks[i] * (len2 * invLen - rest[i]) + kd[i] * stretchRate) * invLen;
+        const double fx = scale * dx, fy = scale * dy, fz = scale * dz;
+        fp[ia] += fx, fp[ia + 1] += fy, fp[ia + 2] += fz;
+        fp[ib] -= fx, fp[ib + 1] -= fy, fp[ib + 2] -= fz;
     }
 }
 

@@ -1,0 +1,140 @@
+// The hapticut executable end to end: reports, conversions, errors and exit codes, shipped assets.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+    int exitCode;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+class Cli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("hapticut-cli-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    CliResult run(const std::string& args) const {
+        const std::string cmd = std::string(HAPTICUT_EXE) + " " + args + " >" + (dir_ / "out").string() + " 2>" + (dir_ / "err").string();
+        const int status = std::system(cmd.c_str());
+        return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "out"), slurp(dir_ / "err")};
+    }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+    fs::path dir_;
+};
+
+TEST_F(Cli, RunWritesAReportWithEveryKey) {
+    const CliResult r = run("run --steps 400 --force-at 0,-0.01,0.05 --force 0,0,-1 --force-until 0.2 --report " + path("r.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(path("r.json")));
+    for (const char* key : {"model", "vertices", "faces", "springs", "integrator", "dt", "steps", "sim_time_s", "wall_time_s", "step_us",
+                            "max_displacement_m", "final_max_displacement_m", "kinetic_energy_end_J", "nan_events"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    for (const char* key : {"mean", "p50", "p99", "max"}) EXPECT_TRUE(j["step_us"].contains(key)) << key;
+    EXPECT_EQ(j["model"], "heart");
+    EXPECT_NEAR(j["faces"].get<double>(), 1619, 0.02 * 1619);
+    EXPECT_EQ(j["integrator"], "rk4");
+    EXPECT_EQ(j["steps"], 400);
+    EXPECT_DOUBLE_EQ(j["sim_time_s"].get<double>(), 0.4);
+    EXPECT_EQ(j["nan_events"], 0);
+    // The press indents the heart by millimetres, and it comes back after release.
+    EXPECT_GT(j["force"]["node_displacement_at_release_m"].get<double>(), 1e-3);
+    EXPECT_GT(j["max_displacement_m"].get<double>(), 1e-3);
+    EXPECT_LT(j["final_max_displacement_m"].get<double>(), 0.2 * j["max_displacement_m"].get<double>());
+    EXPECT_NE(r.out.find("pressed node"), std::string::npos);
+}
+
+TEST_F(Cli, InfoReportsTheHeartAsClosedAndManifold) {
+    const CliResult r = run("info heart --triangles 2000 --json");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    for (const char* key : {"vertices", "faces", "edges", "boundary_edges", "closed", "manifold", "oriented", "components", "euler_characteristic",
+                            "bbox_min", "bbox_max", "min_angle_deg"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j["closed"], true);
+    EXPECT_EQ(j["manifold"], true);
+    EXPECT_EQ(j["euler_characteristic"], 2);
+    EXPECT_NEAR(j["faces"].get<double>(), 2000, 40);
+}
+
+TEST_F(Cli, ConvertsThroughEveryFormatAndKeepsTheMesh) {
+    ASSERT_EQ(run("convert heart " + path("h.obj")).exitCode, 0);
+    ASSERT_EQ(run("convert " + path("h.obj") + " " + path("h.ply")).exitCode, 0);
+    const CliResult r = run("convert " + path("h.ply") + " " + path("h.txt"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto direct = nlohmann::json::parse(run("info heart --json").out);
+    const auto converted = nlohmann::json::parse(run("info " + path("h.txt") + " --json").out);
+    for (const char* key : {"vertices", "faces", "edges", "closed", "manifold", "oriented", "bbox_min", "bbox_max"})
+        EXPECT_EQ(direct[key], converted[key]) << key;
+    // A run on the converted file works too.
+    EXPECT_EQ(run("run --model " + path("h.txt") + " --steps 20").exitCode, 0);
+}
+
+TEST_F(Cli, MalformedFileGivesFileLineMessageAndNonZeroExit) {
+    std::ofstream(path("bad.txt")) << "physics\n1 2 3 4 5\nvertices 2\n0 0 0\n0 zero 0\nfaces 0\nnormals 0\nedges 0\n";
+    for (const std::string cmd : {"info ", "run --model ", "convert "}) {
+        const CliResult r = run(cmd + path("bad.txt") + (cmd == "convert " ? " " + path("x.obj") : ""));
+        EXPECT_EQ(r.exitCode, 1) << cmd;
+        EXPECT_NE(r.err.find("bad.txt:5: expected a finite number for y, found 'zero'"), std::string::npos) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(path("x.obj")));
+}
+
+TEST_F(Cli, BadArgumentsAreExplained) {
+    CliResult r = run("run --integrator leapfrog");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("unknown integrator 'leapfrog'"), std::string::npos) << r.err;
+    r = run("run --force-at 1,2 --force 0,0,1");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("three numbers"), std::string::npos) << r.err;
+    r = run("info " + path("missing.obj"));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("missing.obj: cannot open"), std::string::npos) << r.err;
+    r = run("convert heart " + path("x.stl"));
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("expected .txt (thesis format), .obj or .ply"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, ShippedAssetsAreWhatTheCodeGenerates) {
+    const CliResult r = run("assets --out " + dir_.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* file : {"models/heart.txt", "tools/scalpel.txt", "tools/probe.txt"})
+        EXPECT_TRUE(slurp(fs::path(HAPTICUT_SOURCE_DIR) / "assets" / file) == slurp(dir_ / file))
+            << file << " is stale: run 'hapticut assets' and commit the result";
+    const auto heart = nlohmann::json::parse(run(std::string("info ") + HAPTICUT_SOURCE_DIR + "/assets/models/heart.txt --json").out);
+    EXPECT_EQ(heart["closed"], true);
+    EXPECT_NEAR(heart["faces"].get<double>(), 1619, 0.02 * 1619);
+    const auto scalpel = nlohmann::json::parse(run(std::string("info ") + HAPTICUT_SOURCE_DIR + "/assets/tools/scalpel.txt --json").out);
+    EXPECT_EQ(scalpel["tool_threshold_N"], 2.0);
+}
+
+TEST_F(Cli, ExportsTheDeformedMesh) {
+    const CliResult r = run("run --steps 100 --force-at 0,0,0.05 --force 0,0,-1 --export-mesh " + path("pressed.ply"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(run("info " + path("pressed.ply") + " --json").out);
+    EXPECT_EQ(j["closed"], true);
+    EXPECT_LT(j["bbox_max"][2].get<double>(), nlohmann::json::parse(run("info heart --json").out)["bbox_max"][2].get<double>() + 1e-9);
+}
+
+}  // namespace

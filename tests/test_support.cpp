@@ -1,0 +1,43 @@
+// Small models and meshes shared by the tests.
+#include "test_support.h"
+
+#include <cmath>
+
+namespace hapticut::test {
+
+physics::MassSpringModel oscillator(double m, double k, double c, double x0) {
+    physics::MassSpringModel model;
+    physics::Nodes& n = model.nodes;
+    n.position = {Vec3(x0, 0, 0)};
+    n.velocity = {Vec3::Zero()};
+    n.restPosition = {Vec3::Zero()};
+    n.externalForce = {Vec3::Zero()};
+    n.mass = {m};
+    n.inverseMass = {1 / m};
+    n.anchorStiffness = {k};
+    n.anchorDamping = {c};
+    model.snapDistance_m = 0;
+    model.snapSpeed_m_per_s = 0;
+    return model;
+}
+
+mesh::SurfaceMesh tetrahedron() {
+    mesh::SurfaceMesh m;
+    m.positions = {Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(-1, 1, -1), Vec3(-1, -1, 1)};
+    m.faces = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+    mesh::completeMesh(m);
+    return m;
+}
+
+Vec3 wobble(std::size_t i, double size) {
+    const auto x = static_cast<double>(i);
+    return size * Vec3(std::sin(1.7 * x + 0.3), std::cos(0.37 * x), std::sin(0.113 * x + 1.1));
+}
+
+double signedVolume(const mesh::SurfaceMesh& mesh) {
+    double v = 0;
+    for (const mesh::Face& f : mesh.faces) v += mesh.positions[f[0]].dot(mesh.positions[f[1]].cross(mesh.positions[f[2]])) / 6;
+    return v;
+}
+
+}  // namespace hapticut::test

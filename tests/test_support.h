@@ -1,0 +1,22 @@
+// Small models and meshes shared by the tests.
+#pragma once
+
+#include "hapticut/mesh/surface_mesh.h"
+#include "hapticut/physics/mass_spring_model.h"
+
+namespace hapticut::test {
+
+/// One node of mass m on a positioning spring (k, c) at the origin, started at (x0, 0, 0) at rest.
+/// The snap-back rule is off, so it is exactly the damped oscillator x'' = -k/m x - c/m x'.
+physics::MassSpringModel oscillator(double m_kg, double k_N_per_m, double c_Ns_per_m, double x0_m);
+
+/// A regular tetrahedron with outward faces (closed, 4 vertices, 6 edges).
+mesh::SurfaceMesh tetrahedron();
+
+/// A deterministic, irregular offset of the given size for node i (repeatable "random" perturbations).
+Vec3 wobble(std::size_t i, double size_m);
+
+/// The signed volume enclosed by a closed mesh: positive when the faces point outward.
+double signedVolume(const mesh::SurfaceMesh& mesh);
+
+}  // namespace hapticut::test
