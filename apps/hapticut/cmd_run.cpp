@@ -64,6 +64,9 @@ int run(const RunOptions& o) {
     if (config.force)
         std::cout << "pressed node " << r.forceNode << " with " << config.force->force_N.norm() << " N: displaced "
                   << r.forceNodeDisplacementAtRelease_m * 1e3 << " mm at release, " << r.forceNodeDisplacementEnd_m * 1e3 << " mm at the end\n";
+    if (r.recoveryTime_s >= 0)
+        std::cout << "after release every node was back within " << scene::kRecoveredDistance_m * 1e3 << " mm of rest in " << r.recoveryTime_s * 1e3
+                  << " ms\n";
     std::cout << "max displacement " << r.maxDisplacement_m * 1e3 << " mm during the run, " << r.finalMaxDisplacement_m * 1e3
               << " mm at the end; kinetic energy at the end " << r.kineticEnergyEnd_J << " J; non-finite steps " << r.nanEvents << "\n";
 
@@ -104,7 +107,8 @@ int run(const RunOptions& o) {
                           {"force_N", toJson(config.force->force_N)},
                           {"until_s", std::min(config.force->until_s, r.simTime_s)},
                           {"node_displacement_at_release_m", r.forceNodeDisplacementAtRelease_m},
-                          {"node_displacement_end_m", r.forceNodeDisplacementEnd_m}};
+                          {"node_displacement_end_m", r.forceNodeDisplacementEnd_m},
+                          {"recovery_time_s", r.recoveryTime_s >= 0 ? nlohmann::ordered_json(r.recoveryTime_s) : nlohmann::ordered_json(nullptr)}};
         }
         if (!writeJson(o.report, j)) return 1;
         std::cout << "wrote the report to " << o.report << "\n";

@@ -62,6 +62,8 @@ TEST_F(Cli, RunWritesAReportWithEveryKey) {
     EXPECT_GT(j["force"]["node_displacement_at_release_m"].get<double>(), 1e-3);
     EXPECT_GT(j["max_displacement_m"].get<double>(), 1e-3);
     EXPECT_LT(j["final_max_displacement_m"].get<double>(), 0.2 * j["max_displacement_m"].get<double>());
+    EXPECT_GT(j["force"]["recovery_time_s"].get<double>(), 0.0);
+    EXPECT_LT(j["force"]["recovery_time_s"].get<double>(), 0.2);
     EXPECT_NE(r.out.find("pressed node"), std::string::npos);
 }
 

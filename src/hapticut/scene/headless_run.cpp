@@ -45,7 +45,10 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config, 
         const physics::StepResult step = stepper.step(model, config.dt_s);
         stepTimes[static_cast<std::size_t>(i)] = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
         if (!step.finite) ++r.nanEvents;
-        r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model));
+        const double displacement = physics::maxDisplacement(model);
+        r.maxDisplacement_m = std::max(r.maxDisplacement_m, displacement);
+        if (released && r.recoveryTime_s < 0 && displacement < kRecoveredDistance_m)
+            r.recoveryTime_s = static_cast<double>(i + 1) * config.dt_s - config.force->until_s;
         if (progress && (i + 1) % progressEvery == 0) progress(i + 1, config.steps);
     }
     r.wallTime_s = std::chrono::duration<double>(Clock::now() - start).count();

@@ -37,7 +37,11 @@ struct RunResult {
     std::uint32_t forceNode = 0;
     double forceNodeDisplacementAtRelease_m = 0;  // |x - rest| of the pressed node when released (or at the end)
     double forceNodeDisplacementEnd_m = 0;
+    /// Time from release until every node is back within kRecoveredDistance_m of rest; negative if never.
+    double recoveryTime_s = -1;
 };
+
+inline constexpr double kRecoveredDistance_m = 1e-4;
 
 /// Index of the node whose rest position is nearest `point`.
 std::uint32_t nearestNode(const physics::MassSpringModel& model, const Vec3& point);

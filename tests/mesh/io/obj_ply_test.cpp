@@ -120,6 +120,9 @@ TEST(PlyFormat, ErrorsAreClear) {
                 "property list uchar int vertex_indices\nend_header\n0 0 0\n3 0 0 5\n",
                 "vertex index 5 is out of range");
     expectError("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n", "needs x, y and z");
+    // Found by the fuzzer: a face element without an index list used to index an empty vertex array.
+    expectError("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_ind\nend_header\n3 0 1 2\n",
+                "needs a list property 'vertex_indices'");
 }
 
 TEST(MeshFile, LoadsByExtensionAndRefusesUnknownOnes) {

@@ -150,6 +150,13 @@ Result<ImportedMesh, LoadError> parsePly(std::string_view bytes, const std::file
             }
         }
         if (!sawFormat) throw ParseFailure{0, "no 'format' line in the header"};
+        for (const Element& el : elements) {
+            if (el.name != "face") continue;
+            bool hasIndices = false;
+            for (const Property& p : el.properties)
+                hasIndices |= !p.countType.empty() && (p.name == "vertex_indices" || p.name == "vertex_index");
+            if (!hasIndices) throw ParseFailure{0, "the face element needs a list property 'vertex_indices'"};
+        }
 
         ImportedMesh out;
         SurfaceMesh& m = out.mesh;

@@ -1,0 +1,70 @@
+// Google Benchmark: spring forces and integrator steps on the procedural heart at several sizes.
+#include <benchmark/benchmark.h>
+
+#include <map>
+
+#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/physics/integrators.h"
+#include "hapticut/physics/material.h"
+#include "hapticut/physics/spring_forces.h"
+
+namespace {
+
+using namespace hapticut;
+
+/// Hearts are cached per size: generating the large ones takes seconds.
+const physics::MassSpringModel& heartModel(int triangles) {
+    static std::map<int, physics::MassSpringModel> cache;
+    auto it = cache.find(triangles);
+    if (it == cache.end()) {
+        mesh::procedural::HeartOptions options;
+        options.triangles = triangles;
+        it = cache.emplace(triangles, physics::buildModel(mesh::procedural::makeHeart(options), physics::Material{})).first;
+        auto& m = it->second;
+        for (std::size_t i = 0; i < m.nodes.size(); ++i) {
+            const auto x = static_cast<double>(i);  // a fixed irregular offset, so no spring sits at rest
+            m.nodes.position[i] += Vec3(1e-4 * std::sin(1.3 * x), 1e-4 * std::cos(0.7 * x), 0.0);
+        }
+    }
+    return it->second;
+}
+
+void BM_SpringForces(benchmark::State& state) {
+    physics::MassSpringModel model = heartModel(static_cast<int>(state.range(0)));
+    std::vector<Vec3> f(model.nodes.size());
+    for (auto _ : state) {
+        std::fill(f.begin(), f.end(), Vec3::Zero());
+        physics::accumulateSpringForces(model.springs, model.nodes.position, model.nodes.velocity, f);
+        benchmark::DoNotOptimize(f.data());
+    }
+    state.counters["springs"] = static_cast<double>(model.springs.size());
+    state.counters["ns_per_spring"] =
+        benchmark::Counter(static_cast<double>(model.springs.size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_SpringForces)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
+
+template <physics::Scheme kScheme>
+void BM_Step(benchmark::State& state) {
+    physics::MassSpringModel model = heartModel(static_cast<int>(state.range(0)));
+    physics::Stepper stepper(kScheme);
+    stepper.setAutoSubstep(false);  // one raw step; the stable step is reported as a counter
+    stepper.prepare(model);
+    const double dt = std::min(1e-3, stepper.stableStep_s());
+    for (auto _ : state) benchmark::DoNotOptimize(stepper.step(model, dt));
+    state.counters["substeps_at_1ms"] = std::ceil(1e-3 / stepper.stableStep_s());
+}
+BENCHMARK(BM_Step<physics::Scheme::ExplicitEuler>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step<physics::Scheme::Midpoint>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step<physics::Scheme::RungeKutta4>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Step<physics::Scheme::SymplecticEuler>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
+
+void BM_MakeHeart(benchmark::State& state) {
+    mesh::procedural::HeartOptions options;
+    options.triangles = static_cast<int>(state.range(0));
+    for (auto _ : state) benchmark::DoNotOptimize(mesh::procedural::makeHeart(options));
+}
+BENCHMARK(BM_MakeHeart)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
