@@ -1,14 +1,13 @@
 // hapticut: one executable with git-style subcommands (run, info, convert, bench).
 #include <CLI/CLI.hpp>
 
-#include <clocale>
 #include <iostream>
 #include <vector>
 
 #include "commands.h"
 
 int main(int argc, char** argv) {
-    std::setlocale(LC_ALL, "");  // the user's locale for messages; files are parsed locale-independently
+    // No setlocale(LC_ALL, ""): output stays in the "C" locale, so numbers always print with a decimal point.
     CLI::App app{"Hapticut: haptic soft-tissue simulator (mass-spring organ models, proxy haptics, cutting)", "hapticut"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "hapticut 0.1.0");

@@ -1,0 +1,239 @@
+// Bounding volume hierarchy over triangles. Nodes are stored in preorder, so a reverse sweep refits
+// every box from its children, and a traversal needs only a fixed-size stack.
+#include "hapticut/collision/bvh.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "hapticut/common/assert.h"
+#include "hapticut/geometry/triangle_queries.h"
+
+namespace hapticut::collision {
+
+namespace {
+
+double boxDistanceSquared(const geometry::Aabb& box, const Vec3& p) {
+    const Vec3 d = (box.min - p).cwiseMax(p - box.max).cwiseMax(0.0);
+    return d.squaredNorm();
+}
+
+/// Slab test: does the segment from + t·dir, t in [0, t_max], touch the box?
+bool segmentTouchesBox(const geometry::Aabb& box, const Vec3& from, const Vec3& inv_dir, double t_max) {
+    double t0 = 0, t1 = t_max;
+    for (int k = 0; k < 3; ++k) {
+        double a = (box.min[k] - from[k]) * inv_dir[k], b = (box.max[k] - from[k]) * inv_dir[k];
+        if (std::isnan(a) || std::isnan(b)) {  // 0 * inf: the segment runs inside this slab's plane
+            if (from[k] < box.min[k] || from[k] > box.max[k]) return false;
+            continue;
+        }
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+geometry::Aabb Bvh::faceBox(const SurfaceView& s, std::uint32_t f) const {
+    geometry::Aabb box;
+    for (std::uint32_t v : s.faces[f]) box.grow(s.positions[v]);
+    return box;
+}
+
+void Bvh::build(const SurfaceView& s) {
+    const auto n = static_cast<std::uint32_t>(s.faces.size());
+    faceOrder_.resize(n);
+    std::vector<Vec3> centroids(n);
+    for (std::uint32_t f = 0; f < n; ++f) {
+        faceOrder_[f] = f;
+        const mesh::Face& face = s.faces[f];
+        centroids[f] = (s.positions[face[0]] + s.positions[face[1]] + s.positions[face[2]]) / 3;
+    }
+    nodes_.clear();
+    nodes_.reserve(2 * (n / kLeafSize + 1));
+    if (n > 0) buildNode(s, 0, n, centroids, 0);
+    pending_.clear();
+    pending_.reserve(std::max<std::size_t>(64, n / 8));
+    builtFaces_ = n;
+}
+
+std::uint32_t Bvh::buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count, std::vector<Vec3>& centroids, int depth) {
+    const auto index = static_cast<std::uint32_t>(nodes_.size());
+    nodes_.push_back({});
+    geometry::Aabb box, centres;
+    for (std::uint32_t i = start; i < start + count; ++i) {
+        const geometry::Aabb fb = faceBox(s, faceOrder_[i]);
+        box.grow(fb.min);
+        box.grow(fb.max);
+        centres.grow(centroids[faceOrder_[i]]);
+    }
+    nodes_[index].box = box;
+    if (count <= kLeafSize || depth >= kMaxDepth - 2) {
+        nodes_[index].start = start;
+        nodes_[index].count = count;
+        return index;
+    }
+    // Median split along the longest axis of the centroids: balanced, so depth stays near log2(n).
+    const Vec3 extent = centres.extent();
+    const int axis = extent.x() > extent.y() ? (extent.x() > extent.z() ? 0 : 2) : (extent.y() > extent.z() ? 1 : 2);
+    const std::uint32_t half = count / 2;
+    auto first = faceOrder_.begin() + start;
+    std::nth_element(first, first + half, first + count, [&](std::uint32_t a, std::uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    buildNode(s, start, half, centroids, depth + 1);
+    const std::uint32_t right = buildNode(s, start + half, count - half, centroids, depth + 1);
+    nodes_[index].right = right;
+    return index;
+}
+
+void Bvh::refit(const SurfaceView& s) {
+    for (std::size_t i = nodes_.size(); i-- > 0;) {
+        Node& node = nodes_[i];
+        if (node.count > 0) {
+            geometry::Aabb box;
+            for (std::uint32_t k = node.start; k < node.start + node.count; ++k)
+                for (std::uint32_t v : s.faces[faceOrder_[k]]) box.grow(s.positions[v]);
+            node.box = box;
+        } else {
+            node.box = nodes_[i + 1].box;
+            node.box.grow(nodes_[node.right].box.min);
+            node.box.grow(nodes_[node.right].box.max);
+        }
+    }
+}
+
+void Bvh::facesAdded(const SurfaceView& s) {
+    // Rebuilding costs O(n log n); a linear pass over a few pending faces per query is cheaper until
+    // they are a sixteenth of the mesh.
+    if (s.faces.size() - builtFaces_ > std::max<std::size_t>(32, builtFaces_ / 16)) {
+        build(s);
+        return;
+    }
+    for (std::size_t f = builtFaces_ + pending_.size(); f < s.faces.size(); ++f) pending_.push_back(static_cast<std::uint32_t>(f));
+}
+
+std::optional<SurfacePoint> Bvh::closestPoint(const SurfaceView& s, const Vec3& p, double max_distance) const {
+    std::optional<SurfacePoint> best;
+    double bestD2 = max_distance * max_distance;
+    auto consider = [&](std::uint32_t f) {
+        const mesh::Face& face = s.faces[f];
+        const auto c = geometry::closestPointOnTriangle(p, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+        const double d2 = (c.point - p).squaredNorm();
+        if (d2 < bestD2 || (!best && d2 <= bestD2)) {
+            bestD2 = d2;
+            best = SurfacePoint{f, c.point, c.bary, 0};
+        }
+    };
+    for (std::uint32_t f : pending_) consider(f);
+    if (!nodes_.empty()) {
+        std::array<std::uint32_t, kMaxDepth> stack;
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const Node& node = nodes_[stack[--top]];
+            if (boxDistanceSquared(node.box, p) > bestD2) continue;
+            if (node.count > 0) {
+                for (std::uint32_t k = node.start; k < node.start + node.count; ++k) consider(faceOrder_[k]);
+                continue;
+            }
+            const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+            const double dl = boxDistanceSquared(nodes_[left].box, p), dr = boxDistanceSquared(nodes_[node.right].box, p);
+            // Push the farther child first, so the nearer one is searched first and tightens the bound.
+            if (dl < dr) {
+                stack[top++] = node.right;
+                stack[top++] = left;
+            } else {
+                stack[top++] = left;
+                stack[top++] = node.right;
+            }
+        }
+    }
+    if (best) best->distance = std::sqrt(bestD2);
+    return best;
+}
+
+std::optional<SegmentHit> Bvh::firstHit(const SurfaceView& s, const Vec3& from, const Vec3& to) const {
+    std::optional<SegmentHit> best;
+    double bestT = 1;
+    const Vec3 dir = to - from;
+    const Vec3 invDir = dir.cwiseInverse();
+    auto consider = [&](std::uint32_t f) {
+        const mesh::Face& face = s.faces[f];
+        const auto hit = geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+        if (hit && (hit->t < bestT || !best)) {
+            bestT = hit->t;
+            best = SegmentHit{f, hit->t, from + hit->t * dir, hit->bary};
+        }
+    };
+    for (std::uint32_t f : pending_) consider(f);
+    if (!nodes_.empty()) {
+        std::array<std::uint32_t, kMaxDepth> stack;
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const Node& node = nodes_[stack[--top]];
+            if (!segmentTouchesBox(node.box, from, invDir, bestT)) continue;
+            if (node.count > 0) {
+                for (std::uint32_t k = node.start; k < node.start + node.count; ++k) consider(faceOrder_[k]);
+                continue;
+            }
+            stack[top++] = node.right;
+            stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+        }
+    }
+    return best;
+}
+
+int Bvh::countCrossings(const SurfaceView& s, const Vec3& from, const Vec3& to) const {
+    int crossings = 0;
+    const Vec3 invDir = (to - from).cwiseInverse();
+    auto consider = [&](std::uint32_t f) {
+        const mesh::Face& face = s.faces[f];
+        if (geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]])) ++crossings;
+    };
+    for (std::uint32_t f : pending_) consider(f);
+    if (nodes_.empty()) return crossings;
+    std::array<std::uint32_t, kMaxDepth> stack;
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = nodes_[stack[--top]];
+        if (!segmentTouchesBox(node.box, from, invDir, 1)) continue;
+        if (node.count > 0) {
+            for (std::uint32_t k = node.start; k < node.start + node.count; ++k) consider(faceOrder_[k]);
+            continue;
+        }
+        stack[top++] = node.right;
+        stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+    }
+    return crossings;
+}
+
+void Bvh::facesWithinRadius(const SurfaceView& s, const Vec3& p, double radius, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    const double r2 = radius * radius;
+    auto consider = [&](std::uint32_t f) {
+        const mesh::Face& face = s.faces[f];
+        const auto c = geometry::closestPointOnTriangle(p, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+        if ((c.point - p).squaredNorm() <= r2) out.push_back(f);
+    };
+    for (std::uint32_t f : pending_) consider(f);
+    if (nodes_.empty()) return;
+    std::array<std::uint32_t, kMaxDepth> stack;
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = nodes_[stack[--top]];
+        if (boxDistanceSquared(node.box, p) > r2) continue;
+        if (node.count > 0) {
+            for (std::uint32_t k = node.start; k < node.start + node.count; ++k) consider(faceOrder_[k]);
+            continue;
+        }
+        stack[top++] = node.right;
+        stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+    }
+}
+
+}  // namespace hapticut::collision

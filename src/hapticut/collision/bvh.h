@@ -1,0 +1,76 @@
+// Bounding volume hierarchy over the triangles of a deforming mesh: build, linear-time refit, cheap
+// handling of added faces, and closest-point, first-hit and radius queries that never allocate.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "hapticut/geometry/aabb.h"
+#include "hapticut/mesh/surface_mesh.h"
+
+namespace hapticut::collision {
+
+/// The surface as queries see it: the current (deformed) positions and the faces.
+struct SurfaceView {
+    std::span<const Vec3> positions;
+    std::span<const mesh::Face> faces;
+};
+
+struct SurfacePoint {
+    std::uint32_t face = 0;
+    Vec3 point = Vec3::Zero();
+    Vec3 bary = Vec3::Zero();
+    double distance = 0;  // m, from the query point
+};
+
+struct SegmentHit {
+    std::uint32_t face = 0;
+    double t = 0;  // fraction along the segment
+    Vec3 point = Vec3::Zero();
+    Vec3 bary = Vec3::Zero();
+};
+
+class Bvh {
+public:
+    static constexpr int kLeafSize = 4;
+
+    void build(const SurfaceView& surface);
+    /// Recomputes every box bottom-up from the current positions, in time linear in the faces.
+    void refit(const SurfaceView& surface);
+    /// Faces appended to the surface since the last build are searched linearly until there are
+    /// enough of them to pay for a rebuild. Faces changed in place are covered by refit.
+    void facesAdded(const SurfaceView& surface);
+
+    std::optional<SurfacePoint> closestPoint(const SurfaceView& surface, const Vec3& p,
+                                             double max_distance = std::numeric_limits<double>::infinity()) const;
+    /// The first face the segment from -> to crosses, from either side.
+    std::optional<SegmentHit> firstHit(const SurfaceView& surface, const Vec3& from, const Vec3& to) const;
+    /// How many faces the segment crosses: odd means the end points are on different sides of a closed surface.
+    int countCrossings(const SurfaceView& surface, const Vec3& from, const Vec3& to) const;
+    /// Faces with a point within `radius` of p, appended to `out` (cleared first).
+    void facesWithinRadius(const SurfaceView& surface, const Vec3& p, double radius, std::vector<std::uint32_t>& out) const;
+
+    std::size_t nodeCount() const { return nodes_.size(); }
+    std::size_t pendingFaces() const { return pending_.size(); }
+
+private:
+    struct Node {
+        geometry::Aabb box;
+        std::uint32_t start = 0, count = 0;  // leaf: faceOrder_[start, start + count)
+        std::uint32_t right = 0;             // inner: the left child is the next node (preorder)
+    };
+    static constexpr int kMaxDepth = 64;
+
+    std::uint32_t buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count, std::vector<Vec3>& centroids, int depth);
+    geometry::Aabb faceBox(const SurfaceView& s, std::uint32_t f) const;
+
+    std::vector<Node> nodes_;
+    std::vector<std::uint32_t> faceOrder_;
+    std::vector<std::uint32_t> pending_;
+    std::size_t builtFaces_ = 0;
+};
+
+}  // namespace hapticut::collision

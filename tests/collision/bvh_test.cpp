@@ -1,0 +1,145 @@
+// Every BVH query against brute force, on random meshes and random queries, after refits and added faces.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "hapticut/collision/bvh.h"
+#include "hapticut/geometry/triangle_queries.h"
+#include "hapticut/mesh/procedural/heart.h"
+
+namespace hapticut::collision {
+namespace {
+
+struct Soup {
+    std::vector<Vec3> positions;
+    std::vector<mesh::Face> faces;
+    SurfaceView view() const { return {positions, faces}; }
+};
+
+/// Random small triangles in a 0.1 m cube, plus a few large ones that span many boxes.
+Soup randomSoup(std::mt19937& rng, int count) {
+    std::uniform_real_distribution<double> u(-0.05, 0.05), small(-0.01, 0.01);
+    Soup s;
+    for (int i = 0; i < count; ++i) {
+        const Vec3 c(u(rng), u(rng), u(rng));
+        const double scale = i % 50 == 0 ? 5.0 : 1.0;
+        for (int k = 0; k < 3; ++k) s.positions.push_back(c + scale * Vec3(small(rng), small(rng), small(rng)));
+        const auto v = static_cast<std::uint32_t>(3 * i);
+        s.faces.push_back({v, v + 1, v + 2});
+    }
+    return s;
+}
+
+Soup heartSoup(int triangles) {
+    mesh::procedural::HeartOptions options;
+    options.triangles = triangles;
+    const mesh::SurfaceMesh m = mesh::procedural::makeHeart(options);
+    return {m.positions, m.faces};
+}
+
+double bruteClosest(const Soup& s, const Vec3& p) {
+    double best = 1e300;
+    for (const mesh::Face& f : s.faces)
+        best = std::min(best, (geometry::closestPointOnTriangle(p, s.positions[f[0]], s.positions[f[1]], s.positions[f[2]]).point - p).norm());
+    return best;
+}
+
+std::optional<double> bruteFirstHit(const Soup& s, const Vec3& a, const Vec3& b, int* crossings = nullptr) {
+    std::optional<double> best;
+    if (crossings) *crossings = 0;
+    for (const mesh::Face& f : s.faces)
+        if (const auto hit = geometry::intersectSegmentTriangle(a, b, s.positions[f[0]], s.positions[f[1]], s.positions[f[2]])) {
+            if (crossings) ++*crossings;
+            if (!best || hit->t < *best) best = hit->t;
+        }
+    return best;
+}
+
+void expectMatchesBruteForce(const Bvh& bvh, const Soup& s, std::mt19937& rng, int queries) {
+    std::uniform_real_distribution<double> u(-0.09, 0.09);
+    std::vector<std::uint32_t> found;
+    for (int q = 0; q < queries; ++q) {
+        const Vec3 p(u(rng), u(rng), u(rng)), r(u(rng), u(rng), u(rng));
+        const auto closest = bvh.closestPoint(s.view(), p);
+        ASSERT_TRUE(closest.has_value());
+        EXPECT_NEAR(closest->distance, bruteClosest(s, p), 1e-15);
+        const mesh::Face& f = s.faces[closest->face];
+        const Vec3 rebuilt = closest->bary.x() * s.positions[f[0]] + closest->bary.y() * s.positions[f[1]] + closest->bary.z() * s.positions[f[2]];
+        EXPECT_LT((rebuilt - closest->point).norm(), 1e-12);
+
+        int crossings = 0;
+        const auto brute = bruteFirstHit(s, p, r, &crossings);
+        const auto hit = bvh.firstHit(s.view(), p, r);
+        ASSERT_EQ(hit.has_value(), brute.has_value());
+        if (hit) {
+            EXPECT_DOUBLE_EQ(hit->t, *brute);
+        }
+        EXPECT_EQ(bvh.countCrossings(s.view(), p, r), crossings);
+
+        const double radius = 0.01;
+        bvh.facesWithinRadius(s.view(), p, radius, found);
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t i = 0; i < s.faces.size(); ++i) {
+            const mesh::Face& g = s.faces[i];
+            if ((geometry::closestPointOnTriangle(p, s.positions[g[0]], s.positions[g[1]], s.positions[g[2]]).point - p).norm() <= radius)
+                expected.push_back(i);
+        }
+        std::sort(found.begin(), found.end());
+        EXPECT_EQ(found, expected);
+    }
+}
+
+TEST(Bvh, QueriesMatchBruteForceOnRandomTriangles) {
+    std::mt19937 rng(1);
+    const Soup s = randomSoup(rng, 3000);
+    Bvh bvh;
+    bvh.build(s.view());
+    expectMatchesBruteForce(bvh, s, rng, 300);
+}
+
+TEST(Bvh, QueriesMatchBruteForceOnTheHeartAfterDeformingAndRefitting) {
+    std::mt19937 rng(2);
+    Soup s = heartSoup(9714);
+    Bvh bvh;
+    bvh.build(s.view());
+    expectMatchesBruteForce(bvh, s, rng, 200);
+    std::normal_distribution<double> n(0, 0.004);
+    for (Vec3& p : s.positions) p += Vec3(n(rng), n(rng), n(rng));
+    bvh.refit(s.view());
+    expectMatchesBruteForce(bvh, s, rng, 200);
+}
+
+TEST(Bvh, AddedFacesAreFoundBeforeAndAfterTheRebuild) {
+    std::mt19937 rng(3);
+    Soup s = randomSoup(rng, 1000);
+    Bvh bvh;
+    bvh.build(s.view());
+    const Soup extra = randomSoup(rng, 200);
+    for (int batch = 0; batch < 10; ++batch) {
+        for (int i = 0; i < 20; ++i) {
+            const auto base = static_cast<std::uint32_t>(s.positions.size());
+            for (int k = 0; k < 3; ++k) s.positions.push_back(extra.positions[static_cast<std::size_t>(3 * (20 * batch + i) + k)]);
+            s.faces.push_back({base, base + 1, base + 2});
+        }
+        bvh.facesAdded(s.view());
+        expectMatchesBruteForce(bvh, s, rng, 30);
+    }
+    EXPECT_LT(bvh.pendingFaces(), 200u) << "a rebuild must have absorbed the pending faces";
+}
+
+TEST(Bvh, SegmentThroughASharedEdgeOrVertexHitsTheSurface) {
+    // A flat square of two triangles; segments through the diagonal and the corner must hit.
+    Soup s;
+    s.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+    s.faces = {{0, 1, 2}, {0, 2, 3}};
+    Bvh bvh;
+    bvh.build(s.view());
+    EXPECT_TRUE(bvh.firstHit(s.view(), Vec3(0.5, 0.5, 1), Vec3(0.5, 0.5, -1)).has_value());
+    EXPECT_TRUE(bvh.firstHit(s.view(), Vec3(0, 0, 1), Vec3(0, 0, -1)).has_value());
+    EXPECT_TRUE(bvh.firstHit(s.view(), Vec3(0.3, 0.7, -1), Vec3(0.3, 0.7, 1)).has_value()) << "back faces collide too (R10)";
+    EXPECT_FALSE(bvh.firstHit(s.view(), Vec3(1.5, 0.5, 1), Vec3(1.5, 0.5, -1)).has_value());
+}
+
+}  // namespace
+}  // namespace hapticut::collision
