@@ -1,0 +1,123 @@
+// God-object proxy: carry with the touched surface, then collide-and-slide toward the device.
+#include "hapticut/haptics/proxy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+
+#include "hapticut/geometry/triangle.h"
+
+namespace hapticut::haptics {
+
+Vec3 faceNormal(const collision::SurfaceView& s, std::uint32_t face) {
+    const mesh::Face& f = s.faces[face];
+    return geometry::unitNormal(s.positions[f[0]], s.positions[f[1]], s.positions[f[2]]);
+}
+
+Vec3 pointOnFace(const collision::SurfaceView& s, std::uint32_t face, const Vec3& bary) {
+    const mesh::Face& f = s.faces[face];
+    return bary.x() * s.positions[f[0]] + bary.y() * s.positions[f[1]] + bary.z() * s.positions[f[2]];
+}
+
+void GodObjectProxy::reset(const Vec3& position_m) {
+    position_ = position_m;
+    contact_ = {};
+    planeCount_ = 0;
+}
+
+void GodObjectProxy::carryWithSurface(const collision::SurfaceView& s) {
+    if (!contact_.active || contact_.face >= s.faces.size()) return;
+    const Vec3 n = contact_.side * faceNormal(s, contact_.face);
+    position_ = pointOnFace(s, contact_.face, contact_.bary) + params_.offset_m * n;
+}
+
+void GodObjectProxy::pushOutIfSwept(const collision::SurfaceView& s, const collision::Bvh& bvh) {
+    // A free proxy that a moving surface has just passed over sits behind the face nearest to it.
+    // Within a few offsets of the surface, put it back on the side of its nearest face's front.
+    if (contact_.active) return;
+    const double reach = 1e-3;  // m: far more than tissue moves in one haptic step
+    const auto near = bvh.closestPoint(s, position_, reach);
+    if (!near) return;
+    const Vec3 n = faceNormal(s, near->face);
+    const bool interior = near->bary.minCoeff() > 1e-9;  // on an edge or corner the face normal is ambiguous
+    if (interior && n.dot(position_ - near->point) < 0) position_ = near->point + params_.offset_m * n;
+}
+
+Vec3 GodObjectProxy::constrainedGoal(const Vec3& device_m) const {
+    // The point nearest the device that satisfies every plane: try each subset of planes as equalities
+    // (at most 7 subsets for 3 planes) and keep the nearest feasible projection (active-set search).
+    auto feasible = [&](const Vec3& x) {
+        for (int i = 0; i < planeCount_; ++i)
+            if (planes_[i].normal.dot(x) < planes_[i].offset - 1e-12) return false;
+        return true;
+    };
+    if (feasible(device_m)) return device_m;
+    Vec3 best = position_;
+    double bestD2 = std::numeric_limits<double>::infinity();
+    for (int mask = 1; mask < (1 << planeCount_); ++mask) {
+        int idx[3], m = 0;
+        for (int i = 0; i < planeCount_; ++i)
+            if (mask & (1 << i)) idx[m++] = i;
+        // x = d - sum(lambda_j n_j) with n_i·x = c_i: solve the Gram system G lambda = n·d - c.
+        Eigen::Matrix3d g = Eigen::Matrix3d::Identity();  // unused rows stay identity, so one 3x3 solve fits every m
+        Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+        for (int a = 0; a < m; ++a) {
+            rhs[a] = planes_[idx[a]].normal.dot(device_m) - planes_[idx[a]].offset;
+            for (int b = 0; b < m; ++b) g(a, b) = planes_[idx[a]].normal.dot(planes_[idx[b]].normal);
+        }
+        Eigen::FullPivLU<Eigen::Matrix3d> lu(g);
+        if (lu.rank() < 3) continue;  // parallel planes: this subset has no single projection
+        const Eigen::Vector3d lambda = lu.solve(rhs);
+        Vec3 x = device_m;
+        for (int a = 0; a < m; ++a) x -= lambda[a] * planes_[idx[a]].normal;
+        const double d2 = (x - device_m).squaredNorm();
+        if (d2 < bestD2 && feasible(x)) bestD2 = d2, best = x;
+    }
+    return best;
+}
+
+void GodObjectProxy::findContact(const collision::SurfaceView& s, const collision::Bvh& bvh) {
+    const double reach = 3 * params_.offset_m;
+    const auto near = bvh.closestPoint(s, position_, reach);
+    if (!near) {
+        contact_.active = false;
+        return;
+    }
+    contact_.active = true;
+    contact_.face = near->face;
+    contact_.bary = near->bary;
+    contact_.side = faceNormal(s, near->face).dot(position_ - near->point) >= 0 ? 1.0 : -1.0;
+}
+
+int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s, const collision::Bvh& bvh) {
+    carryWithSurface(s);
+    pushOutIfSwept(s, bvh);
+    planeCount_ = 0;
+    Vec3 goal = device_m;
+    for (int iteration = 0; iteration < params_.maxIterations; ++iteration) {
+        if ((goal - position_).squaredNorm() < 1e-24) break;
+        const auto hit = bvh.firstHit(s, position_, goal);
+        if (!hit) {
+            position_ = goal;
+            break;
+        }
+        Vec3 n = faceNormal(s, hit->face);
+        if (n.dot(position_ - hit->point) < 0) n = -n;  // the side the proxy came from (back faces count, R10)
+        // Back off along the way in as well as lifting along the normal: a hit on an edge lifted only
+        // along one face's normal would leave the proxy in the plane of the other face, and the next
+        // segment could then start on that face and slip through it.
+        const Vec3 travel = hit->point - position_;
+        const double travelled = travel.norm();
+        const double backoff = std::min(params_.offset_m, travelled);
+        position_ = hit->point + params_.offset_m * n - (travelled > 0 ? Vec3(backoff / travelled * travel) : Vec3::Zero());
+        if (planeCount_ == 3) break;  // held in a corner by three planes
+        planes_[planeCount_++] = {n, n.dot(hit->point) + params_.offset_m};
+        goal = constrainedGoal(device_m);
+    }
+    findContact(s, bvh);
+    return planeCount_;
+}
+
+}  // namespace hapticut::haptics

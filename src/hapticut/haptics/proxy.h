@@ -1,0 +1,60 @@
+// God-object proxy (SPEC R8; Zilles & Salisbury 1995, Ruspini et al. 1997): a point that follows the
+// device but never enters the surface, constrained by up to three contact planes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "hapticut/collision/bvh.h"
+
+namespace hapticut::haptics {
+
+struct ProxyParams {
+    double offset_m = 1e-5;  // the proxy keeps this far outside the surface, so it never sits exactly on it
+    int maxIterations = 4;   // collide-and-slide passes per update
+};
+
+struct Contact {
+    bool active = false;
+    std::uint32_t face = 0;
+    Vec3 bary = Vec3::Zero();  // where on the face, so the proxy can ride along as the face deforms
+    double side = 1;           // +1 on the face's front (outward) side, -1 behind it
+};
+
+class GodObjectProxy {
+public:
+    explicit GodObjectProxy(ProxyParams params = {}) : params_(params) {}
+
+    void reset(const Vec3& position_m);
+    /// Moves the proxy toward the device point without crossing the surface. Returns how many contact
+    /// planes constrain it afterwards (0 to 3).
+    int update(const Vec3& device_m, const collision::SurfaceView& surface, const collision::Bvh& bvh);
+
+    const Vec3& position() const { return position_; }
+    const Contact& contact() const { return contact_; }
+    const ProxyParams& params() const { return params_; }
+
+private:
+    struct Plane {
+        Vec3 normal;  // unit, pointing to the side the proxy is on
+        double offset;  // the plane is normal·x = offset
+    };
+    void carryWithSurface(const collision::SurfaceView& surface);
+    void pushOutIfSwept(const collision::SurfaceView& surface, const collision::Bvh& bvh);
+    Vec3 constrainedGoal(const Vec3& device_m) const;
+    void findContact(const collision::SurfaceView& surface, const collision::Bvh& bvh);
+
+    ProxyParams params_;
+    Vec3 position_ = Vec3::Zero();
+    Contact contact_;
+    std::array<Plane, 3> planes_{};
+    int planeCount_ = 0;
+};
+
+/// Unit normal of a face on the current (deformed) positions.
+Vec3 faceNormal(const collision::SurfaceView& surface, std::uint32_t face);
+
+/// The point at barycentric coordinates `bary` on a face.
+Vec3 pointOnFace(const collision::SurfaceView& surface, std::uint32_t face, const Vec3& bary);
+
+}  // namespace hapticut::haptics

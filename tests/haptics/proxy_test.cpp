@@ -1,0 +1,179 @@
+// The god-object proxy: Hooke's law on a plane, never inside the heart while sliding fast over its
+// edges and vertices, held in concave corners, pushed out by a moving surface, free when it leaves.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "hapticut/collision/inside_test.h"
+#include "hapticut/haptics/force_distribution.h"
+#include "hapticut/haptics/proxy.h"
+#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/mesh/procedural/primitives.h"
+
+namespace hapticut::haptics {
+namespace {
+
+struct Scene {
+    mesh::SurfaceMesh mesh;
+    collision::Bvh bvh;
+    collision::SurfaceView view() const { return {mesh.positions, mesh.faces}; }
+    void rebuild() { bvh.build(view()); }
+};
+
+Scene plane() {
+    Scene s{mesh::procedural::makeGrid(10, 0.01), {}};  // 0.1 m square at z = 0, facing +z
+    s.rebuild();
+    return s;
+}
+
+TEST(Proxy, PressingAFlatPlaneGivesHookesForceAlongTheNormal) {
+    Scene s = plane();
+    GodObjectProxy proxy;
+    proxy.reset(Vec3(0.012, -0.007, 0.01));
+    const double k = 500;  // N/m
+    for (double depth : {0.0005, 0.001, 0.002, 0.004}) {
+        const Vec3 device(0.012, -0.007, -depth);
+        EXPECT_EQ(proxy.update(device, s.view(), s.bvh), 1);
+        const Vec3 f = couplingForce(proxy.position(), device, Vec3::Zero(), k, 0, 1e9);
+        EXPECT_NEAR(f.z(), k * (depth + proxy.params().offset_m), 1e-9);
+        EXPECT_NEAR(f.x(), 0, 1e-12);
+        EXPECT_NEAR(f.y(), 0, 1e-12);
+        EXPECT_TRUE(proxy.contact().active);
+    }
+}
+
+TEST(Proxy, SlidesAlongAPlaneUnderAnObliqueDevice) {
+    Scene s = plane();
+    GodObjectProxy proxy;
+    proxy.reset(Vec3(0, 0, 0.01));
+    proxy.update(Vec3(0, 0, -0.002), s.view(), s.bvh);
+    for (int i = 1; i <= 20; ++i) {
+        const Vec3 device(0.001 * i, 0.0005 * i, -0.002);
+        proxy.update(device, s.view(), s.bvh);
+        EXPECT_NEAR(proxy.position().x(), device.x(), 1e-12);
+        EXPECT_NEAR(proxy.position().y(), device.y(), 1e-12);
+        EXPECT_NEAR(proxy.position().z(), proxy.params().offset_m, 1e-12);
+    }
+}
+
+TEST(Proxy, LeavingTheSurfaceGivesZeroForce) {
+    Scene s = plane();
+    GodObjectProxy proxy;
+    proxy.reset(Vec3(0, 0, 0.01));
+    proxy.update(Vec3(0, 0, -0.003), s.view(), s.bvh);
+    EXPECT_TRUE(proxy.contact().active);
+    const Vec3 device(0.002, 0, 0.004);
+    EXPECT_EQ(proxy.update(device, s.view(), s.bvh), 0);
+    EXPECT_EQ(proxy.position(), device);
+    EXPECT_FALSE(proxy.contact().active);
+    EXPECT_EQ(couplingForce(proxy.position(), device, Vec3::Zero(), 500, 0, 3), Vec3::Zero());
+}
+
+TEST(Proxy, ConcaveCornerHoldsTheProxyAtTheCorner) {
+    // Floor z = 0 and walls x = 0 and y = 0, all facing into the open octant.
+    Scene s;
+    s.mesh.positions = {Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.1, 0.1, 0), Vec3(0, 0.1, 0),   // floor
+                        Vec3(0, 0, 0.1), Vec3(0, 0.1, 0.1), Vec3(0.1, 0, 0.1)};
+    s.mesh.faces = {{0, 1, 2}, {0, 2, 3}, {0, 3, 5}, {0, 5, 4}, {0, 4, 6}, {0, 6, 1}};
+    mesh::completeMesh(s.mesh);
+    s.rebuild();
+    const double off = ProxyParams{}.offset_m;
+    GodObjectProxy proxy;
+    proxy.reset(Vec3(0.05, 0.05, 0.05));
+    // Into the edge between the floor and the y = 0 wall: held on that edge, free along x.
+    EXPECT_EQ(proxy.update(Vec3(0.05, -0.02, -0.02), s.view(), s.bvh), 2);
+    EXPECT_NEAR(proxy.position().x(), 0.05, 1e-9);
+    EXPECT_NEAR(proxy.position().y(), off, 1e-9);
+    EXPECT_NEAR(proxy.position().z(), off, 1e-9);
+    proxy.update(Vec3(0.07, -0.02, -0.02), s.view(), s.bvh);
+    EXPECT_NEAR(proxy.position().x(), 0.07, 1e-9) << "slides along the edge";
+    EXPECT_NEAR(proxy.position().y(), off, 1e-9);
+    // Into the corner itself: held by all three planes.
+    proxy.reset(Vec3(0.05, 0.05, 0.05));
+    EXPECT_EQ(proxy.update(Vec3(-0.01, -0.02, -0.03), s.view(), s.bvh), 3);
+    EXPECT_LT((proxy.position() - Vec3(off, off, off)).norm(), 1e-9);
+    for (int i = 0; i < 50; ++i) proxy.update(Vec3(-0.01, -0.02, -0.03), s.view(), s.bvh);
+    EXPECT_LT((proxy.position() - Vec3(off, off, off)).norm(), 1e-9) << "the corner holds over many steps";
+}
+
+TEST(Proxy, SurfaceMovingIntoAStationaryDevicePushesTheProxyOut) {
+    Scene s = plane();
+    for (Vec3& p : s.mesh.positions) p.z() -= 0.005;  // start 5 mm below the device
+    s.bvh.build(s.view());
+    const Vec3 device(0.003, 0.004, 0);
+    GodObjectProxy proxy;
+    proxy.reset(device);
+    double previousForce = 0;
+    for (int step = 0; step < 150; ++step) {
+        for (Vec3& p : s.mesh.positions) p.z() += 1e-4;  // 0.1 m/s at 1 kHz
+        s.bvh.refit(s.view());
+        proxy.update(device, s.view(), s.bvh);
+        const double surfaceZ = s.mesh.positions[0].z();
+        EXPECT_GE(proxy.position().z(), surfaceZ) << "step " << step;
+        const double force = couplingForce(proxy.position(), device, Vec3::Zero(), 500, 0, 1e9).z();
+        if (surfaceZ > 1e-4) {
+            EXPECT_GT(force, previousForce) << "step " << step;
+            EXPECT_NEAR(force, 500 * (surfaceZ + proxy.params().offset_m), 1e-6);
+        }
+        previousForce = force;
+    }
+}
+
+/// Drags the device along a closed path through the heart at up to 0.5 m/s (0.5 mm per 1 ms step)
+/// and checks with the independent ray-parity test that the proxy is never inside.
+void expectNeverInside(const Scene& s, auto path, int steps) {
+    GodObjectProxy proxy;
+    proxy.reset(Vec3(0, 0, 0.3));  // start well outside; the first update brings it to the surface
+    int contacts = 0;
+    for (int i = 0; i <= steps; ++i) {
+        const Vec3 device = path(static_cast<double>(i) / steps);
+        proxy.update(device, s.view(), s.bvh);
+        ASSERT_FALSE(collision::insideClosedSurface(s.bvh, s.view(), proxy.position())) << "step " << i;
+        if (collision::insideClosedSurface(s.bvh, s.view(), device)) {  // pressed in: the proxy rests on the surface
+            EXPECT_LT(s.bvh.closestPoint(s.view(), proxy.position())->distance, 2e-4) << "step " << i;
+        }
+        contacts += proxy.contact().active;
+    }
+    EXPECT_GT(contacts, steps / 10) << "the path must actually touch the heart";
+}
+
+TEST(Proxy, NeverInsideTheHeartWhileSlidingOverEdgesAndVertices) {
+    Scene s{mesh::procedural::makeHeart({}), {}};
+    s.rebuild();
+    const double twoPi = 2 * std::numbers::pi;
+    // Around the heart at mid height, 8 mm inside the surface (circumference ~0.25 m in 500 steps).
+    expectNeverInside(s, [&](double u) { return Vec3(0.03 * std::cos(twoPi * u), 0.0, 0.022 * std::sin(twoPi * u)); }, 500);
+    // Over the apex and the vessels at the top, in the front-back plane.
+    expectNeverInside(s, [&](double u) { return Vec3(0.004, 0.05 * std::cos(twoPi * u), 0.02 * std::sin(twoPi * u)); }, 600);
+    // A wobbly path that enters and leaves repeatedly.
+    expectNeverInside(s, [&](double u) {
+        const double a = twoPi * u;
+        return Vec3(0.045 * std::cos(3 * a), 0.05 * std::sin(2 * a), 0.03 * std::cos(5 * a + 0.3));
+    }, 1500);
+}
+
+TEST(ForceDistribution, SumsExactlyToTheForceWithSquaredWeights) {
+    std::vector<Vec3> forces(3, Vec3::Zero());
+    const mesh::Face face{0, 1, 2};
+    const Vec3 f(0.3, -1.2, 2.5);
+    distributeToTriangle(f, face, Vec3(0.2, 0.3, 0.5), forces);
+    EXPECT_LT((forces[0] + forces[1] + forces[2] - f).norm(), 1e-15);
+    std::fill(forces.begin(), forces.end(), Vec3::Zero());
+    distributeToTriangle(f, face, Vec3(2.0 / 3, 1.0 / 3, 0), forces);
+    EXPECT_NEAR(forces[0].norm() / forces[1].norm(), 4.0, 1e-12) << "weights are the squared barycentrics (R9)";
+    EXPECT_EQ(forces[2], Vec3::Zero());
+    std::fill(forces.begin(), forces.end(), Vec3::Zero());
+    distributeToTriangle(f, face, Vec3(1, 0, 0), forces);
+    EXPECT_EQ(forces[0], f);
+}
+
+TEST(ForceDistribution, DeviceForceIsClamped) {
+    const Vec3 f = couplingForce(Vec3(0, 0, 0.1), Vec3::Zero(), Vec3::Zero(), 1000, 0, 3.3);
+    EXPECT_NEAR(f.norm(), 3.3, 1e-12);
+    EXPECT_NEAR(f.normalized().z(), 1, 1e-12);
+    EXPECT_NEAR(couplingForce(Vec3::Zero(), Vec3::Zero(), Vec3(0, 0, 0.1), 1000, 2, 3.3).z(), -0.2, 1e-12);
+}
+
+}  // namespace
+}  // namespace hapticut::haptics
