@@ -101,7 +101,16 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
         const auto hit = bvh.firstHit(s, position_, goal);
         if (!hit) {
             position_ = goal;
-            break;
+            if (planeCount_ == 0 || (goal - device_m).squaredNorm() < 1e-24) break;
+            // On a convex surface the planes' extensions leave the surface: if the surface toward the
+            // device is now farther than the offset, the proxy has lifted off, so drop the planes and
+            // head for the device again. The next hit brings it back onto the surface now rather than
+            // a step later. Resting on the planes (flat or concave), it stays.
+            const auto below = bvh.firstHit(s, position_, device_m);
+            if (!below || below->t * (device_m - position_).norm() <= 2 * params_.offset_m) break;
+            planeCount_ = 0;
+            goal = device_m;
+            continue;
         }
         Vec3 n = faceNormal(s, hit->face);
         if (n.dot(position_ - hit->point) < 0) n = -n;  // the side the proxy came from (back faces count, R10)

@@ -11,7 +11,7 @@ namespace hapticut::haptics {
 
 struct ProxyParams {
     double offset_m = 1e-5;  // the proxy keeps this far outside the surface, so it never sits exactly on it
-    int maxIterations = 4;   // collide-and-slide passes per update
+    int maxIterations = 16;  // collide-and-slide passes per update
 };
 
 struct Contact {
