@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 
+#include "hapticut/collision/inside_test.h"
 #include "hapticut/geometry/triangle.h"
 
 namespace hapticut::haptics {
@@ -34,15 +35,17 @@ void GodObjectProxy::carryWithSurface(const collision::SurfaceView& s) {
 }
 
 void GodObjectProxy::pushOutIfSwept(const collision::SurfaceView& s, const collision::Bvh& bvh) {
-    // A free proxy that a moving surface has just passed over sits behind the face nearest to it.
-    // Within a few offsets of the surface, put it back on the side of its nearest face's front.
+    // A free proxy that a moving surface has just passed over is behind it. Near the surface, ask the
+    // ray-parity test (robust at edges and vertex pits, where face normals disagree) and, if inside,
+    // leave through the nearest surface point. Meaningful for closed surfaces; an open mesh's
+    // parity can only say "outside" away from its rim, where this never fires wrongly for long.
     if (contact_.active) return;
     const double reach = 1e-3;  // m: far more than tissue moves in one haptic step
     const auto near = bvh.closestPoint(s, position_, reach);
-    if (!near) return;
-    const Vec3 n = faceNormal(s, near->face);
-    const bool interior = near->bary.minCoeff() > 1e-9;  // on an edge or corner the face normal is ambiguous
-    if (interior && n.dot(position_ - near->point) < 0) position_ = near->point + params_.offset_m * n;
+    if (!near || !collision::insideClosedSurface(bvh, s, position_)) return;
+    const Vec3 out = near->point - position_;
+    const double len = out.norm();
+    position_ = near->point + params_.offset_m * (len > 0 ? Vec3(out / len) : faceNormal(s, near->face));
 }
 
 Vec3 GodObjectProxy::constrainedGoal(const Vec3& device_m) const {
@@ -89,6 +92,11 @@ void GodObjectProxy::findContact(const collision::SurfaceView& s, const collisio
     contact_.face = near->face;
     contact_.bary = near->bary;
     contact_.side = faceNormal(s, near->face).dot(position_ - near->point) >= 0 ? 1.0 : -1.0;
+}
+
+void GodObjectProxy::followSurface(const collision::SurfaceView& s, const collision::Bvh& bvh) {
+    carryWithSurface(s);
+    pushOutIfSwept(s, bvh);
 }
 
 int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s, const collision::Bvh& bvh) {

@@ -30,6 +30,10 @@ public:
     /// planes constrain it afterwards (0 to 3).
     int update(const Vec3& device_m, const collision::SurfaceView& surface, const collision::Bvh& bvh);
 
+    /// Keeps the proxy on the surface it touches after the surface moved (e.g. after a physics step),
+    /// without moving it toward the device: so the proxy and the surface published together agree.
+    void followSurface(const collision::SurfaceView& surface, const collision::Bvh& bvh);
+
     const Vec3& position() const { return position_; }
     const Contact& contact() const { return contact_; }
     const ProxyParams& params() const { return params_; }

@@ -61,7 +61,7 @@ double largestStableStep(Scheme scheme, double w2, double c) {
 
 }  // namespace
 
-double stableTimeStep(const MassSpringModel& model, Scheme scheme) {
+double stableTimeStep(const MassSpringModel& model, Scheme scheme, double extra_stiffness_N_per_m) {
     const Nodes& n = model.nodes;
     const Springs& s = model.springs;
     std::vector<double> k(n.size(), 0.0), d(n.size(), 0.0);
@@ -73,8 +73,9 @@ double stableTimeStep(const MassSpringModel& model, Scheme scheme) {
     for (std::size_t i = 0; i < n.size(); ++i) {
         const double im = n.inverseMass[i];
         if (im == 0) continue;
-        dt = std::min(dt, largestStableStep(scheme, n.anchorStiffness[i] * im, n.anchorDamping[i] * im));
-        dt = std::min(dt, largestStableStep(scheme, (n.anchorStiffness[i] + 2 * k[i]) * im, (n.anchorDamping[i] + 2 * d[i]) * im));
+        const double anchor = n.anchorStiffness[i] + extra_stiffness_N_per_m;
+        dt = std::min(dt, largestStableStep(scheme, anchor * im, n.anchorDamping[i] * im));
+        dt = std::min(dt, largestStableStep(scheme, (anchor + 2 * k[i]) * im, (n.anchorDamping[i] + 2 * d[i]) * im));
     }
     return 0.9 * dt;
 }
@@ -84,10 +85,15 @@ void Stepper::setScheme(Scheme scheme) {
     preparedNodes_ = static_cast<std::size_t>(-1);
 }
 
+void Stepper::setToolStiffness(double stiffness_N_per_m) {
+    toolStiffness_ = stiffness_N_per_m;
+    preparedNodes_ = static_cast<std::size_t>(-1);
+}
+
 void Stepper::prepare(const MassSpringModel& model) {
     const std::size_t n = model.nodes.size();
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n);
-    stableDt_ = stableTimeStep(model, scheme_);
+    stableDt_ = stableTimeStep(model, scheme_, toolStiffness_);
     preparedNodes_ = n;
     preparedSprings_ = model.springs.size();
 }

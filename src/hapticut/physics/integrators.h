@@ -22,7 +22,8 @@ struct StepResult {
 /// Largest time step (s) for which every node's local modes are stable under `scheme`: for each node,
 /// its own positioning mode and its highest mode against its neighbours (2·Σk/m, as in a chain),
 /// each with its damping, must have an amplification of at most 1. A 0.9 safety factor is applied.
-double stableTimeStep(const MassSpringModel& model, Scheme scheme);
+/// `extra_stiffness_N_per_m` is added to every node, for a tool spring that may attach anywhere.
+double stableTimeStep(const MassSpringModel& model, Scheme scheme, double extra_stiffness_N_per_m = 0);
 
 /// Advances a model in time. Owns scratch buffers so that stepping never allocates once prepared.
 class Stepper {
@@ -34,6 +35,8 @@ public:
     /// Sizes buffers and estimates the stable step for this model; call after any change to the
     /// model's size or constants. Stepping an unprepared or resized model prepares it first.
     void prepare(const MassSpringModel& model);
+    /// Stiffness a tool may add to any node (the haptic coupling); counted in the stable step.
+    void setToolStiffness(double stiffness_N_per_m);
     /// Substeps are off when false: every step is taken as asked, stable or not.
     void setAutoSubstep(bool on) { autoSubstep_ = on; }
     double stableStep_s() const { return stableDt_; }
@@ -48,6 +51,7 @@ private:
     Scheme scheme_;
     bool autoSubstep_ = true;
     double stableDt_ = 0;
+    double toolStiffness_ = 0;
     std::size_t preparedNodes_ = static_cast<std::size_t>(-1), preparedSprings_ = 0;
     std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
 };

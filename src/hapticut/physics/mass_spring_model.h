@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "hapticut/geometry/vec.h"
+#include "hapticut/physics/point_spring.h"
 
 namespace hapticut::physics {
 
@@ -34,6 +35,7 @@ struct MassSpringModel {
     Nodes nodes;
     Springs springs;
     Vec3 gravity_m_per_s2 = Vec3::Zero();  // the thesis had none
+    PointSpring tool;                      // the haptic tool's contact, set by the haptic loop each step
     // Thesis rule (R4): a node closer to its rest position than this and slower than the speed below
     // is put back at rest, which stops tiny residual motion.
     double snapDistance_m = 1e-7;

@@ -14,13 +14,15 @@ struct Material {
     double totalMass_kg = 0.3;
     double structuralStiffness_N = 0.024;          // k·L; at 5.6 mm edges (1,619 heart), 4.3 N/m per spring
     double structuralDamping_Ns = 2.7e-5;          // d·L; k_d/k_s = 1.1 ms, see below
-    double positioningStiffness_N_per_m3 = 2.2e6;  // per m² of surface; ω = 400 rad/s for a node on its anchor
-    double positioningDamping_Ns_per_m3 = 5600;    // per m² of surface; about half of critical damping
-    // Why these: explicit Euler needs c > ω² dt in every mode and symplectic Euler ω²dt² + 2c·dt <= 4,
-    // so on the stiffest node of the 1,619-triangle heart (ω²dt² ≈ 0.7 at dt = 1 ms) the damping ratio
-    // k_d/k_s must sit near 1.1 ms for all four integrators to run at 1 ms without substeps (the
-    // estimates are 1.25 ms for Euler, 2.1 midpoint, 2.6 RK4 and 1.07 symplectic Euler). Finer
-    // meshes are stiffer per node and get substeps automatically (see Stepper).
+    double positioningStiffness_N_per_m3 = 8.8e6;  // per m² of surface; ω = 790 rad/s for a node on its anchor
+    double positioningDamping_Ns_per_m3 = 1.2e4;   // per m² of surface; about half of critical damping
+    // Why these: the positioning springs carry a probe's point load (edge springs resist a push normal
+    // to the surface only to second order), so they are stiff: 230 N/m per node of the 1,619 heart, a
+    // 4 mm press gives about 0.6 N through the default 400 N/m coupling. Explicit Euler needs c > ω² dt
+    // in every mode and symplectic Euler ω²dt² + 2c·dt <= 4; with k_d/k_s = 1.1 ms for the edge springs
+    // the stable steps of the 1,619-triangle heart are 1.1 ms (Euler), 1.7 (midpoint), 2.1 (RK4) and
+    // 0.81 (symplectic Euler, so two substeps at 1 ms). Finer meshes are stiffer per node and get
+    // substeps automatically (see Stepper).
 };
 
 /// Builds the model with the material spread by edge length and area. Springs come from mesh.edges.

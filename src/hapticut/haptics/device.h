@@ -1,0 +1,44 @@
+// The haptic device interface: position in, force out, in scene units (metres, newtons).
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+#include "hapticut/geometry/vec.h"
+
+namespace hapticut::haptics {
+
+struct DeviceSample {
+    Vec3 position_m = Vec3::Zero();
+    Vec3 velocity_m_per_s = Vec3::Zero();
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+    std::uint32_t buttons = 0;  // bit 0: the main stylus button
+};
+
+/// Device units to scene metres: scene = rotation * (scale * device) + offset.
+struct WorkspaceTransform {
+    double scale = 1;
+    Vec3 offset_m = Vec3::Zero();
+    Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+
+    Vec3 toScene(const Vec3& device) const { return rotation * (scale * device) + offset_m; }
+    Vec3 velocityToScene(const Vec3& device_velocity) const { return rotation * (scale * device_velocity); }
+    /// Forces are not scaled: a newton in the scene is a newton in the hand.
+    Vec3 forceToDevice(const Vec3& scene_force_N) const { return rotation.conjugate() * scene_force_N; }
+};
+
+class Device {
+public:
+    virtual ~Device() = default;
+    virtual std::string_view name() const = 0;
+    /// The device state at simulated time t, already in scene metres. Called from the haptic thread only.
+    virtual DeviceSample read(double time_s) = 0;
+    /// The force to render, in the scene frame. Called from the haptic thread only.
+    virtual void commandForce(const Vec3& force_N) = 0;
+    virtual double maxForce_N() const = 0;
+};
+
+/// Force a Phantom Omni / Touch can exert continuously-ish; the default clamp.
+inline constexpr double kDefaultMaxForce_N = 3.3;
+
+}  // namespace hapticut::haptics

@@ -1,0 +1,197 @@
+// The haptic loop.
+#include "hapticut/haptics/haptic_loop.h"
+
+#include <chrono>
+#include <cmath>
+
+
+namespace hapticut::haptics {
+
+using Clock = std::chrono::steady_clock;
+
+HapticLoop::HapticLoop(physics::MassSpringModel& model, std::span<const mesh::Face> faces, Device& device, LoopConfig config)
+    : model_(model), faces_(faces), device_(device), config_(config), stepper_(config.scheme), proxy_(config.proxy) {
+    preparedCouplingStiffness_ = config_.couplingStiffness_N_per_m;
+    stepper_.setToolStiffness(preparedCouplingStiffness_);
+    stepper_.prepare(model_);
+    bvh_.build(surface());
+    // Start the proxy where the device is, or just outside the surface if the device begins inside.
+    const Vec3 start = device_.read(0).position_m;
+    proxy_.reset(start + Vec3(0, 0, 1.0));
+    proxy_.update(start, surface(), bvh_);
+    for (Snapshot& s : snapshots_.slots()) s.positions.resize(model_.nodes.size());
+}
+
+HapticLoop::~HapticLoop() {
+    stop();
+    device_.commandForce(Vec3::Zero());  // a real device must never be left pushing
+}
+
+void HapticLoop::applyPendingCommands() noexcept {
+    while (const auto c = commands_.pop()) {
+        switch (c->kind) {
+            case LoopCommand::Kind::SetCouplingStiffness:
+                // Capped at the stiffness the stable step was prepared for; re-preparing would allocate.
+                config_.couplingStiffness_N_per_m = std::clamp(c->value, 0.0, preparedCouplingStiffness_);
+                break;
+            case LoopCommand::Kind::SetCouplingDamping: config_.couplingDamping_Ns_per_m = c->value; break;
+            case LoopCommand::Kind::SetMaxForceScale: maxForceScale_ = std::clamp(c->value, 0.0, 1.0); break;
+            case LoopCommand::Kind::ResetModel:
+                std::copy(model_.nodes.restPosition.begin(), model_.nodes.restPosition.end(), model_.nodes.position.begin());
+                std::fill(model_.nodes.velocity.begin(), model_.nodes.velocity.end(), Vec3::Zero());
+                break;
+            case LoopCommand::Kind::ResetWatchdog: stats_.watchdogTripped = false; break;
+            case LoopCommand::Kind::Pause: paused_ = true; break;
+            case LoopCommand::Kind::Resume: paused_ = false; break;
+        }
+    }
+}
+
+StepOutput HapticLoop::step() noexcept {
+    const auto start = Clock::now();
+    applyPendingCommands();
+    StepOutput out;
+    out.t_s = time_s();
+    const double dt = 1 / config_.rate_hz;
+
+    // 1. Read the device (already in scene metres).
+    const DeviceSample dev = device_.read(out.t_s);
+    out.device_m = dev.position_m;
+
+    // A device that reports NaN or infinity (a driver fault, a lost connection) trips the watchdog
+    // before its sample can reach the proxy or the tissue.
+    const collision::SurfaceView view = surface();
+    const bool deviceOk = dev.position_m.allFinite() && dev.velocity_m_per_s.allFinite();
+    if (!deviceOk) {
+        ++stats_.nonFiniteEvents;
+        stats_.watchdogTripped = true;
+    }
+
+    // 2. Move the proxy: carried with the surface it touches, then toward the device.
+    if (deviceOk) proxy_.update(dev.position_m, view, bvh_);
+    out.proxy_m = proxy_.position();
+    const Contact& contact = proxy_.contact();
+    const bool constrained = deviceOk && contact.active && (proxy_.position() - dev.position_m).squaredNorm() > 1e-18;
+
+    // 3-4. Force: the coupling spring from the device to the contact point, as a force term of the
+    // physics (model_.tool), so the tissue feels it reversed in every integrator stage and stiff contact
+    // stays stable. Clamped, ramped in, and kept finite by the watchdog.
+    physics::PointSpring& tool = model_.tool;
+    tool.active = false;
+    Vec3 force = Vec3::Zero();
+    if (constrained && !stats_.watchdogTripped) {
+        const mesh::Face& face = faces_[contact.face];
+        const Vec3 w = contact.bary.cwiseMax(0.0).cwiseAbs2();
+        tool.nodes = face;
+        tool.bary = contact.bary;
+        tool.weights = w.sum() > 0 ? Vec3(w / w.sum()) : Vec3::Constant(1.0 / 3);
+        // Anchor so that at this instant the spring reads k (proxy - device): the proxy sits a small
+        // offset off the contact point.
+        tool.anchor_m = dev.position_m - (proxy_.position() - pointOnFace(view, contact.face, contact.bary));
+        tool.bias_N = config_.couplingDamping_Ns_per_m * dev.velocity_m_per_s;
+        tool.stiffness_N_per_m = config_.couplingStiffness_N_per_m;
+        tool.maxForce_N = device_.maxForce_N() * maxForceScale_;
+        tool.scale = std::min(1.0, out.t_s / config_.rampTime_s);
+        tool.normal = contact.side * faceNormal(view, contact.face);
+        force = tool.forceOnTool(model_.nodes.position);
+        tool.active = true;
+    }
+    if (!force.allFinite()) {
+        ++stats_.nonFiniteEvents;
+        stats_.watchdogTripped = true;
+    }
+    if (stats_.watchdogTripped) {
+        force = Vec3::Zero();
+        tool.active = false;
+    }
+
+    // 6. Advance the tissue and refit the collision tree to it.
+    if (!paused_) {
+        if (!stepper_.step(model_, dt).finite) {
+            ++stats_.nonFiniteEvents;
+            stats_.watchdogTripped = true;
+            force = Vec3::Zero();
+        }
+        bvh_.refit(view);
+        proxy_.followSurface(view, bvh_);
+        out.proxy_m = proxy_.position();
+    }
+
+    // Watchdog: a step that overran its period sends no force, rather than a stale one late.
+    const double elapsed_us = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
+    if (realtime_ && elapsed_us > 1e6 / config_.rate_hz) {
+        ++stats_.overruns;
+        force = Vec3::Zero();
+    }
+
+    // 7. Send the force; publish a snapshot now and then.
+    device_.commandForce(force);
+    out.force_N = force;
+    out.contact = constrained;
+    out.face = contact.face;
+    out.stepTime_us = elapsed_us;
+    stats_.stepTime_us.record(elapsed_us);
+    stats_.maxForce_N = std::max(stats_.maxForce_N, force.norm());
+    stats_.contactSteps += constrained;
+    ++stats_.steps;
+    if (stepIndex_ % config_.snapshotEvery == 0) {
+        Snapshot& s = snapshots_.writeSlot();
+        std::copy(model_.nodes.position.begin(), model_.nodes.position.end(), s.positions.begin());
+        s.device_m = out.device_m;
+        s.proxy_m = out.proxy_m;
+        s.force_N = force;
+        s.contact = constrained;
+        s.step = stepIndex_;
+        snapshots_.publish();
+    }
+    ++stepIndex_;
+    return out;
+}
+
+void HapticLoop::runSimulated(long steps, const std::function<void(const StepOutput&)>& observer) {
+    realtime_ = false;
+    const auto start = Clock::now();
+    for (long i = 0; i < steps; ++i) {
+        const StepOutput out = step();
+        if (observer) observer(out);
+    }
+    stats_.wallTime_s += std::chrono::duration<double>(Clock::now() - start).count();
+    device_.commandForce(Vec3::Zero());
+}
+
+void HapticLoop::start(long max_steps, std::function<void(const StepOutput&)> observer) {
+    stop();
+    stopRequested_ = false;
+    running_ = true;
+    thread_ = std::thread([this, max_steps, observer = std::move(observer)] { threadMain(max_steps, observer); });
+}
+
+void HapticLoop::stop() {
+    stopRequested_ = true;
+    if (thread_.joinable()) thread_.join();
+}
+
+void HapticLoop::threadMain(long max_steps, std::function<void(const StepOutput&)> observer) {
+    realtime_ = true;
+    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1 / config_.rate_hz));
+    // Sleep until shortly before each deadline, then spin: sleeping alone wakes up to ~100 us late.
+    const auto spinMargin = std::chrono::microseconds(150);
+    const auto begin = Clock::now();
+    auto deadline = begin;
+    for (long i = 0; (max_steps < 0 || i < max_steps) && !stopRequested_.load(std::memory_order_relaxed); ++i) {
+        if (deadline - Clock::now() > spinMargin) std::this_thread::sleep_until(deadline - spinMargin);
+        while (Clock::now() < deadline) {
+        }
+        stats_.periodError_us.record(std::chrono::duration<double, std::micro>(Clock::now() - deadline).count());
+        const StepOutput out = step();
+        if (observer) observer(out);
+        deadline += period;
+        // After a long stall, drop the missed deadlines instead of racing to catch up.
+        if (Clock::now() - deadline > 10 * period) deadline = Clock::now();
+    }
+    stats_.wallTime_s += std::chrono::duration<double>(Clock::now() - begin).count();
+    device_.commandForce(Vec3::Zero());
+    running_.store(false, std::memory_order_release);
+}
+
+}  // namespace hapticut::haptics

@@ -1,0 +1,115 @@
+// The haptic loop (DESIGN "The loop"): device -> proxy -> force -> tissue -> physics -> device, at
+// 1 kHz by default, in simulated time or in its own real-time thread.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <thread>
+#include <vector>
+
+#include "hapticut/collision/bvh.h"
+#include "hapticut/common/latency_histogram.h"
+#include "hapticut/common/spsc_queue.h"
+#include "hapticut/common/triple_buffer.h"
+#include "hapticut/haptics/device.h"
+#include "hapticut/haptics/proxy.h"
+#include "hapticut/physics/integrators.h"
+
+namespace hapticut::haptics {
+
+struct LoopConfig {
+    double rate_hz = 1000;                     // 1 kHz (R7); up to 10 kHz
+    physics::Scheme scheme = physics::Scheme::RungeKutta4;
+    double couplingStiffness_N_per_m = 400;    // k_h of the virtual spring between proxy and device; live changes up to this value.
+                                               // 400 N/m keeps RK4 at one step per ms on the 1,619 heart.
+    double couplingDamping_Ns_per_m = 0.3;     // b_h on the device velocity, only while in contact
+    double rampTime_s = 0.5;                   // force fades in over this long after start
+    int snapshotEvery = 8;                     // publish positions for the renderer every N steps (125 Hz)
+    ProxyParams proxy;
+};
+
+/// What one step did, for logs and tests.
+struct StepOutput {
+    double t_s = 0;
+    Vec3 device_m = Vec3::Zero(), proxy_m = Vec3::Zero(), force_N = Vec3::Zero();
+    bool contact = false;
+    std::uint32_t face = 0;
+    double stepTime_us = 0;
+};
+
+struct LoopStats {
+    LatencyHistogram stepTime_us{0.1, 20'000};
+    LatencyHistogram periodError_us{0.1, 20'000};  // real-time mode: how late each step started
+    long steps = 0, contactSteps = 0, overruns = 0, nonFiniteEvents = 0;
+    bool watchdogTripped = false;  // latched by a non-finite force or state: force stays zero
+    double maxForce_N = 0;
+    double wallTime_s = 0;
+};
+
+/// What the renderer reads: the deformed positions and the tool state.
+struct Snapshot {
+    std::vector<Vec3> positions;
+    Vec3 device_m = Vec3::Zero(), proxy_m = Vec3::Zero(), force_N = Vec3::Zero();
+    bool contact = false;
+    long step = 0;
+};
+
+struct LoopCommand {
+    enum class Kind { SetCouplingStiffness, SetCouplingDamping, SetMaxForceScale, ResetModel, ResetWatchdog, Pause, Resume } kind;
+    double value = 0;
+};
+
+class HapticLoop {
+public:
+    /// The loop keeps references to the model, the faces and the device; they must outlive it.
+    HapticLoop(physics::MassSpringModel& model, std::span<const mesh::Face> faces, Device& device, LoopConfig config = {});
+    ~HapticLoop();
+    HapticLoop(const HapticLoop&) = delete;
+    HapticLoop& operator=(const HapticLoop&) = delete;
+
+    /// One haptic step. Allocation-free, lock-free, no I/O.
+    StepOutput step() noexcept;
+
+    /// Steps as fast as it can on simulated time; `observer` sees every step.
+    void runSimulated(long steps, const std::function<void(const StepOutput&)>& observer = {});
+    /// Starts a thread that steps at rate_hz on the wall clock, until stop() or max_steps (negative: no limit).
+    /// `observer` runs on that thread: it must not block or allocate.
+    void start(long max_steps = -1, std::function<void(const StepOutput&)> observer = {});
+    void stop();
+    bool running() const { return running_.load(std::memory_order_acquire); }
+
+    TripleBuffer<Snapshot>& snapshots() { return snapshots_; }
+    SpscQueue<LoopCommand, 64>& commands() { return commands_; }
+    /// Read after the run (or from the loop's own thread).
+    const LoopStats& stats() const { return stats_; }
+    const GodObjectProxy& proxy() const { return proxy_; }
+    const collision::Bvh& bvh() const { return bvh_; }
+    collision::SurfaceView surface() const { return {model_.nodes.position, faces_}; }
+    double time_s() const { return static_cast<double>(stepIndex_) / config_.rate_hz; }
+
+private:
+    void applyPendingCommands() noexcept;
+    void threadMain(long max_steps, std::function<void(const StepOutput&)> observer);
+
+    physics::MassSpringModel& model_;
+    std::span<const mesh::Face> faces_;
+    Device& device_;
+    LoopConfig config_;
+    physics::Stepper stepper_;
+    collision::Bvh bvh_;
+    GodObjectProxy proxy_;
+    LoopStats stats_;
+    TripleBuffer<Snapshot> snapshots_;
+    SpscQueue<LoopCommand, 64> commands_;
+    long stepIndex_ = 0;
+    double maxForceScale_ = 1;
+    bool paused_ = false;
+    bool realtime_ = false;
+    double preparedCouplingStiffness_ = 0;  // the stable step allows for a coupling up to this stiff
+    std::atomic<bool> running_{false}, stopRequested_{false};
+    std::thread thread_;
+};
+
+}  // namespace hapticut::haptics

@@ -1,0 +1,85 @@
+// Device trajectories as CSV.
+#include "hapticut/haptics/trajectory.h"
+
+#include "hapticut/mesh/io/line_reader.h"
+
+namespace hapticut::haptics {
+
+namespace {
+using mesh::io::ParseFailure;
+
+std::vector<std::string_view> splitCsv(std::string_view line) {
+    std::vector<std::string_view> fields;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = line.find(',', start);
+        std::string_view f = line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+        while (!f.empty() && (f.front() == ' ' || f.front() == '\t')) f.remove_prefix(1);
+        while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r')) f.remove_suffix(1);
+        fields.push_back(f);
+        if (comma == std::string_view::npos) return fields;
+        start = comma + 1;
+    }
+}
+}  // namespace
+
+Result<Trajectory, mesh::io::LoadError> parseTrajectory(std::string_view text, const std::filesystem::path& file) {
+    try {
+        mesh::io::LineReader r(text);
+        if (!r.next()) throw ParseFailure{0, "file is empty, expected the header 't,x,y,z,button'"};
+        const auto header = splitCsv(r.rawLine());
+        const bool hasOrientation = header.size() == 9;
+        static constexpr std::string_view kNames[] = {"t", "x", "y", "z", "button", "qw", "qx", "qy", "qz"};
+        if (header.size() != 5 && header.size() != 9) r.fail("expected the header 't,x,y,z,button' or 't,x,y,z,button,qw,qx,qy,qz'");
+        for (std::size_t i = 0; i < header.size(); ++i)
+            if (header[i] != kNames[i]) r.fail("header column " + std::to_string(i + 1) + " should be '" + std::string(kNames[i]) + "', found '" + std::string(header[i]) + "'");
+
+        Trajectory out;
+        while (r.next()) {
+            const auto fields = splitCsv(r.rawLine());
+            if (fields.size() != header.size())
+                r.fail("expected " + std::to_string(header.size()) + " comma-separated values, found " + std::to_string(fields.size()));
+            double v[9];
+            for (std::size_t i = 0; i < fields.size(); ++i)
+                if (!mesh::io::parseFiniteDouble(fields[i], v[i])) r.fail("expected a finite number for " + std::string(kNames[i]) + ", found '" + std::string(fields[i]) + "'");
+            if (v[4] != 0 && v[4] != 1) r.fail("button must be 0 or 1, found '" + std::string(fields[4]) + "'");
+            if (!out.points.empty() && v[0] <= out.points.back().t_s) r.fail("time must increase: " + std::string(fields[0]) + " s follows " + mesh::io::formatDouble(out.points.back().t_s) + " s");
+            TrajectoryPoint p;
+            p.t_s = v[0];
+            p.sample.position_m = Vec3(v[1], v[2], v[3]);
+            p.sample.buttons = static_cast<std::uint32_t>(v[4]);
+            if (hasOrientation) {
+                const Eigen::Quaterniond q(v[5], v[6], v[7], v[8]);
+                if (q.norm() < 1e-9) r.fail("orientation quaternion has zero length");
+                p.sample.orientation = q.normalized();
+            }
+            out.points.push_back(p);
+        }
+        if (out.points.size() < 2) throw ParseFailure{r.line(), "a trajectory needs at least two samples"};
+        return out;
+    } catch (const ParseFailure& failure) {
+        return unexpected(mesh::io::LoadError{file, failure.line, failure.message});
+    }
+}
+
+Result<Trajectory, mesh::io::LoadError> readTrajectory(const std::filesystem::path& file) {
+    mesh::io::LoadError error;
+    const auto text = mesh::io::readTextFile(file, error, std::size_t{1} << 30);
+    if (!text) return unexpected(error);
+    return parseTrajectory(*text, file);
+}
+
+std::string formatTrajectory(const Trajectory& trajectory) {
+    using mesh::io::formatDouble;
+    std::string out = "t,x,y,z,button,qw,qx,qy,qz\n";
+    for (const TrajectoryPoint& p : trajectory.points) {
+        const Vec3& x = p.sample.position_m;
+        const Eigen::Quaterniond& q = p.sample.orientation;
+        out += formatDouble(p.t_s) + "," + formatDouble(x.x()) + "," + formatDouble(x.y()) + "," + formatDouble(x.z()) + "," +
+               std::to_string(p.sample.buttons) + "," + formatDouble(q.w()) + "," + formatDouble(q.x()) + "," + formatDouble(q.y()) + "," +
+               formatDouble(q.z()) + "\n";
+    }
+    return out;
+}
+
+}  // namespace hapticut::haptics

@@ -1,0 +1,29 @@
+// Device trajectories: CSV with header `t,x,y,z,button` (s, scene m, 0/1), optionally `qw,qx,qy,qz`.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hapticut/common/result.h"
+#include "hapticut/haptics/device.h"
+#include "hapticut/mesh/io/load_error.h"
+
+namespace hapticut::haptics {
+
+struct TrajectoryPoint {
+    double t_s = 0;
+    DeviceSample sample;  // position, buttons, orientation (velocity unused)
+};
+
+struct Trajectory {
+    std::vector<TrajectoryPoint> points;  // strictly increasing in time
+    double duration_s() const { return points.empty() ? 0 : points.back().t_s - points.front().t_s; }
+};
+
+Result<Trajectory, mesh::io::LoadError> parseTrajectory(std::string_view text, const std::filesystem::path& file_for_errors);
+Result<Trajectory, mesh::io::LoadError> readTrajectory(const std::filesystem::path& file);
+std::string formatTrajectory(const Trajectory& trajectory);
+
+}  // namespace hapticut::haptics

@@ -1,0 +1,33 @@
+// A device set programmatically.
+#include "hapticut/haptics/virtual_device.h"
+
+namespace hapticut::haptics {
+
+void VirtualDevice::setPosition(const Vec3& position, std::uint32_t buttons) {
+    input_.writeSlot() = {position, buttons};
+    input_.publish();
+}
+
+Vec3 VirtualDevice::lastForce() const {
+    return {fx_.load(std::memory_order_relaxed), fy_.load(std::memory_order_relaxed), fz_.load(std::memory_order_relaxed)};
+}
+
+DeviceSample VirtualDevice::read(double time_s) {
+    const Input& in = input_.readLatest();
+    DeviceSample s;
+    s.position_m = workspace_.toScene(in.position);
+    s.buttons = in.buttons;
+    // Velocity by finite difference over the haptic step; the first sample has none.
+    if (lastTime_ >= 0 && time_s > lastTime_) s.velocity_m_per_s = (s.position_m - lastPosition_) / (time_s - lastTime_);
+    lastPosition_ = s.position_m;
+    lastTime_ = time_s;
+    return s;
+}
+
+void VirtualDevice::commandForce(const Vec3& force_N) {
+    fx_.store(force_N.x(), std::memory_order_relaxed);
+    fy_.store(force_N.y(), std::memory_order_relaxed);
+    fz_.store(force_N.z(), std::memory_order_relaxed);
+}
+
+}  // namespace hapticut::haptics

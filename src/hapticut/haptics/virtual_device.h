@@ -1,0 +1,40 @@
+// A device set programmatically (tests, scripts, the viewer's mouse): lock-free between threads.
+#pragma once
+
+#include <atomic>
+#include <string>
+
+#include "hapticut/common/triple_buffer.h"
+#include "hapticut/haptics/device.h"
+
+namespace hapticut::haptics {
+
+class VirtualDevice final : public Device {
+public:
+    explicit VirtualDevice(double max_force_N = kDefaultMaxForce_N, WorkspaceTransform workspace = {})
+        : maxForce_(max_force_N), workspace_(workspace) {}
+
+    /// From any one thread (the UI): where the device is now, in device units.
+    void setPosition(const Vec3& position, std::uint32_t buttons = 0);
+    /// The last force commanded, for display; safe from any thread.
+    Vec3 lastForce() const;
+
+    std::string_view name() const override { return "virtual"; }
+    DeviceSample read(double time_s) override;
+    void commandForce(const Vec3& force_N) override;
+    double maxForce_N() const override { return maxForce_; }
+
+private:
+    struct Input {
+        Vec3 position = Vec3::Zero();
+        std::uint32_t buttons = 0;
+    };
+    double maxForce_;
+    WorkspaceTransform workspace_;
+    TripleBuffer<Input> input_;
+    std::atomic<double> fx_{0}, fy_{0}, fz_{0};
+    Vec3 lastPosition_ = Vec3::Zero();
+    double lastTime_ = -1;
+};
+
+}  // namespace hapticut::haptics

@@ -1,0 +1,192 @@
+// The haptic loop with real physics: pressing the heart indents it near the contact and it recovers;
+// force along the outward normal growing with depth up to the clamp; the proxy never inside the
+// deforming surface; the tissue gets exactly -F; ramp-in; watchdog; a real-time thread.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hapticut/collision/inside_test.h"
+#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/replay_device.h"
+#include "hapticut/haptics/virtual_device.h"
+#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/physics/material.h"
+
+namespace hapticut::haptics {
+namespace {
+
+struct HeartScene {
+    mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
+    physics::MassSpringModel model = physics::buildModel(mesh, physics::Material{});
+};
+
+/// The front-most surface point of the heart near the centre line: the probe target.
+Vec3 frontPoint(const HeartScene& h) {
+    Vec3 best = h.mesh.positions[0];
+    for (const Vec3& p : h.mesh.positions)
+        if (std::abs(p.x()) < 0.01 && std::abs(p.y()) < 0.01 && p.z() > best.z()) best = p;
+    return best;
+}
+
+/// Approach the front along -z from 3 cm out, press `depth` in, hold, retract, rest.
+Trajectory pressTrajectory(const Vec3& surface, double depth) {
+    Trajectory t;
+    auto add = [&](double time, double z) {
+        TrajectoryPoint p;
+        p.t_s = time;
+        p.sample.position_m = Vec3(surface.x(), surface.y(), z);
+        t.points.push_back(p);
+    };
+    add(0.0, surface.z() + 0.03);
+    add(0.6, surface.z() + 0.005);  // still free after the 0.5 s force ramp
+    add(1.0, surface.z() - depth);
+    add(1.4, surface.z() - depth);
+    add(1.6, surface.z() + 0.03);
+    add(3.0, surface.z() + 0.03);
+    return t;
+}
+
+TEST(HapticLoop, PressingTheHeartIndentsItNearTheContactAndItRecovers) {
+    HeartScene h;
+    const Vec3 front = frontPoint(h);
+    ReplayDevice device(pressTrajectory(front, 0.004));
+    HapticLoop loop(h.model, h.mesh.faces, device);
+    double maxForce = 0, forceAtHold = 0;
+    loop.runSimulated(3000, [&](const StepOutput& s) {
+        // The proxy is never inside the deforming heart (independent ray-parity test).
+        EXPECT_FALSE(collision::insideClosedSurface(loop.bvh(), loop.surface(), s.proxy_m)) << "t = " << s.t_s;
+        if (s.t_s < 0.55) {
+            EXPECT_EQ(s.force_N, Vec3::Zero()) << "free space, t = " << s.t_s;
+        }
+        maxForce = std::max(maxForce, s.force_N.norm());
+        if (std::abs(s.t_s - 1.2) < 1e-9) {
+            forceAtHold = s.force_N.norm();
+            EXPECT_GT(s.force_N.z(), 0.9 * s.force_N.norm()) << "pushes back along the outward normal";
+            // Indented near the contact, not far away.
+            double indent = 0;
+            for (std::uint32_t n : h.mesh.faces[s.face]) indent = std::max(indent, (h.model.nodes.restPosition[n] - h.model.nodes.position[n]).z());
+            EXPECT_GT(indent, 1e-3);
+            double far = 0;
+            for (std::size_t i = 0; i < h.model.nodes.size(); ++i)
+                if (h.model.nodes.restPosition[i].z() < -0.01) far = std::max(far, (h.model.nodes.position[i] - h.model.nodes.restPosition[i]).norm());
+            EXPECT_LT(far, 1e-4) << "the back of the heart hardly moves";
+        }
+    });
+    EXPECT_GT(forceAtHold, 0.5);
+    EXPECT_LE(maxForce, kDefaultMaxForce_N + 1e-12);
+    EXPECT_EQ(loop.stats().steps, 3000);
+    EXPECT_GT(loop.stats().contactSteps, 300);
+    EXPECT_LT(physics::maxDisplacement(h.model), 1e-4) << "recovered 1.4 s after release";
+    EXPECT_EQ(device.lastForce(), Vec3::Zero()) << "no force is left on the device at the end";
+}
+
+TEST(HapticLoop, ForceGrowsWithDepthUpToTheClamp) {
+    double previous = 0;
+    bool clamped = false;
+    for (double depth : {0.001, 0.002, 0.004, 0.008, 0.016, 0.03}) {
+        HeartScene h;
+        ReplayDevice device(pressTrajectory(frontPoint(h), depth));
+        HapticLoop loop(h.model, h.mesh.faces, device);
+        double atHold = 0;
+        loop.runSimulated(1250, [&](const StepOutput& s) {
+            if (std::abs(s.t_s - 1.2) < 1e-9) atHold = s.force_N.norm();
+        });
+        EXPECT_GE(atHold, previous - 1e-9) << "depth " << depth;
+        EXPECT_LE(atHold, kDefaultMaxForce_N + 1e-12);
+        clamped |= std::abs(atHold - kDefaultMaxForce_N) < 1e-9;
+        previous = atHold;
+    }
+    EXPECT_TRUE(clamped) << "a deep press reaches the device's maximum force";
+}
+
+TEST(HapticLoop, ForceRampsInOverHalfASecond) {
+    // With the physics paused the tissue cannot yield, so the force is the ramp times k_h times depth.
+    HeartScene h;
+    VirtualDevice device;
+    device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));  // pressed in from the start
+    HapticLoop loop(h.model, h.mesh.faces, device);
+    ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::Pause, 0}));
+    std::vector<double> force;
+    loop.runSimulated(700, [&](const StepOutput& s) { force.push_back(s.force_N.norm()); });
+    EXPECT_EQ(force[0], 0.0);
+    EXPECT_NEAR(force[100], 0.2 * force[600], 1e-9);
+    EXPECT_NEAR(force[250], 0.5 * force[600], 1e-9);
+    EXPECT_NEAR(force[600], force[699], 1e-12);
+    EXPECT_NEAR(force[600], 400 * 0.002, 0.1) << "k_h times depth, give or take where the proxy touches";
+}
+
+/// A device that reports NaN from a given step on.
+class FaultyDevice final : public Device {
+public:
+    explicit FaultyDevice(Vec3 at) : at_(at) {}
+    std::string_view name() const override { return "faulty"; }
+    DeviceSample read(double t) override {
+        DeviceSample s;
+        s.position_m = t > 0.7 ? Vec3::Constant(std::nan("")) : at_;
+        return s;
+    }
+    void commandForce(const Vec3& f) override { last = f; }
+    double maxForce_N() const override { return kDefaultMaxForce_N; }
+    Vec3 last = Vec3::Zero();
+
+private:
+    Vec3 at_;
+};
+
+TEST(HapticLoop, WatchdogZeroesTheForceOnANonFiniteValue) {
+    HeartScene h;
+    FaultyDevice device(frontPoint(h) - Vec3(0, 0, 0.003));
+    HapticLoop loop(h.model, h.mesh.faces, device);
+    double before = 0, after = 0;
+    loop.runSimulated(690, [&](const StepOutput& s) { before = s.force_N.norm(); });
+    EXPECT_GT(before, 0.3) << "pressing before the fault";
+    loop.runSimulated(50, [&](const StepOutput& s) {
+        if (s.t_s > 0.7) after = std::max(after, s.force_N.norm());
+    });
+    EXPECT_EQ(after, 0.0);
+    EXPECT_TRUE(loop.stats().watchdogTripped);
+    EXPECT_GT(loop.stats().nonFiniteEvents, 0);
+    EXPECT_EQ(device.last, Vec3::Zero());
+    EXPECT_TRUE(physics::allFinite(h.model)) << "the fault never reached the tissue";
+    EXPECT_TRUE(loop.proxy().position().allFinite()) << "nor the proxy";
+}
+
+TEST(HapticLoop, RunsInItsOwnThreadAtTheConfiguredRate) {
+    HeartScene h;
+    VirtualDevice device;
+    device.setPosition(frontPoint(h) + Vec3(0, 0, 0.01));
+    HapticLoop loop(h.model, h.mesh.faces, device);
+    long observed = 0;
+    loop.start(300, [&](const StepOutput&) { ++observed; });
+    // Move the device in from this thread while the loop runs: the force appears.
+    for (int i = 0; i < 100; ++i) {
+        device.setPosition(frontPoint(h) + Vec3(0, 0, 0.01 - 0.00015 * i));
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    loop.stop();
+    EXPECT_EQ(loop.stats().steps, 300);
+    EXPECT_EQ(observed, 300);
+    EXPECT_EQ(loop.stats().periodError_us.count(), 300u);
+    EXPECT_GT(loop.stats().wallTime_s, 0.29) << "paced by the wall clock, not as fast as possible";
+    EXPECT_EQ(device.lastForce(), Vec3::Zero()) << "zero force after the loop ends";
+    const Snapshot& snap = loop.snapshots().readLatest();
+    EXPECT_EQ(snap.positions.size(), h.model.nodes.size());
+    EXPECT_GT(snap.step, 0);
+}
+
+TEST(HapticLoop, CommandsReachTheLoop) {
+    HeartScene h;
+    VirtualDevice device;
+    device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));
+    HapticLoop loop(h.model, h.mesh.faces, device);
+    double before = 0, after = 1;
+    loop.runSimulated(600, [&](const StepOutput& s) { before = s.force_N.norm(); });
+    ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::SetMaxForceScale, 0.0}));
+    loop.runSimulated(1, [&](const StepOutput& s) { after = s.force_N.norm(); });
+    EXPECT_GT(before, 0.1);
+    EXPECT_EQ(after, 0.0);
+}
+
+}  // namespace
+}  // namespace hapticut::haptics
