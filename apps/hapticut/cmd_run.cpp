@@ -6,6 +6,9 @@
 
 #include "commands.h"
 #include "hapticut/mesh/io/mesh_file.h"
+#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/mesh/procedural/tools.h"
+#include "hapticut/scene/haptic_run.h"
 #include "hapticut/scene/headless_run.h"
 #include "model_source.h"
 #include "terminal.h"
@@ -20,16 +23,119 @@ struct RunOptions {
     std::string integrator = "rk4";
     double dt_s = 1e-3;
     long steps = 1000;
+    bool stepsGiven = false;
     std::string forceAt, force;
     double forceUntil_s = -1;
     std::string exportMesh, report;
+    std::string trajectory, tool = "probe", forceLog;
+    bool realtime = false;
+    double rate_hz = 1000;
 };
+
+/// Writes the deformed mesh, if asked; false on failure (already reported).
+bool exportDeformed(const std::string& file, const ModelSource& source, const physics::MassSpringModel& model) {
+    if (file.empty()) return true;
+    mesh::SurfaceMesh deformed = source.mesh;
+    deformed.positions = model.nodes.position;
+    mesh::computeFaceNormals(deformed);
+    if (const auto error = mesh::io::saveMesh(file, deformed, source.physics)) {
+        std::cerr << error->toString() << "\n";
+        return false;
+    }
+    std::cout << "wrote the deformed mesh to " << file << "\n";
+    return true;
+}
+
+int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
+    const auto trajectory = haptics::readTrajectory(o.trajectory);
+    if (!trajectory) {
+        std::cerr << trajectory.error().toString() << "\n";
+        return 1;
+    }
+    if (o.tool != "probe" && o.tool != "scalpel") {
+        std::cerr << "hapticut run: unknown tool '" << o.tool << "': expected probe or scalpel\n";
+        return 2;
+    }
+    const auto source = loadModelSource(o.model, o.triangles);
+    if (!source) return 1;
+    physics::MassSpringModel model = buildSimulationModel(*source);
+
+    scene::HapticRunConfig config;
+    config.loop.scheme = scheme;
+    config.loop.rate_hz = o.rate_hz;
+    config.steps = o.stepsGiven ? o.steps : -1;
+    config.realtime = o.realtime;
+    config.tool = o.tool;
+    config.toolThreshold_N = o.tool == "scalpel" ? mesh::procedural::kScalpelThreshold_N : mesh::procedural::kProbeThreshold_N;
+    std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << o.tool << " on " << o.trajectory << " ("
+              << trajectory->duration_s() << " s) at " << o.rate_hz << " Hz, " << (o.realtime ? "real time" : "simulated time") << "\n";
+    const scene::HapticRunResult r = scene::runHaptic(source->mesh, model, *trajectory, config);
+
+    std::cout << r.steps << " haptic steps (" << r.simTime_s << " s simulated) in " << r.wallTime_s << " s wall: " << r.hapticRate_hz
+              << " steps/s; step " << r.stepTime_us.p50 << " us p50, " << r.stepTime_us.p99 << " us p99, " << r.stepTime_us.max << " us max\n";
+    if (o.realtime)
+        std::cout << "period error " << r.periodError_us.p50 << " us p50, " << r.periodError_us.p99 << " us p99, " << r.periodError_us.max
+                  << " us max; overruns " << r.overruns << "\n";
+    std::cout << "contact in " << r.contactSteps << " steps; max force " << r.maxForce_N << " N; max proxy penetration " << r.maxProxyPenetration_m
+              << " m; max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, " << r.finalMaxDisplacement_m * 1e3 << " mm at the end\n";
+    if (r.watchdogTripped) std::cout << "watchdog tripped: " << r.nonFiniteEvents << " non-finite value(s); force was zeroed\n";
+    if (o.tool == "scalpel") std::cout << "note: cutting is not implemented yet; the scalpel presses like the probe\n";
+
+    int status = r.watchdogTripped ? 3 : 0;
+    if (!o.forceLog.empty()) {
+        if (const auto error = mesh::io::writeTextFileAtomically(o.forceLog, scene::formatForceLog(r.log))) {
+            std::cerr << error->toString() << "\n";
+            status = 1;
+        } else {
+            std::cout << "wrote the force log to " << o.forceLog << "\n";
+        }
+    }
+    if (!exportDeformed(o.exportMesh, *source, model)) status = 1;
+    if (!o.report.empty()) {
+        nlohmann::ordered_json j;
+        j["model"] = source->name;
+        j["vertices"] = source->mesh.positions.size();
+        j["faces"] = source->mesh.faces.size();
+        j["springs"] = model.springs.size();
+        j["integrator"] = physics::schemeName(scheme);
+        j["dt"] = 1 / o.rate_hz;
+        j["substeps"] = r.substeps;
+        j["steps"] = r.steps;
+        j["tool"] = o.tool;
+        j["tool_threshold_N"] = config.toolThreshold_N;
+        j["trajectory"] = o.trajectory;
+        j["realtime"] = o.realtime;
+        j["sim_time_s"] = r.simTime_s;
+        j["wall_time_s"] = r.wallTime_s;
+        j["haptic_rate_hz"] = r.hapticRate_hz;
+        j["step_us"] = toJson(r.stepTime_us);
+        j["period_error_us"] = o.realtime ? toJson(r.periodError_us) : nlohmann::ordered_json(nullptr);
+        j["overruns"] = r.overruns;
+        j["contact_steps"] = r.contactSteps;
+        j["max_force_N"] = r.maxForce_N;
+        j["max_proxy_penetration_m"] = r.maxProxyPenetration_m;
+        j["max_displacement_m"] = r.maxDisplacement_m;
+        j["final_max_displacement_m"] = r.finalMaxDisplacement_m;
+        j["nan_events"] = r.nonFiniteEvents;
+        j["watchdog_tripped"] = r.watchdogTripped;
+        if (!writeJson(o.report, j)) return 1;
+        std::cout << "wrote the report to " << o.report << "\n";
+    }
+    return status;
+}
 
 int run(const RunOptions& o) {
     const auto scheme = physics::parseScheme(o.integrator);
     if (!scheme) {
         std::cerr << "hapticut run: unknown integrator '" << o.integrator << "': expected euler, midpoint, rk4 or symplectic\n";
         return 2;
+    }
+    if (!o.trajectory.empty()) {
+        if (!o.force.empty()) {
+            std::cerr << "hapticut run: --force and --trajectory do not go together: the trajectory's device presses the model\n";
+            return 2;
+        }
+        return runHapticMode(o, *scheme);
     }
     scene::RunConfig config;
     config.scheme = *scheme;
@@ -71,17 +177,7 @@ int run(const RunOptions& o) {
               << " mm at the end; kinetic energy at the end " << r.kineticEnergyEnd_J << " J; non-finite steps " << r.nanEvents << "\n";
 
     int status = r.nanEvents > 0 ? 3 : 0;
-    if (!o.exportMesh.empty()) {
-        mesh::SurfaceMesh deformed = source->mesh;
-        deformed.positions = model.nodes.position;
-        mesh::computeFaceNormals(deformed);
-        if (const auto error = mesh::io::saveMesh(o.exportMesh, deformed, source->physics)) {
-            std::cerr << error->toString() << "\n";
-            status = 1;
-        } else {
-            std::cout << "wrote the deformed mesh to " << o.exportMesh << "\n";
-        }
-    }
+    if (!exportDeformed(o.exportMesh, *source, model)) status = 1;
     if (!o.report.empty()) {
         nlohmann::ordered_json j;
         j["model"] = source->name;
@@ -131,6 +227,12 @@ Command addRunCommand(CLI::App& app) {
     cmd->add_option("--force-until", o->forceUntil_s, "Release the force at this simulated time (s); default: never");
     cmd->add_option("--export-mesh", o->exportMesh, "Write the final deformed mesh (.txt, .obj or .ply)");
     cmd->add_option("--report", o->report, "Write a JSON report");
+    cmd->add_option("--trajectory", o->trajectory, "Drive the haptic loop with a device trajectory (CSV t,x,y,z,button)");
+    cmd->add_option("--tool", o->tool, "probe or scalpel (with --trajectory)")->capture_default_str();
+    cmd->add_flag("--realtime", o->realtime, "Run the haptic loop at wall-clock rate in its own thread (with --trajectory)");
+    cmd->add_option("--rate", o->rate_hz, "Haptic loop rate in Hz (with --trajectory)")->capture_default_str()->check(CLI::Range(100.0, 10'000.0));
+    cmd->add_option("--force-log", o->forceLog, "Write every haptic step as CSV (with --trajectory)");
+    cmd->callback([o, cmd] { o->stepsGiven = cmd->count("--steps") > 0; });
     return [o] { return run(*o); };
 }
 

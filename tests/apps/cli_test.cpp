@@ -121,7 +121,7 @@ TEST_F(Cli, BadArgumentsAreExplained) {
 TEST_F(Cli, ShippedAssetsAreWhatTheCodeGenerates) {
     const CliResult r = run("assets --out " + dir_.string());
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    for (const char* file : {"models/heart.txt", "tools/scalpel.txt", "tools/probe.txt"})
+    for (const char* file : {"models/heart.txt", "tools/scalpel.txt", "tools/probe.txt", "trajectories/press-front.csv", "trajectories/stroke-front.csv"})
         EXPECT_TRUE(slurp(fs::path(HAPTICUT_SOURCE_DIR) / "assets" / file) == slurp(dir_ / file))
             << file << " is stale: run 'hapticut assets' and commit the result";
     const auto heart = nlohmann::json::parse(run(std::string("info ") + HAPTICUT_SOURCE_DIR + "/assets/models/heart.txt --json").out);

@@ -123,7 +123,7 @@ TEST(Proxy, SurfaceMovingIntoAStationaryDevicePushesTheProxyOut) {
 /// Drags the device along a closed path through the heart at up to 0.5 m/s (0.5 mm per 1 ms step)
 /// and checks with the independent ray-parity test that the proxy is never inside.
 void expectNeverInside(const Scene& s, auto path, int steps) {
-    GodObjectProxy proxy;
+    GodObjectProxy proxy(ProxyParams{.closedSurface = true});
     proxy.reset(Vec3(0, 0, 0.3));  // start well outside; the first update brings it to the surface
     int contacts = 0;
     for (int i = 0; i <= steps; ++i) {

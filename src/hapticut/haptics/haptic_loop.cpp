@@ -1,6 +1,8 @@
 // The haptic loop.
 #include "hapticut/haptics/haptic_loop.h"
 
+#include "hapticut/mesh/adjacency.h"
+
 #include <chrono>
 #include <cmath>
 
@@ -9,8 +11,18 @@ namespace hapticut::haptics {
 
 using Clock = std::chrono::steady_clock;
 
+namespace {
+/// The proxy may use the ray-parity inside test only on a closed surface (no boundary edges).
+ProxyParams withClosedFlag(ProxyParams params, std::span<const mesh::Face> faces) {
+    const mesh::MeshAdjacency adj = mesh::buildAdjacency(faces);
+    params.closedSurface = true;
+    for (std::size_t e = 0; e < adj.edges.size() && params.closedSurface; ++e) params.closedSurface = adj.facesOfEdge(e).size() == 2;
+    return params;
+}
+}  // namespace
+
 HapticLoop::HapticLoop(physics::MassSpringModel& model, std::span<const mesh::Face> faces, Device& device, LoopConfig config)
-    : model_(model), faces_(faces), device_(device), config_(config), stepper_(config.scheme), proxy_(config.proxy) {
+    : model_(model), faces_(faces), device_(device), config_(config), stepper_(config.scheme), proxy_(withClosedFlag(config.proxy, faces)) {
     preparedCouplingStiffness_ = config_.couplingStiffness_N_per_m;
     stepper_.setToolStiffness(preparedCouplingStiffness_);
     stepper_.prepare(model_);

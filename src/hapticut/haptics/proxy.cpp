@@ -34,15 +34,24 @@ void GodObjectProxy::carryWithSurface(const collision::SurfaceView& s) {
     position_ = pointOnFace(s, contact_.face, contact_.bary) + params_.offset_m * n;
 }
 
-void GodObjectProxy::pushOutIfSwept(const collision::SurfaceView& s, const collision::Bvh& bvh) {
-    // A free proxy that a moving surface has just passed over is behind it. Near the surface, ask the
-    // ray-parity test (robust at edges and vertex pits, where face normals disagree) and, if inside,
-    // leave through the nearest surface point. Meaningful for closed surfaces; an open mesh's
-    // parity can only say "outside" away from its rim, where this never fires wrongly for long.
-    if (contact_.active) return;
-    const double reach = 1e-3;  // m: far more than tissue moves in one haptic step
-    const auto near = bvh.closestPoint(s, position_, reach);
-    if (!near || !collision::insideClosedSurface(bvh, s, position_)) return;
+void GodObjectProxy::pushOutIfInside(const collision::SurfaceView& s, const collision::Bvh& bvh) {
+    // The guarantee that the proxy is never inside, whatever happened: a surface that swept over a
+    // free proxy, or a contact face carrying the proxy behind a neighbour that folded over it in a deep
+    // crease. On a closed surface the ray-parity test decides (robust at edges and vertex pits, where
+    // face normals disagree), checked while in contact (a jump inside can be deep) or near the surface
+    // (a sweep is shallow). On an open surface only the nearest face's normal can say, where the
+    // nearest point is inside a face.
+    const double reach = 2e-3;  // m: more than tissue moves in one haptic step
+    std::optional<collision::SurfacePoint> near;
+    if (params_.closedSurface) {
+        if (!contact_.active && !bvh.closestPoint(s, position_, reach)) return;
+        if (!collision::insideClosedSurface(bvh, s, position_)) return;
+        near = bvh.closestPoint(s, position_);
+    } else {
+        near = bvh.closestPoint(s, position_, reach);
+        if (!near || near->bary.minCoeff() <= 1e-9 || faceNormal(s, near->face).dot(position_ - near->point) >= 0) return;
+    }
+    if (!near) return;
     const Vec3 out = near->point - position_;
     const double len = out.norm();
     position_ = near->point + params_.offset_m * (len > 0 ? Vec3(out / len) : faceNormal(s, near->face));
@@ -96,12 +105,13 @@ void GodObjectProxy::findContact(const collision::SurfaceView& s, const collisio
 
 void GodObjectProxy::followSurface(const collision::SurfaceView& s, const collision::Bvh& bvh) {
     carryWithSurface(s);
-    pushOutIfSwept(s, bvh);
+    pushOutIfInside(s, bvh);
+    findContact(s, bvh);
 }
 
 int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s, const collision::Bvh& bvh) {
     carryWithSurface(s);
-    pushOutIfSwept(s, bvh);
+    pushOutIfInside(s, bvh);
     planeCount_ = 0;
     Vec3 goal = device_m;
     for (int iteration = 0; iteration < params_.maxIterations; ++iteration) {
@@ -133,6 +143,7 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
         planes_[planeCount_++] = {n, n.dot(hit->point) + params_.offset_m};
         goal = constrainedGoal(device_m);
     }
+    pushOutIfInside(s, bvh);
     findContact(s, bvh);
     return planeCount_;
 }

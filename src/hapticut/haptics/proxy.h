@@ -12,6 +12,9 @@ namespace hapticut::haptics {
 struct ProxyParams {
     double offset_m = 1e-5;  // the proxy keeps this far outside the surface, so it never sits exactly on it
     int maxIterations = 16;  // collide-and-slide passes per update
+    /// A closed surface lets the proxy check itself with the ray-parity inside test; an open one
+    /// (a patch, a cut-open organ) falls back to the nearest face's normal.
+    bool closedSurface = false;
 };
 
 struct Contact {
@@ -44,7 +47,7 @@ private:
         double offset;  // the plane is normal·x = offset
     };
     void carryWithSurface(const collision::SurfaceView& surface);
-    void pushOutIfSwept(const collision::SurfaceView& surface, const collision::Bvh& bvh);
+    void pushOutIfInside(const collision::SurfaceView& surface, const collision::Bvh& bvh);
     Vec3 constrainedGoal(const Vec3& device_m) const;
     void findContact(const collision::SurfaceView& surface, const collision::Bvh& bvh);
 
