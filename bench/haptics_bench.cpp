@@ -1,0 +1,65 @@
+// Google Benchmark: BVH build and refit, and one proxy update pressed into the heart and sliding, at
+// several heart sizes.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <map>
+
+#include "hapticut/collision/bvh.h"
+#include "hapticut/haptics/proxy.h"
+#include "hapticut/mesh/procedural/heart.h"
+
+namespace {
+
+using namespace hapticut;
+
+const mesh::SurfaceMesh& heart(int triangles) {
+    static std::map<int, mesh::SurfaceMesh> cache;
+    auto it = cache.find(triangles);
+    if (it == cache.end()) {
+        mesh::procedural::HeartOptions options;
+        options.triangles = triangles;
+        it = cache.emplace(triangles, mesh::procedural::makeHeart(options)).first;
+    }
+    return it->second;
+}
+
+void BM_BvhBuild(benchmark::State& state) {
+    const mesh::SurfaceMesh& m = heart(static_cast<int>(state.range(0)));
+    collision::Bvh bvh;
+    for (auto _ : state) bvh.build({m.positions, m.faces});
+}
+BENCHMARK(BM_BvhBuild)->Arg(1619)->Arg(9714)->Arg(100'000)->Arg(1'000'000)->Unit(benchmark::kMicrosecond);
+
+void BM_BvhRefit(benchmark::State& state) {
+    const mesh::SurfaceMesh& m = heart(static_cast<int>(state.range(0)));
+    collision::Bvh bvh;
+    bvh.build({m.positions, m.faces});
+    for (auto _ : state) bvh.refit({m.positions, m.faces});
+}
+BENCHMARK(BM_BvhRefit)->Arg(1619)->Arg(9714)->Arg(100'000)->Arg(1'000'000)->Unit(benchmark::kMicrosecond);
+
+// The device circles 5 mm under the front surface, 0.2 mm a step (0.2 m/s at 1 kHz): every update
+// collides, slides and checks itself, as in contact.
+void BM_ProxyUpdateInContact(benchmark::State& state) {
+    const mesh::SurfaceMesh& m = heart(static_cast<int>(state.range(0)));
+    collision::Bvh bvh;
+    const collision::SurfaceView view{m.positions, m.faces};
+    bvh.build(view);
+    haptics::GodObjectProxy proxy(haptics::ProxyParams{.closedSurface = true});
+    proxy.reset(Vec3(0, 0, 0.2));
+    double angle = 0;
+    long contacts = 0;
+    for (auto _ : state) {
+        angle += 0.2e-3 / 0.01;
+        const Vec3 device(0.01 * std::cos(angle), 0.01 * std::sin(angle) - 0.01, 0.025);
+        benchmark::DoNotOptimize(proxy.update(device, view, bvh));
+        contacts += proxy.contact().active;
+    }
+    state.counters["contact_fraction"] = static_cast<double>(contacts) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_ProxyUpdateInContact)->Arg(1619)->Arg(9714)->Arg(100'000)->Arg(1'000'000)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
