@@ -27,7 +27,7 @@ struct RunOptions {
     std::string forceAt, force;
     double forceUntil_s = -1;
     std::string exportMesh, report;
-    std::string trajectory, tool = "probe", forceLog;
+    std::string trajectory, tool = "probe", forceLog, record;
     bool realtime = false;
     double rate_hz = 1000;
 };
@@ -88,6 +88,14 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
             status = 1;
         } else {
             std::cout << "wrote the force log to " << o.forceLog << "\n";
+        }
+    }
+    if (!o.record.empty()) {
+        if (const auto error = mesh::io::writeTextFileAtomically(o.record, haptics::formatRecording(r.log))) {
+            std::cerr << error->toString() << "\n";
+            status = 1;
+        } else {
+            std::cout << "wrote the recording to " << o.record << "\n";
         }
     }
     if (!exportDeformed(o.exportMesh, *source, model)) status = 1;
@@ -232,6 +240,7 @@ Command addRunCommand(CLI::App& app) {
     cmd->add_flag("--realtime", o->realtime, "Run the haptic loop at wall-clock rate in its own thread (with --trajectory)");
     cmd->add_option("--rate", o->rate_hz, "Haptic loop rate in Hz (with --trajectory)")->capture_default_str()->check(CLI::Range(100.0, 10'000.0));
     cmd->add_option("--force-log", o->forceLog, "Write every haptic step as CSV (with --trajectory)");
+    cmd->add_option("--record", o->record, "Write the device path with the rendered forces appended, replayable as a trajectory");
     cmd->callback([o, cmd] { o->stepsGiven = cmd->count("--steps") > 0; });
     return [o] { return run(*o); };
 }

@@ -69,6 +69,7 @@ StepOutput HapticLoop::step() noexcept {
     // 1. Read the device (already in scene metres).
     const DeviceSample dev = device_.read(out.t_s);
     out.device_m = dev.position_m;
+    out.buttons = dev.buttons;
 
     // A device that reports NaN or infinity (a driver fault, a lost connection) trips the watchdog
     // before its sample can reach the proxy or the tissue.

@@ -36,6 +36,7 @@ struct StepOutput {
     Vec3 device_m = Vec3::Zero(), proxy_m = Vec3::Zero(), force_N = Vec3::Zero();
     bool contact = false;
     std::uint32_t face = 0;
+    std::uint32_t buttons = 0;
     double stepTime_us = 0;
 };
 

@@ -1,6 +1,7 @@
 // Device trajectories as CSV.
 #include "hapticut/haptics/trajectory.h"
 
+#include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/mesh/io/line_reader.h"
 
 namespace hapticut::haptics {
@@ -27,21 +28,29 @@ Result<Trajectory, mesh::io::LoadError> parseTrajectory(std::string_view text, c
     try {
         mesh::io::LineReader r(text);
         if (!r.next()) throw ParseFailure{0, "file is empty, expected the header 't,x,y,z,button'"};
+        // t,x,y,z,button, optionally qw,qx,qy,qz, optionally fx,fy,fz (a recording: forces are ignored).
         const auto header = splitCsv(r.rawLine());
-        const bool hasOrientation = header.size() == 9;
         static constexpr std::string_view kNames[] = {"t", "x", "y", "z", "button", "qw", "qx", "qy", "qz"};
-        if (header.size() != 5 && header.size() != 9) r.fail("expected the header 't,x,y,z,button' or 't,x,y,z,button,qw,qx,qy,qz'");
-        for (std::size_t i = 0; i < header.size(); ++i)
+        static constexpr std::string_view kForces[] = {"fx", "fy", "fz"};
+        const bool recorded = header.size() >= 8 && header[header.size() - 3] == "fx";
+        const std::size_t columns = header.size() - (recorded ? 3 : 0);
+        const bool hasOrientation = columns == 9;
+        if (columns != 5 && columns != 9)
+            r.fail("expected the header 't,x,y,z,button', optionally followed by 'qw,qx,qy,qz' and then by 'fx,fy,fz'");
+        for (std::size_t i = 0; i < columns; ++i)
             if (header[i] != kNames[i]) r.fail("header column " + std::to_string(i + 1) + " should be '" + std::string(kNames[i]) + "', found '" + std::string(header[i]) + "'");
+        for (std::size_t i = 0; recorded && i < 3; ++i)
+            if (header[columns + i] != kForces[i]) r.fail("header column " + std::to_string(columns + i + 1) + " should be '" + std::string(kForces[i]) + "'");
 
         Trajectory out;
         while (r.next()) {
             const auto fields = splitCsv(r.rawLine());
             if (fields.size() != header.size())
                 r.fail("expected " + std::to_string(header.size()) + " comma-separated values, found " + std::to_string(fields.size()));
-            double v[9];
+            double v[12];
             for (std::size_t i = 0; i < fields.size(); ++i)
-                if (!mesh::io::parseFiniteDouble(fields[i], v[i])) r.fail("expected a finite number for " + std::string(kNames[i]) + ", found '" + std::string(fields[i]) + "'");
+                if (!mesh::io::parseFiniteDouble(fields[i], v[i]))
+                    r.fail("expected a finite number for " + std::string(i < columns ? kNames[i] : kForces[i - columns]) + ", found '" + std::string(fields[i]) + "'");
             if (v[4] != 0 && v[4] != 1) r.fail("button must be 0 or 1, found '" + std::string(fields[4]) + "'");
             if (!out.points.empty() && v[0] <= out.points.back().t_s) r.fail("time must increase: " + std::string(fields[0]) + " s follows " + mesh::io::formatDouble(out.points.back().t_s) + " s");
             TrajectoryPoint p;
@@ -67,6 +76,19 @@ Result<Trajectory, mesh::io::LoadError> readTrajectory(const std::filesystem::pa
     const auto text = mesh::io::readTextFile(file, error, std::size_t{1} << 30);
     if (!text) return unexpected(error);
     return parseTrajectory(*text, file);
+}
+
+std::string formatRecording(std::span<const StepOutput> log) {
+    using mesh::io::formatDouble;
+    std::string out = "t,x,y,z,button,fx,fy,fz\n";
+    for (const StepOutput& s : log) {
+        out += formatDouble(s.t_s);
+        for (int k = 0; k < 3; ++k) out += "," + formatDouble(s.device_m[k]);
+        out += "," + std::to_string(s.buttons & 1u);
+        for (int k = 0; k < 3; ++k) out += "," + formatDouble(s.force_N[k]);
+        out += "\n";
+    }
+    return out;
 }
 
 std::string formatTrajectory(const Trajectory& trajectory) {

@@ -1,7 +1,9 @@
-// Device trajectories: CSV with header `t,x,y,z,button` (s, scene m, 0/1), optionally `qw,qx,qy,qz`.
+// Device trajectories: CSV with header `t,x,y,z,button` (s, scene m, 0/1), optionally `qw,qx,qy,qz`,
+// and recordings of haptic runs, which append `fx,fy,fz` (N).
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,5 +27,10 @@ struct Trajectory {
 Result<Trajectory, mesh::io::LoadError> parseTrajectory(std::string_view text, const std::filesystem::path& file_for_errors);
 Result<Trajectory, mesh::io::LoadError> readTrajectory(const std::filesystem::path& file);
 std::string formatTrajectory(const Trajectory& trajectory);
+
+struct StepOutput;
+/// A recording of a haptic run: the trajectory format with the rendered force appended,
+/// `t,x,y,z,button,fx,fy,fz`. It replays as a trajectory (the forces are ignored).
+std::string formatRecording(std::span<const StepOutput> log);
 
 }  // namespace hapticut::haptics

@@ -1,0 +1,69 @@
+// Trajectory CSV: round trips, recordings that replay, interpolation, and clear errors.
+#include <gtest/gtest.h>
+
+#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/replay_device.h"
+#include "hapticut/haptics/trajectory.h"
+
+namespace hapticut::haptics {
+namespace {
+
+TEST(Trajectory, RoundTripsWithOrientation) {
+    const auto t = parseTrajectory("t,x,y,z,button\n0,0,0,0.1,0\n0.5,0.01,0,0.05,1\n1.0,0.02,0,0.0,1\n", "path.csv");
+    ASSERT_TRUE(t.has_value()) << t.error().toString();
+    const auto again = parseTrajectory(formatTrajectory(*t), "again.csv");
+    ASSERT_TRUE(again.has_value()) << again.error().toString();
+    ASSERT_EQ(again->points.size(), 3u);
+    EXPECT_EQ(again->points[1].sample.position_m, Vec3(0.01, 0, 0.05));
+    EXPECT_EQ(again->points[2].sample.buttons, 1u);
+    EXPECT_DOUBLE_EQ(again->duration_s(), 1.0);
+}
+
+TEST(Trajectory, ARecordingReplaysAsATrajectory) {
+    std::vector<StepOutput> log(3);
+    for (int i = 0; i < 3; ++i) {
+        log[i].t_s = 0.001 * i;
+        log[i].device_m = Vec3(0, 0, 0.01 * i);
+        log[i].force_N = Vec3(0, 0, 0.5 * i);
+        log[i].buttons = 1;
+    }
+    const std::string text = formatRecording(log);
+    EXPECT_EQ(text.substr(0, text.find('\n')), "t,x,y,z,button,fx,fy,fz");
+    const auto t = parseTrajectory(text, "recording.csv");
+    ASSERT_TRUE(t.has_value()) << t.error().toString();
+    EXPECT_EQ(t->points[2].sample.position_m, Vec3(0, 0, 0.02));
+}
+
+TEST(ReplayDevice, InterpolatesLinearlyAndHoldsTheEnds) {
+    const auto t = parseTrajectory("t,x,y,z,button\n1.0,0,0,0,0\n2.0,0.1,0,0,1\n", "path.csv");
+    ASSERT_TRUE(t.has_value());
+    ReplayDevice device(*t);
+    EXPECT_NEAR(device.read(0.25).position_m.x(), 0.025, 1e-15) << "time runs from the first sample";
+    EXPECT_NEAR(device.read(0.25).velocity_m_per_s.x(), 0.1, 1e-12);
+    EXPECT_EQ(device.read(-1).position_m.x(), 0.0);
+    EXPECT_EQ(device.read(5).position_m.x(), 0.1);
+    EXPECT_EQ(device.read(0.9).buttons, 1u);
+    EXPECT_NEAR(device.read(0.1).position_m.x(), 0.01, 1e-15) << "going back in time works too";
+}
+
+TEST(Trajectory, ErrorsNameTheLineAndWhatWasExpected) {
+    auto expectError = [](const std::string& text, int line, const std::string& fragment) {
+        const auto r = parseTrajectory(text, "path.csv");
+        ASSERT_FALSE(r.has_value()) << fragment;
+        EXPECT_EQ(r.error().line, line) << r.error().toString();
+        EXPECT_NE(r.error().message.find(fragment), std::string::npos) << r.error().toString();
+    };
+    expectError("", 0, "file is empty");
+    expectError("time,x,y,z,button\n", 1, "header column 1 should be 't'");
+    expectError("t,x,y,z\n", 1, "expected the header 't,x,y,z,button'");
+    expectError("t,x,y,z,button\n0,0,0,0,0\n0.1,0,zero,0,0\n", 3, "expected a finite number for y, found 'zero'");
+    expectError("t,x,y,z,button\n0,0,0,0,0\n0.1,0,0,0\n", 3, "expected 5 comma-separated values, found 4");
+    expectError("t,x,y,z,button\n0,0,0,0,0\n0,0,0,0,0\n", 3, "time must increase");
+    expectError("t,x,y,z,button\n0,0,0,0,2\n0.1,0,0,0,0\n", 2, "button must be 0 or 1");
+    expectError("t,x,y,z,button\n0,0,0,nan,0\n", 2, "expected a finite number for z");
+    expectError("t,x,y,z,button\n0,0,0,0,0\n", 2, "at least two samples");
+    expectError("t,x,y,z,button,qw,qx,qy,qz\n0,0,0,0,0,0,0,0,0\n", 2, "zero length");
+}
+
+}  // namespace
+}  // namespace hapticut::haptics
