@@ -177,3 +177,36 @@ TEST(ForceDistribution, DeviceForceIsClamped) {
 
 }  // namespace
 }  // namespace hapticut::haptics
+
+namespace hapticut::haptics {
+namespace {
+
+TEST(Proxy, TouchedFaceFastPathFindsTheSameContactAsTheTree) {
+    // R12: two proxies driven by the same device over the heart, across edges, vertices and the
+    // vessels; one searches the touched face's neighbourhood first, the other always the whole tree.
+    Scene s{mesh::procedural::makeHeart({}), {}};
+    s.rebuild();
+    const mesh::VertexFaces topology = mesh::buildVertexFaces(s.mesh.faces, s.mesh.positions.size());
+    GodObjectProxy fast(ProxyParams{.closedSurface = true}), full(ProxyParams{.closedSurface = true});
+    fast.setTopology(&topology);
+    fast.reset(Vec3(0, 0, 0.3));
+    full.reset(Vec3(0, 0, 0.3));
+    for (int i = 0; i <= 2000; ++i) {
+        const double a = 2 * std::numbers::pi * i / 2000;
+        const Vec3 device(0.045 * std::cos(3 * a), 0.05 * std::sin(2 * a), 0.03 * std::cos(5 * a + 0.3));
+        fast.update(device, s.view(), s.bvh);
+        full.update(device, s.view(), s.bvh);
+        ASSERT_LT((fast.position() - full.position()).norm(), 1e-12) << "step " << i;
+        ASSERT_EQ(fast.contact().active, full.contact().active) << "step " << i;
+        if (fast.contact().active) {
+            const Vec3 pf = pointOnFace(s.view(), fast.contact().face, fast.contact().bary);
+            const Vec3 pt = pointOnFace(s.view(), full.contact().face, full.contact().bary);
+            ASSERT_LT((pf - pt).norm(), 1e-12) << "step " << i << ": the same contact point (faces may differ on a shared edge)";
+        }
+    }
+    EXPECT_GT(fast.fastPathContacts(), 200) << "the fast path must actually be used";
+    EXPECT_EQ(full.fastPathContacts(), 0);
+}
+
+}  // namespace
+}  // namespace hapticut::haptics

@@ -27,6 +27,8 @@ HapticLoop::HapticLoop(physics::MassSpringModel& model, std::span<const mesh::Fa
     stepper_.setToolStiffness(preparedCouplingStiffness_);
     stepper_.prepare(model_);
     bvh_.build(surface());
+    topology_ = mesh::buildVertexFaces(faces_, model_.nodes.size());
+    proxy_.setTopology(&topology_);
     // Start the proxy where the device is, or just outside the surface if the device begins inside.
     const Vec3 start = device_.read(0).position_m;
     proxy_.reset(start + Vec3(0, 0, 1.0));

@@ -100,6 +100,7 @@ private:
     LoopConfig config_;
     physics::Stepper stepper_;
     collision::Bvh bvh_;
+    mesh::VertexFaces topology_;
     GodObjectProxy proxy_;
     LoopStats stats_;
     TripleBuffer<Snapshot> snapshots_;

@@ -9,6 +9,7 @@
 
 #include "hapticut/collision/inside_test.h"
 #include "hapticut/geometry/triangle.h"
+#include "hapticut/geometry/triangle_queries.h"
 
 namespace hapticut::haptics {
 
@@ -92,7 +93,24 @@ Vec3 GodObjectProxy::constrainedGoal(const Vec3& device_m) const {
 
 void GodObjectProxy::findContact(const collision::SurfaceView& s, const collision::Bvh& bvh) {
     const double reach = 3 * params_.offset_m;
-    const auto near = bvh.closestPoint(s, position_, reach);
+    std::optional<collision::SurfacePoint> near;
+    if (contact_.active && topology_ && contact_.face < s.faces.size()) {
+        // R12: the faces around the touched face's corners first; they hold every face the proxy can
+        // slide onto across an edge or a vertex in one step.
+        double best = reach * reach;
+        for (std::uint32_t v : s.faces[contact_.face])
+            for (std::uint32_t f : topology_->of(v)) {
+                const mesh::Face& face = s.faces[f];
+                const auto c = geometry::closestPointOnTriangle(position_, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+                const double d2 = (c.point - position_).squaredNorm();
+                if (d2 < best || (!near && d2 <= best)) best = d2, near = collision::SurfacePoint{f, c.point, c.bary, 0};
+            }
+        if (near) ++fastPathContacts_;
+    }
+    if (!near) {
+        ++treeContactQueries_;
+        near = bvh.closestPoint(s, position_, reach);
+    }
     if (!near) {
         contact_.active = false;
         return;

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "hapticut/collision/bvh.h"
+#include "hapticut/mesh/vertex_faces.h"
 
 namespace hapticut::haptics {
 
@@ -37,6 +38,13 @@ public:
     /// without moving it toward the device: so the proxy and the surface published together agree.
     void followSurface(const collision::SurfaceView& surface, const collision::Bvh& bvh);
 
+    /// R12: with the faces around each vertex, a touching proxy looks for its contact among the faces
+    /// around the touched face first and queries the whole tree only when none is within reach.
+    /// The topology must outlive the proxy and match the surface (cutting updates it).
+    void setTopology(const mesh::VertexFaces* topology) { topology_ = topology; }
+    long fastPathContacts() const { return fastPathContacts_; }
+    long treeContactQueries() const { return treeContactQueries_; }
+
     const Vec3& position() const { return position_; }
     const Contact& contact() const { return contact_; }
     const ProxyParams& params() const { return params_; }
@@ -56,6 +64,8 @@ private:
     Contact contact_;
     std::array<Plane, 3> planes_{};
     int planeCount_ = 0;
+    const mesh::VertexFaces* topology_ = nullptr;
+    long fastPathContacts_ = 0, treeContactQueries_ = 0;
 };
 
 /// Unit normal of a face on the current (deformed) positions.
