@@ -25,6 +25,7 @@ HapticLoop::HapticLoop(physics::MassSpringModel& model, std::span<const mesh::Fa
     : model_(model), faces_(faces), device_(device), config_(config), stepper_(config.scheme), proxy_(withClosedFlag(config.proxy, faces)) {
     preparedCouplingStiffness_ = config_.couplingStiffness_N_per_m;
     stepper_.setToolStiffness(preparedCouplingStiffness_);
+    stepper_.setActiveRegion(config_.activeRegion);
     stepper_.prepare(model_);
     bvh_.build(surface());
     topology_ = mesh::buildVertexFaces(faces_, model_.nodes.size());
@@ -53,7 +54,7 @@ void HapticLoop::applyPendingCommands() noexcept {
             case LoopCommand::Kind::ResetModel:
                 std::copy(model_.nodes.restPosition.begin(), model_.nodes.restPosition.end(), model_.nodes.position.begin());
                 std::fill(model_.nodes.velocity.begin(), model_.nodes.velocity.end(), Vec3::Zero());
-                break;
+                break;  // the awake nodes find themselves at rest and fall asleep
             case LoopCommand::Kind::ResetWatchdog: stats_.watchdogTripped = false; break;
             case LoopCommand::Kind::Pause: paused_ = true; break;
             case LoopCommand::Kind::Resume: paused_ = false; break;

@@ -27,6 +27,7 @@ struct LoopConfig {
     double couplingDamping_Ns_per_m = 0.3;     // b_h on the device velocity, only while in contact
     double rampTime_s = 0.5;                   // force fades in over this long after start
     int snapshotEvery = 8;                     // publish positions for the renderer every N steps (125 Hz)
+    bool activeRegion = true;                  // integrate only the tissue near the tool (Stepper::setActiveRegion)
     ProxyParams proxy;
 };
 

@@ -90,12 +90,48 @@ void Stepper::setToolStiffness(double stiffness_N_per_m) {
     preparedNodes_ = static_cast<std::size_t>(-1);
 }
 
+void Stepper::setActiveRegion(bool on) {
+    activeRegion_ = on;
+    activeDirty_ = true;
+}
+
 void Stepper::prepare(const MassSpringModel& model) {
-    const std::size_t n = model.nodes.size();
+    const std::size_t n = model.nodes.size(), ns = model.springs.size();
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n);
     stableDt_ = stableTimeStep(model, scheme_, toolStiffness_);
+    allNodes_.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) allNodes_[i] = i;
+    // Active-region bookkeeping, sized once so that stepping never allocates.
+    awake_.assign(n, 0);
+    wakeNext_.assign(n, 0);
+    touchedMark_.assign(n, 0);
+    springMark_.assign(ns, 0);
+    activeNodes_.clear();
+    activeNodes_.reserve(n);
+    touchedNodes_.clear();
+    touchedNodes_.reserve(n);
+    activeSprings_.clear();
+    activeSprings_.reserve(ns);
+    nodeSpringStart_.assign(n + 1, 0);
+    for (std::size_t k = 0; k < ns; ++k) ++nodeSpringStart_[model.springs.a[k] + 1], ++nodeSpringStart_[model.springs.b[k] + 1];
+    for (std::size_t i = 0; i < n; ++i) nodeSpringStart_[i + 1] += nodeSpringStart_[i];
+    nodeSprings_.resize(nodeSpringStart_.back());
+    std::vector<std::uint32_t> fill(nodeSpringStart_.begin(), nodeSpringStart_.end() - 1);
+    for (std::uint32_t k = 0; k < ns; ++k) nodeSprings_[fill[model.springs.a[k]]++] = k, nodeSprings_[fill[model.springs.b[k]]++] = k;
+    // Whatever is not at rest starts awake.
+    wakeList_.clear();
+    wakeList_.reserve(n);
+    for (std::uint32_t i = 0; i < n; ++i)
+        if (model.nodes.position[i] != model.nodes.restPosition[i] || model.nodes.velocity[i] != Vec3::Zero()) wake(i);
+    activeDirty_ = true;
     preparedNodes_ = n;
-    preparedSprings_ = model.springs.size();
+    preparedSprings_ = ns;
+}
+
+void Stepper::wake(std::uint32_t node) {
+    if (node >= wakeNext_.size() || wakeNext_[node]) return;
+    wakeNext_[node] = 1;
+    wakeList_.push_back(node);  // reserved for every node in prepare(): never allocates
 }
 
 int Stepper::substepsFor(double dt_s) const {
@@ -104,17 +140,97 @@ int Stepper::substepsFor(double dt_s) const {
     return static_cast<int>(std::min(std::ceil(dt_s / stableDt_ * (1 - 1e-12)), 1e6));
 }
 
+void Stepper::rebuildActiveLists(const MassSpringModel& model) {
+    for (std::uint32_t k : activeSprings_) springMark_[k] = 0;
+    for (std::uint32_t i : touchedNodes_) touchedMark_[i] = 0;
+    activeSprings_.clear();
+    touchedNodes_.clear();
+    for (std::uint32_t i : activeNodes_) {
+        touchedMark_[i] = 1;
+        touchedNodes_.push_back(i);
+    }
+    for (std::uint32_t i : activeNodes_)
+        for (std::uint32_t e = nodeSpringStart_[i]; e < nodeSpringStart_[i + 1]; ++e) {
+            const std::uint32_t k = nodeSprings_[e];
+            if (springMark_[k]) continue;
+            springMark_[k] = 1;
+            activeSprings_.push_back(k);
+            for (std::uint32_t j : {model.springs.a[k], model.springs.b[k]})
+                if (!touchedMark_[j]) touchedMark_[j] = 1, touchedNodes_.push_back(j);
+        }
+    activeDirty_ = false;
+}
+
+void Stepper::accelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v) {
+    if (activeRegion_) computeActiveAccelerations(model, x, v, a_, activeNodes_, touchedNodes_, activeSprings_);
+    else computeAccelerations(model, x, v, a_);
+}
+
+void Stepper::updateSleep(const MassSpringModel& model) {
+    // Resting neighbours that a spring pulls harder than their anchor could hold within the snap
+    // distance wake for the next step (a one-step delay, far below what the tissue does in 1 ms).
+    const Nodes& n = model.nodes;
+    for (std::uint32_t i : touchedNodes_)
+        if (!awake_[i] && a_[i].norm() > n.anchorStiffness[i] * model.snapDistance_m) wakeNext_[i] = 1;
+    // Awake nodes that the snap rule holds at rest, with a negligible force on them, fall asleep.
+    std::size_t kept = 0;
+    for (std::uint32_t i : activeNodes_) {
+        const bool atRest = n.position[i] == n.restPosition[i] && n.velocity[i] == Vec3::Zero();
+        const bool pulled = a_[i].norm() * n.mass[i] > n.anchorStiffness[i] * model.snapDistance_m;
+        if (atRest && !pulled && !wakeNext_[i]) {
+            awake_[i] = 0;
+            activeDirty_ = true;
+        } else {
+            activeNodes_[kept++] = i;
+        }
+    }
+    activeNodes_.resize(kept);
+}
+
 StepResult Stepper::step(MassSpringModel& model, double dt_s) {
     if (preparedNodes_ != model.nodes.size() || preparedSprings_ != model.springs.size()) prepare(model);
     StepResult result;
     result.substeps = substepsFor(dt_s);
     Nodes& n = model.nodes;
-    std::copy(n.position.begin(), n.position.end(), x0_.begin());
-    std::copy(n.velocity.begin(), n.velocity.end(), v0_.begin());
+
+    if (activeRegion_) {
+        // Only candidates are looked at, so this stays proportional to the region: the tool's nodes,
+        // the resting neighbours flagged by updateSleep, and explicit wake() calls.
+        auto admit = [&](std::uint32_t i) {
+            if (wakeNext_[i] && !awake_[i]) {
+                awake_[i] = 1;
+                activeNodes_.push_back(i);
+                activeDirty_ = true;
+            }
+            wakeNext_[i] = 0;
+        };
+        if (model.tool.active)
+            for (std::uint32_t i : model.tool.nodes) {
+                // The tool's nodes and their neighbours are always awake: within one step a push
+                // travels further than the one ring the region grows by per step.
+                wakeNext_[i] = 1;
+                admit(i);
+                for (std::uint32_t e = nodeSpringStart_[i]; e < nodeSpringStart_[i + 1]; ++e) {
+                    const std::uint32_t k = nodeSprings_[e];
+                    const std::uint32_t j = model.springs.a[k] == i ? model.springs.b[k] : model.springs.a[k];
+                    wakeNext_[j] = 1;
+                    admit(j);
+                }
+            }
+        for (std::size_t k = 0; k < touchedNodes_.size(); ++k) admit(touchedNodes_[k]);
+        for (std::uint32_t i : wakeList_) admit(i);
+        wakeList_.clear();
+        if (activeDirty_) rebuildActiveLists(model);
+    }
+    const std::span<const std::uint32_t> nodes = activeRegion_ ? std::span<const std::uint32_t>(activeNodes_) : std::span<const std::uint32_t>(allNodes_);
+
+    for (std::uint32_t i : nodes) x0_[i] = n.position[i], v0_[i] = n.velocity[i];
+    if (activeRegion_)
+        for (std::uint32_t i : touchedNodes_) xs_[i] = n.position[i], vs_[i] = n.velocity[i];  // resting neighbours, read by every stage
     const double h = dt_s / result.substeps;
     for (int i = 0; i < result.substeps; ++i) substep(model, h);
 
-    for (std::size_t i = 0; i < n.size(); ++i) {
+    for (std::uint32_t i : nodes) {
         if (!n.position[i].allFinite() || !n.velocity[i].allFinite()) result.finite = false;
         // R4: a node that is almost at rest is put back exactly at rest.
         if ((n.position[i] - n.restPosition[i]).squaredNorm() < model.snapDistance_m * model.snapDistance_m &&
@@ -125,8 +241,11 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
     }
     if (!result.finite) {
         // Roll back rather than let NaN spread through the model and into a device.
-        std::copy(x0_.begin(), x0_.end(), n.position.begin());
-        std::fill(n.velocity.begin(), n.velocity.end(), Vec3::Zero());
+        for (std::uint32_t i : nodes) n.position[i] = x0_[i], n.velocity[i] = Vec3::Zero();
+    }
+    if (activeRegion_) {
+        accelerations(model, n.position, n.velocity);  // forces at the end state decide who sleeps and wakes
+        updateSleep(model);
     }
     return result;
 }
@@ -135,52 +254,51 @@ void Stepper::substep(MassSpringModel& model, double h) {
     Nodes& n = model.nodes;
     std::vector<Vec3>& x = n.position;
     std::vector<Vec3>& v = n.velocity;
-    const std::size_t count = n.size();
+    const std::span<const std::uint32_t> nodes = activeRegion_ ? std::span<const std::uint32_t>(activeNodes_) : std::span<const std::uint32_t>(allNodes_);
     switch (scheme_) {
         case Scheme::ExplicitEuler:
-            computeAccelerations(model, x, v, a_);
-            for (std::size_t i = 0; i < count; ++i) {
+            accelerations(model, x, v);
+            for (std::uint32_t i : nodes) {
                 x[i] += h * v[i];
                 v[i] += h * a_[i];
             }
             break;
         case Scheme::SymplecticEuler:
-            computeAccelerations(model, x, v, a_);
-            for (std::size_t i = 0; i < count; ++i) {
+            accelerations(model, x, v);
+            for (std::uint32_t i : nodes) {
                 v[i] += h * a_[i];
                 x[i] += h * v[i];
             }
             break;
         case Scheme::Midpoint:
-            computeAccelerations(model, x, v, a_);
-            for (std::size_t i = 0; i < count; ++i) {
+            accelerations(model, x, v);
+            for (std::uint32_t i : nodes) {
                 xs_[i] = x[i] + 0.5 * h * v[i];
                 vs_[i] = v[i] + 0.5 * h * a_[i];
             }
-            computeAccelerations(model, xs_, vs_, a_);
-            for (std::size_t i = 0; i < count; ++i) {
+            accelerations(model, xs_, vs_);
+            for (std::uint32_t i : nodes) {
                 x[i] += h * vs_[i];
                 v[i] += h * a_[i];
             }
             break;
         case Scheme::RungeKutta4: {
             // Classic RK4 on (x, v): stage k_j = (v_j, a(x_j, v_j)); the weighted sums of the stages
-            // build up in dx_, dv_ so that only one stage state (xs_, vs_) is live at a time.
-            std::copy(x.begin(), x.end(), dx_.begin());  // x at the start of this substep
-            std::copy(v.begin(), v.end(), dv_.begin());
+            // build up in x, v directly, so that only one stage state (xs_, vs_) is live at a time.
+            for (std::uint32_t i : nodes) dx_[i] = x[i], dv_[i] = v[i];  // the state at the start of this substep
             const double half = 0.5 * h, sixth = h / 6;
-            computeAccelerations(model, x, v, a_);
-            for (std::size_t i = 0; i < count; ++i) {
+            accelerations(model, x, v);
+            for (std::uint32_t i : nodes) {
                 xs_[i] = x[i] + half * v[i];
                 vs_[i] = v[i] + half * a_[i];
                 x[i] += sixth * v[i];
                 v[i] += sixth * a_[i];
             }
             for (int stage = 2; stage <= 4; ++stage) {
-                computeAccelerations(model, xs_, vs_, a_);
+                accelerations(model, xs_, vs_);
                 const double weight = stage == 4 ? sixth : 2 * sixth;
                 const double next = stage == 3 ? h : half;  // stage 4 is taken from the full-step state
-                for (std::size_t i = 0; i < count; ++i) {
+                for (std::uint32_t i : nodes) {
                     const Vec3 vi = vs_[i];
                     x[i] += weight * vi;
                     v[i] += weight * a_[i];

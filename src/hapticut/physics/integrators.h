@@ -1,7 +1,9 @@
 // Explicit time integrators behind one interface (SPEC R5), with automatic substepping for stability.
 #pragma once
 
+#include <cstdint>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -42,11 +44,23 @@ public:
     double stableStep_s() const { return stableDt_; }
     int substepsFor(double dt_s) const;
 
+    /// Active region (local simulation, after Mosegaard): only nodes that move are integrated. A node
+    /// sleeps once the thesis's snap rule holds it at rest and the force on it is negligible; it wakes
+    /// when a spring pulls on it, when the tool touches it, or by wake(). Sleeping nodes sit exactly at
+    /// rest, so the forces between them are exactly zero and leaving them out changes nothing.
+    /// External forces on a sleeping node need a wake() call.
+    void setActiveRegion(bool on);
+    void wake(std::uint32_t node);
+    std::size_t awakeCount() const { return activeRegion_ ? activeNodes_.size() : preparedNodes_; }
+
     /// Advances by dt_s, in as many equal substeps as stability needs; applies the snap-back rule.
     StepResult step(MassSpringModel& model, double dt_s);
 
 private:
     void substep(MassSpringModel& model, double h);
+    void accelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v);
+    void rebuildActiveLists(const MassSpringModel& model);
+    void updateSleep(const MassSpringModel& model);
 
     Scheme scheme_;
     bool autoSubstep_ = true;
@@ -54,6 +68,13 @@ private:
     double toolStiffness_ = 0;
     std::size_t preparedNodes_ = static_cast<std::size_t>(-1), preparedSprings_ = 0;
     std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
+
+    // The nodes the integrator loops over: all of them, or the awake ones.
+    std::vector<std::uint32_t> allNodes_;
+    bool activeRegion_ = false, activeDirty_ = true;
+    std::vector<std::uint8_t> awake_, touchedMark_, springMark_, wakeNext_;
+    std::vector<std::uint32_t> activeNodes_, touchedNodes_, activeSprings_, wakeList_;
+    std::vector<std::uint32_t> nodeSpringStart_, nodeSprings_;  // springs of each node (compressed rows)
 };
 
 }  // namespace hapticut::physics

@@ -51,3 +51,35 @@ void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x,
 }
 
 }  // namespace hapticut::physics
+
+namespace hapticut::physics {
+
+void computeActiveAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> a,
+                                std::span<const std::uint32_t> nodes, std::span<const std::uint32_t> touched,
+                                std::span<const std::uint32_t> springs) {
+    const Nodes& n = model.nodes;
+    const Springs& s = model.springs;
+    for (std::uint32_t i : touched) a[i] = Vec3::Zero();
+    // Resting neighbours sit exactly at rest with zero velocity, so only the active nodes have
+    // positioning, external and gravity forces.
+    for (std::uint32_t i : nodes) a[i] = n.externalForce[i] - n.anchorStiffness[i] * (x[i] - n.restPosition[i]) - n.anchorDamping[i] * v[i];
+    for (std::uint32_t k : springs) {
+        const std::uint32_t ia = s.a[k], ib = s.b[k];
+        const Vec3 d = x[ib] - x[ia];
+        const double len2 = d.squaredNorm();
+        if (len2 < 1e-24) continue;
+        const double invLen = 1 / std::sqrt(len2);
+        const double stretchRate = (v[ib] - v[ia]).dot(d) * invLen;
+        const Vec3 fa = ((s.stiffness[k] * (len2 * invLen - s.restLength[k]) + s.damping[k] * stretchRate) * invLen) * d;
+        a[ia] += fa;
+        a[ib] -= fa;
+    }
+    if (model.tool.active) {
+        const Vec3 f = model.tool.forceOnTool(x);
+        for (int k = 0; k < 3; ++k) a[model.tool.nodes[k]] -= model.tool.weights[k] * f;
+    }
+    const Vec3 g = model.gravity_m_per_s2;
+    for (std::uint32_t i : nodes) a[i] = n.inverseMass[i] * a[i] + (n.inverseMass[i] > 0 ? g : Vec3::Zero());
+}
+
+}  // namespace hapticut::physics

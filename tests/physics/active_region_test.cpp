@@ -1,0 +1,77 @@
+// The active region (local simulation): the same motion as simulating every node, with only the
+// nodes near the tool awake, and everything asleep again once the tissue has come to rest.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/physics/integrators.h"
+#include "hapticut/physics/material.h"
+
+namespace hapticut::physics {
+namespace {
+
+/// A tool pressing the front of the heart, 3 mm deep after 50 ms (a device approaching), held until
+/// 0.3 s, then lifted.
+void pressWithTool(MassSpringModel& model, const mesh::SurfaceMesh& mesh, int step) {
+    std::uint32_t front = 0;
+    for (std::uint32_t f = 0; f < mesh.faces.size(); ++f)
+        if (mesh.normals[f].z() > mesh.normals[front].z()) front = f;
+    PointSpring& tool = model.tool;
+    tool.active = step < 300;
+    tool.nodes = mesh.faces[front];
+    tool.bary = Vec3(0.5, 0.3, 0.2);
+    const Vec3 w = tool.bary.cwiseAbs2();
+    tool.weights = w / w.sum();
+    const Vec3 surface = 0.5 * mesh.positions[tool.nodes[0]] + 0.3 * mesh.positions[tool.nodes[1]] + 0.2 * mesh.positions[tool.nodes[2]];
+    tool.anchor_m = surface - 0.003 * std::min(1.0, step / 50.0) * mesh.normals[front];
+    tool.stiffness_N_per_m = 400;
+    tool.maxForce_N = 3.3;
+    tool.normal = mesh.normals[front];
+}
+
+TEST(ActiveRegion, MatchesTheFullSimulationWhileOnlyTheRegionNearTheToolIsAwake) {
+    mesh::procedural::HeartOptions options;
+    options.triangles = 9714;
+    const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart(options);
+    MassSpringModel full = buildModel(mesh, Material{}), local = full;
+    Stepper fullStepper(Scheme::RungeKutta4), localStepper(Scheme::RungeKutta4);
+    fullStepper.setToolStiffness(400);
+    localStepper.setToolStiffness(400);
+    localStepper.setActiveRegion(true);
+    std::size_t largestRegion = 0;
+    double worst = 0, largestDisplacement = 0;
+    for (int step = 0; step < 800; ++step) {
+        pressWithTool(full, mesh, step);
+        pressWithTool(local, mesh, step);
+        ASSERT_TRUE(fullStepper.step(full, 1e-3).finite);
+        ASSERT_TRUE(localStepper.step(local, 1e-3).finite);
+        largestRegion = std::max(largestRegion, localStepper.awakeCount());
+        largestDisplacement = std::max(largestDisplacement, maxDisplacement(full));
+        for (std::size_t i = 0; i < full.nodes.size(); ++i) worst = std::max(worst, (full.nodes.position[i] - local.nodes.position[i]).norm());
+    }
+    EXPECT_GT(largestDisplacement, 1e-3) << "the press must really deform the tissue";
+    // Nodes wake one step after their neighbours pull on them; the motion differs by a small fraction.
+    EXPECT_LT(worst, 0.01 * largestDisplacement) << "worst difference " << worst << " m";
+    EXPECT_LT(largestRegion, full.nodes.size() / 3) << "the region stays local";
+    EXPECT_GT(largestRegion, 3u);
+    EXPECT_EQ(localStepper.awakeCount(), 0u) << "asleep again 0.5 s after the tool left";
+    EXPECT_EQ(maxDisplacement(local), 0.0);
+}
+
+TEST(ActiveRegion, WakesOnRequestForAnExternalForce) {
+    MassSpringModel model = buildModel(mesh::procedural::makeHeart({}), Material{});
+    Stepper stepper(Scheme::RungeKutta4);
+    stepper.setActiveRegion(true);
+    (void)stepper.step(model, 1e-3);
+    EXPECT_EQ(stepper.awakeCount(), 0u);
+    model.nodes.externalForce[42] = Vec3(0, 0, -1);
+    (void)stepper.step(model, 1e-3);
+    EXPECT_EQ(maxDisplacement(model), 0.0) << "a sleeping node ignores a force until woken";
+    stepper.wake(42);
+    for (int i = 0; i < 100; ++i) (void)stepper.step(model, 1e-3);
+    EXPECT_GT((model.nodes.position[42] - model.nodes.restPosition[42]).norm(), 1e-3);
+}
+
+}  // namespace
+}  // namespace hapticut::physics
