@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "hapticut/mesh/io/mesh_file.h"
+#include "hapticut/mesh/io/line_reader.h"
 #include "hapticut/mesh/io/load_error.h"
 #include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/scene/haptic_run.h"
@@ -30,6 +31,8 @@ struct RunOptions {
     std::string trajectory, tool = "probe", forceLog, record;
     bool realtime = false;
     double rate_hz = 1000;
+    double couplingStiffness_N_per_m = haptics::LoopConfig{}.couplingStiffness_N_per_m;
+    std::string friction;  // "static,dynamic"
 };
 
 /// Writes the deformed mesh, if asked; false on failure (already reported).
@@ -63,6 +66,18 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     scene::HapticRunConfig config;
     config.loop.scheme = scheme;
     config.loop.rate_hz = o.rate_hz;
+    config.loop.couplingStiffness_N_per_m = o.couplingStiffness_N_per_m;
+    if (!o.friction.empty()) {
+        const auto comma = o.friction.find(',');
+        double mus = 0, mud = 0;
+        if (comma == std::string::npos || !mesh::io::parseFiniteDouble(o.friction.substr(0, comma), mus) ||
+            !mesh::io::parseFiniteDouble(o.friction.substr(comma + 1), mud) || mus < 0 || mud < 0 || mud > mus) {
+            std::cerr << "hapticut run: --friction takes 'STATIC,DYNAMIC' with 0 <= DYNAMIC <= STATIC, found '" << o.friction << "'\n";
+            return 2;
+        }
+        config.loop.proxy.staticFriction = mus;
+        config.loop.proxy.dynamicFriction = mud;
+    }
     config.steps = o.stepsGiven ? o.steps : -1;
     config.realtime = o.realtime;
     config.tool = o.tool;
@@ -111,6 +126,8 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
         j["steps"] = r.steps;
         j["tool"] = o.tool;
         j["tool_threshold_N"] = config.toolThreshold_N;
+        j["coupling_stiffness_N_per_m"] = config.loop.couplingStiffness_N_per_m;
+        j["friction"] = {{"static", config.loop.proxy.staticFriction}, {"dynamic", config.loop.proxy.dynamicFriction}};
         j["trajectory"] = o.trajectory;
         j["realtime"] = o.realtime;
         j["sim_time_s"] = r.simTime_s;
@@ -240,6 +257,10 @@ Command addRunCommand(CLI::App& app) {
     cmd->add_flag("--realtime", o->realtime, "Run the haptic loop at wall-clock rate in its own thread (with --trajectory)");
     cmd->add_option("--rate", o->rate_hz, "Haptic loop rate in Hz (with --trajectory)")->capture_default_str()->check(CLI::Range(100.0, 10'000.0));
     cmd->add_option("--force-log", o->forceLog, "Write every haptic step as CSV (with --trajectory)");
+    cmd->add_option("--coupling-stiffness", o->couplingStiffness_N_per_m, "Stiffness k_h of the proxy-device spring, N/m (with --trajectory)")
+        ->capture_default_str()
+        ->check(CLI::Range(1.0, 5000.0));
+    cmd->add_option("--friction", o->friction, "Static and dynamic friction coefficients 'S,D' of the proxy (with --trajectory); default none");
     cmd->add_option("--record", o->record, "Write the device path with the rendered forces appended, replayable as a trajectory");
     cmd->callback([o, cmd] { o->stepsGiven = cmd->count("--steps") > 0; });
     return [o] { return run(*o); };

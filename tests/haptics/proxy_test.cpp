@@ -210,3 +210,33 @@ TEST(Proxy, TouchedFaceFastPathFindsTheSameContactAsTheTree) {
 
 }  // namespace
 }  // namespace hapticut::haptics
+
+namespace hapticut::haptics {
+namespace {
+
+TEST(Proxy, FrictionSticksInsideTheStaticConeAndSlidesAtTheDynamicRatio) {
+    Scene s = plane();
+    const double off = ProxyParams{}.offset_m;
+    GodObjectProxy proxy(ProxyParams{.staticFriction = 0.5, .dynamicFriction = 0.3});
+    proxy.reset(Vec3(0, 0, 0.01));
+    proxy.update(Vec3(0, 0, -0.004), s.view(), s.bvh);  // pressed 4 mm (+ offset) into the plane
+    const Vec3 stuck = proxy.position();
+    // Drag sideways by 1.5 mm: tangential/normal = 1.5/4 < 0.5, so the proxy sticks.
+    proxy.update(Vec3(0.0015, 0, -0.004), s.view(), s.bvh);
+    EXPECT_LT((proxy.position() - stuck).norm(), 1e-12);
+    // Drag to 3 mm: 3/4 > 0.5, so it slips and lags so that tangential = 0.3 x normal.
+    const Vec3 device(0.003, 0, -0.004);
+    proxy.update(device, s.view(), s.bvh);
+    const Vec3 f = couplingForce(proxy.position(), device, Vec3::Zero(), 400, 0, 1e9);
+    EXPECT_NEAR(std::hypot(f.x(), f.y()) / f.z(), 0.3, 1e-9);
+    EXPECT_LT(f.x(), 0) << "friction opposes the motion";
+    EXPECT_NEAR(proxy.position().z(), off, 1e-12);
+    // Without friction it would follow the device exactly.
+    GodObjectProxy frictionless;
+    frictionless.reset(Vec3(0, 0, 0.01));
+    frictionless.update(device, s.view(), s.bvh);
+    EXPECT_NEAR(frictionless.position().x(), device.x(), 1e-12);
+}
+
+}  // namespace
+}  // namespace hapticut::haptics

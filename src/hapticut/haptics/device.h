@@ -36,6 +36,8 @@ public:
     /// The force to render, in the scene frame. Called from the haptic thread only.
     virtual void commandForce(const Vec3& force_N) = 0;
     virtual double maxForce_N() const = 0;
+    /// How device units map to the scene (identity for devices that already speak scene metres).
+    virtual WorkspaceTransform workspace() const { return {}; }
 };
 
 /// Force a Phantom Omni / Touch can exert continuously-ish; the default clamp.

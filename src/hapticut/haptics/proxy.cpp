@@ -91,6 +91,23 @@ Vec3 GodObjectProxy::constrainedGoal(const Vec3& device_m) const {
     return best;
 }
 
+Vec3 GodObjectProxy::applyFriction(const Vec3& goal, const Vec3& device_m, const Vec3& from) const {
+    // On one plane the coupling k (proxy - device) splits into a normal part k |goal - device| and a
+    // tangential part k |proxy - goal|. Within the static cone the proxy stays where it is; beyond it,
+    // it slides toward the goal but stops where the tangential part equals the dynamic limit.
+    // Only a proxy that began the step resting on the surface can stick; one arriving from free space
+    // just lands.
+    if (planeCount_ != 1 || !startedInContact_ || (params_.staticFriction <= 0 && params_.dynamicFriction <= 0)) return goal;
+    const double normal = (goal - device_m).norm();
+    const Vec3& n = planes_[0].normal;
+    Vec3 tangential = from - goal;
+    tangential -= n * n.dot(tangential);  // only the part along the plane
+    const double slip = tangential.norm();
+    if (slip <= params_.staticFriction * normal) return from;
+    const double held = params_.dynamicFriction * normal;
+    return slip > held ? Vec3(goal + tangential * (held / slip)) : goal;
+}
+
 void GodObjectProxy::findContact(const collision::SurfaceView& s, const collision::Bvh& bvh) {
     const double reach = 3 * params_.offset_m;
     std::optional<collision::SurfacePoint> near;
@@ -129,7 +146,11 @@ void GodObjectProxy::followSurface(const collision::SurfaceView& s, const collis
 
 int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s, const collision::Bvh& bvh) {
     carryWithSurface(s);
-    pushOutIfInside(s, bvh);
+    // A free proxy may have been swept over by the surface; a touching one is checked once, at the
+    // end of the update, which also catches a carry that put it behind a folded neighbour.
+    if (!contact_.active) pushOutIfInside(s, bvh);
+    contactStart_ = position_;  // where a sticking proxy stays
+    startedInContact_ = contact_.active;
     planeCount_ = 0;
     Vec3 goal = device_m;
     for (int iteration = 0; iteration < params_.maxIterations; ++iteration) {
@@ -159,7 +180,7 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
         position_ = hit->point + params_.offset_m * n - (travelled > 0 ? Vec3(backoff / travelled * travel) : Vec3::Zero());
         if (planeCount_ == 3) break;  // held in a corner by three planes
         planes_[planeCount_++] = {n, n.dot(hit->point) + params_.offset_m};
-        goal = constrainedGoal(device_m);
+        goal = applyFriction(constrainedGoal(device_m), device_m, contactStart_);
     }
     pushOutIfInside(s, bvh);
     findContact(s, bvh);

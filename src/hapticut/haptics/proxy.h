@@ -16,6 +16,11 @@ struct ProxyParams {
     /// A closed surface lets the proxy check itself with the ray-parity inside test; an open one
     /// (a patch, a cut-open organ) falls back to the nearest face's normal.
     bool closedSurface = false;
+    /// Friction between the proxy and the surface (0: frictionless). The coupling force's tangential
+    /// part may reach staticFriction times its normal part before the proxy slips; sliding, it stays
+    /// at dynamicFriction times the normal part (the friction cone on the god object).
+    double staticFriction = 0;
+    double dynamicFriction = 0;
 };
 
 struct Contact {
@@ -57,10 +62,13 @@ private:
     void carryWithSurface(const collision::SurfaceView& surface);
     void pushOutIfInside(const collision::SurfaceView& surface, const collision::Bvh& bvh);
     Vec3 constrainedGoal(const Vec3& device_m) const;
+    Vec3 applyFriction(const Vec3& goal, const Vec3& device_m, const Vec3& from) const;
     void findContact(const collision::SurfaceView& surface, const collision::Bvh& bvh);
 
     ProxyParams params_;
     Vec3 position_ = Vec3::Zero();
+    Vec3 contactStart_ = Vec3::Zero();
+    bool startedInContact_ = false;
     Contact contact_;
     std::array<Plane, 3> planes_{};
     int planeCount_ = 0;

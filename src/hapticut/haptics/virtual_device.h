@@ -23,6 +23,7 @@ public:
     DeviceSample read(double time_s) override;
     void commandForce(const Vec3& force_N) override;
     double maxForce_N() const override { return maxForce_; }
+    WorkspaceTransform workspace() const override { return workspace_; }
 
 private:
     struct Input {
