@@ -35,6 +35,28 @@ struct RunOptions {
     std::string friction;  // "static,dynamic"
 };
 
+/// Writes `text` to `file` if a file was asked for and says so; false on failure (already reported).
+bool writeOutput(const std::string& file, const std::string& text, const char* what) {
+    if (file.empty()) return true;
+    if (const auto error = mesh::io::writeTextFileAtomically(file, text)) {
+        std::cerr << error->toString() << "\n";
+        return false;
+    }
+    std::cout << "wrote " << what << " to " << file << "\n";
+    return true;
+}
+
+/// The fields every run report starts with: what was simulated, with which integrator.
+nlohmann::ordered_json reportHeader(const ModelSource& source, const physics::MassSpringModel& model, physics::Scheme scheme) {
+    nlohmann::ordered_json j;
+    j["model"] = source.name;
+    j["vertices"] = source.mesh.positions.size();
+    j["faces"] = source.mesh.faces.size();
+    j["springs"] = model.springs.size();
+    j["integrator"] = physics::schemeName(scheme);
+    return j;
+}
+
 /// Writes the deformed mesh, if asked; false on failure (already reported).
 bool exportDeformed(const std::string& file, const ModelSource& source, const physics::MassSpringModel& model) {
     if (file.empty()) return true;
@@ -97,30 +119,11 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     if (o.tool == "scalpel") std::cout << "note: cutting is not implemented yet; the scalpel presses like the probe\n";
 
     int status = r.watchdogTripped ? 3 : 0;
-    if (!o.forceLog.empty()) {
-        if (const auto error = mesh::io::writeTextFileAtomically(o.forceLog, scene::formatForceLog(r.log))) {
-            std::cerr << error->toString() << "\n";
-            status = 1;
-        } else {
-            std::cout << "wrote the force log to " << o.forceLog << "\n";
-        }
-    }
-    if (!o.record.empty()) {
-        if (const auto error = mesh::io::writeTextFileAtomically(o.record, haptics::formatRecording(r.log))) {
-            std::cerr << error->toString() << "\n";
-            status = 1;
-        } else {
-            std::cout << "wrote the recording to " << o.record << "\n";
-        }
-    }
+    if (!o.forceLog.empty() && !writeOutput(o.forceLog, scene::formatForceLog(r.log), "the force log")) status = 1;
+    if (!o.record.empty() && !writeOutput(o.record, haptics::formatRecording(r.log), "the recording")) status = 1;
     if (!exportDeformed(o.exportMesh, *source, model)) status = 1;
     if (!o.report.empty()) {
-        nlohmann::ordered_json j;
-        j["model"] = source->name;
-        j["vertices"] = source->mesh.positions.size();
-        j["faces"] = source->mesh.faces.size();
-        j["springs"] = model.springs.size();
-        j["integrator"] = physics::schemeName(scheme);
+        nlohmann::ordered_json j = reportHeader(*source, model, scheme);
         j["dt"] = 1 / o.rate_hz;
         j["substeps"] = r.substeps;
         j["steps"] = r.steps;
@@ -204,12 +207,7 @@ int run(const RunOptions& o) {
     int status = r.nanEvents > 0 ? 3 : 0;
     if (!exportDeformed(o.exportMesh, *source, model)) status = 1;
     if (!o.report.empty()) {
-        nlohmann::ordered_json j;
-        j["model"] = source->name;
-        j["vertices"] = source->mesh.positions.size();
-        j["faces"] = source->mesh.faces.size();
-        j["springs"] = model.springs.size();
-        j["integrator"] = physics::schemeName(config.scheme);
+        nlohmann::ordered_json j = reportHeader(*source, model, config.scheme);
         j["dt"] = config.dt_s;
         j["steps"] = r.steps;
         j["substeps"] = r.substeps;

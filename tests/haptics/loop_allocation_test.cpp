@@ -1,27 +1,13 @@
-// The haptic loop makes no heap allocation in steady state. This binary replaces the global operator
-// new to count allocations, so it holds only this test.
+// The haptic loop makes no heap allocation in steady state. Its binary links the
+// allocation counter, which replaces the global operator new.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
+#include "allocation_counter.h"
 
 #include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/virtual_device.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/material.h"
-
-namespace {
-std::atomic<long> gAllocations{0};
-}
-
-void* operator new(std::size_t size) {
-    ++gAllocations;
-    if (void* p = std::malloc(size ? size : 1)) return p;
-    throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace hapticut::haptics {
 namespace {
@@ -37,13 +23,13 @@ TEST(HapticLoop, SteadyStateStepsWithoutHeapAllocation) {
         device.setPosition(at(i));
         loop.step();
     }
-    const long before = gAllocations.load();
+    const long before = test::allocationCount();
     for (int i = 200; i < 3200; ++i) {
         device.setPosition(at(i));
         loop.step();
         if (i % 50 == 0) loop.commands().push({LoopCommand::Kind::SetCouplingStiffness, 400.0 + i % 7});
     }
-    EXPECT_EQ(gAllocations.load() - before, 0);
+    EXPECT_EQ(test::allocationCount() - before, 0);
     EXPECT_GT(loop.stats().contactSteps, 500);
 }
 

@@ -37,6 +37,25 @@ bool segmentTouchesBox(const geometry::Aabb& box, const Vec3& from, const Vec3& 
 
 }  // namespace
 
+template <class Enter, class Visit>
+void Bvh::traverse(Enter&& enter, Visit&& visit) const {
+    for (std::uint32_t f : pending_) visit(f);
+    if (nodes_.empty()) return;
+    std::array<std::uint32_t, kMaxDepth> stack;
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = nodes_[stack[--top]];
+        if (!enter(node.box)) continue;
+        if (node.count > 0) {
+            for (std::uint32_t k = node.start; k < node.start + node.count; ++k) visit(faceOrder_[k]);
+            continue;
+        }
+        stack[top++] = node.right;
+        stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+    }
+}
+
 geometry::Aabb Bvh::faceBox(const SurfaceView& s, std::uint32_t f) const {
     geometry::Aabb box;
     for (std::uint32_t v : s.faces[f]) box.grow(s.positions[v]);
@@ -159,81 +178,38 @@ std::optional<SegmentHit> Bvh::firstHit(const SurfaceView& s, const Vec3& from, 
     double bestT = 1;
     const Vec3 dir = to - from;
     const Vec3 invDir = dir.cwiseInverse();
-    auto consider = [&](std::uint32_t f) {
-        const mesh::Face& face = s.faces[f];
-        const auto hit = geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
-        if (hit && (hit->t < bestT || !best)) {
-            bestT = hit->t;
-            best = SegmentHit{f, hit->t, from + hit->t * dir, hit->bary};
-        }
-    };
-    for (std::uint32_t f : pending_) consider(f);
-    if (!nodes_.empty()) {
-        std::array<std::uint32_t, kMaxDepth> stack;
-        int top = 0;
-        stack[top++] = 0;
-        while (top > 0) {
-            const Node& node = nodes_[stack[--top]];
-            if (!segmentTouchesBox(node.box, from, invDir, bestT)) continue;
-            if (node.count > 0) {
-                for (std::uint32_t k = node.start; k < node.start + node.count; ++k) consider(faceOrder_[k]);
-                continue;
-            }
-            stack[top++] = node.right;
-            stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
-        }
-    }
+    traverse([&](const geometry::Aabb& box) { return segmentTouchesBox(box, from, invDir, bestT); },
+             [&](std::uint32_t f) {
+                 const mesh::Face& face = s.faces[f];
+                 const auto hit = geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+                 if (hit && (hit->t < bestT || !best)) {
+                     bestT = hit->t;
+                     best = SegmentHit{f, hit->t, from + hit->t * dir, hit->bary};
+                 }
+             });
     return best;
 }
 
 int Bvh::countCrossings(const SurfaceView& s, const Vec3& from, const Vec3& to) const {
     int crossings = 0;
     const Vec3 invDir = (to - from).cwiseInverse();
-    auto consider = [&](std::uint32_t f) {
-        const mesh::Face& face = s.faces[f];
-        if (geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]])) ++crossings;
-    };
-    for (std::uint32_t f : pending_) consider(f);
-    if (nodes_.empty()) return crossings;
-    std::array<std::uint32_t, kMaxDepth> stack;
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = nodes_[stack[--top]];
-        if (!segmentTouchesBox(node.box, from, invDir, 1)) continue;
-        if (node.count > 0) {
-            for (std::uint32_t k = node.start; k < node.start + node.count; ++k) consider(faceOrder_[k]);
-            continue;
-        }
-        stack[top++] = node.right;
-        stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
-    }
+    traverse([&](const geometry::Aabb& box) { return segmentTouchesBox(box, from, invDir, 1); },
+             [&](std::uint32_t f) {
+                 const mesh::Face& face = s.faces[f];
+                 if (geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]])) ++crossings;
+             });
     return crossings;
 }
 
 void Bvh::facesWithinRadius(const SurfaceView& s, const Vec3& p, double radius, std::vector<std::uint32_t>& out) const {
     out.clear();
     const double r2 = radius * radius;
-    auto consider = [&](std::uint32_t f) {
-        const mesh::Face& face = s.faces[f];
-        const auto c = geometry::closestPointOnTriangle(p, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
-        if ((c.point - p).squaredNorm() <= r2) out.push_back(f);
-    };
-    for (std::uint32_t f : pending_) consider(f);
-    if (nodes_.empty()) return;
-    std::array<std::uint32_t, kMaxDepth> stack;
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = nodes_[stack[--top]];
-        if (boxDistanceSquared(node.box, p) > r2) continue;
-        if (node.count > 0) {
-            for (std::uint32_t k = node.start; k < node.start + node.count; ++k) consider(faceOrder_[k]);
-            continue;
-        }
-        stack[top++] = node.right;
-        stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
-    }
+    traverse([&](const geometry::Aabb& box) { return boxDistanceSquared(box, p) <= r2; },
+             [&](std::uint32_t f) {
+                 const mesh::Face& face = s.faces[f];
+                 const auto c = geometry::closestPointOnTriangle(p, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+                 if ((c.point - p).squaredNorm() <= r2) out.push_back(f);
+             });
 }
 
 }  // namespace hapticut::collision

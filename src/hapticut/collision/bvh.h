@@ -66,6 +66,9 @@ private:
 
     std::uint32_t buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count, std::vector<Vec3>& centroids, int depth);
     geometry::Aabb faceBox(const SurfaceView& s, std::uint32_t f) const;
+    /// Visits the pending faces and the faces of every leaf whose box (and ancestors' boxes) `enter` accepts.
+    template <class Enter, class Visit>
+    void traverse(Enter&& enter, Visit&& visit) const;
 
     std::vector<Node> nodes_;
     std::vector<std::uint32_t> faceOrder_;
