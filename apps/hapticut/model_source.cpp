@@ -3,6 +3,7 @@
 
 #include <iostream>
 
+#include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/material.h"
 
@@ -28,6 +29,13 @@ std::optional<ModelSource> loadModelSource(const std::string& model, int triangl
     source.toolThreshold_N = loaded->toolThreshold_N;
     source.fromThesisFile = loaded->physics.has_value();
     source.physics = loaded->physics ? *loaded->physics : physics::thesisPhysicsFor(source.mesh, physics::Material{});
+    // Open or non-manifold surfaces can still be simulated; say what is unusual and go on.
+    const mesh::MeshReport report = mesh::validateMesh(source.mesh);
+    if (report.boundaryEdges > 0) std::cerr << "warning: " << model << ": open surface, " << report.boundaryEdges << " boundary edges\n";
+    if (report.nonManifoldEdges > 0)
+        std::cerr << "warning: " << model << ": " << report.nonManifoldEdges << " non-manifold edges (hapticut convert --repair splits them)\n";
+    if (report.misorientedEdges > 0)
+        std::cerr << "warning: " << model << ": inconsistently oriented faces (hapticut convert --repair orients them)\n";
     return source;
 }
 

@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cctype>
 
+#include "hapticut/mesh/io/assimp_import.h"
 #include "hapticut/mesh/io/obj_format.h"
 #include "hapticut/mesh/io/ply_format.h"
+#include "hapticut/mesh/repair.h"
 
 namespace hapticut::mesh::io {
 
@@ -20,7 +22,19 @@ std::optional<MeshFormat> formatFromExtension(const std::filesystem::path& file)
 
 Result<LoadedMesh, LoadError> loadMesh(const std::filesystem::path& file) {
     const auto format = formatFromExtension(file);
-    if (!format) return unexpected(LoadError{file, 0, "unknown mesh format '" + file.extension().string() + "': expected .txt (thesis format), .obj or .ply"});
+    if (!format && assimpCanImport(file)) {
+        auto imported = importWithAssimp(file);
+        if (!imported) return unexpected(imported.error());
+        LoadedMesh out;
+        out.mesh = std::move(imported->mesh);
+        out.warnings = std::move(imported->warnings);
+        // Assimp splits vertices per corner (STL always): weld exact duplicates so the surface is connected.
+        for (const std::string& note : cleanMesh(out.mesh).notes) out.warnings.push_back({file, 0, note});
+        return out;
+    }
+    if (!format)
+        return unexpected(LoadError{file, 0, "unknown mesh format '" + file.extension().string() +
+                                                 "': expected .txt (thesis format), .obj, .ply, or a format Assimp imports (.stl, .gltf, .glb, .3ds, .fbx, .dae, ...)"});
     LoadError error;
     const auto text = readTextFile(file, error);
     if (!text) return unexpected(error);

@@ -15,6 +15,7 @@
 
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/mesh/edge_flip.h"
+#include "hapticut/mesh/uv_projection.h"
 
 namespace hapticut::mesh::procedural {
 
@@ -170,42 +171,9 @@ SurfaceMesh makeHeart(const HeartOptions& options) {
     const geometry::Aabb box = geometry::boundsOf(mesh.positions);
     const double scale = options.length_m / box.extent().y();
     const Vec3 centre = box.center();
-    std::vector<Vec3> directions(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        directions[i] = mesh.positions[i].normalized();
-        mesh.positions[i] = (mesh.positions[i] - centre) * scale;
-    }
-
-    // Spherical UVs about the generator's centre: u around the long axis (0.5 at the front), v from apex
-    // (0) to base (1). Faces straddling the back seam get u + 1 on their low side; at a pole, where u is
-    // undefined, a corner takes the mean u of the face's other corners.
-    mesh.uvs.resize(mesh.faces.size());
-    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
-        std::array<double, 3> u{};
-        std::array<bool, 3> pole{};
-        for (int k = 0; k < 3; ++k) {
-            const Vec3& d = directions[mesh.faces[f][k]];
-            pole[k] = std::hypot(d.x(), d.z()) < 1e-9;
-            u[k] = 0.5 + std::atan2(d.x(), d.z()) / (2 * std::numbers::pi);
-        }
-        double lo = 2, hi = -1;
-        for (int k = 0; k < 3; ++k)
-            if (!pole[k]) lo = std::min(lo, u[k]), hi = std::max(hi, u[k]);
-        for (int k = 0; k < 3; ++k)
-            if (!pole[k] && hi - lo > 0.5 && u[k] < 0.5) u[k] += 1;
-        for (int k = 0; k < 3; ++k)
-            if (pole[k]) {
-                double sum = 0;
-                int count = 0;
-                for (int j = 0; j < 3; ++j)
-                    if (!pole[j]) sum += u[j], ++count;
-                u[k] = count ? sum / count : 0.5;
-            }
-        for (int k = 0; k < 3; ++k) {
-            const Vec3& d = directions[mesh.faces[f][k]];
-            mesh.uvs[f][k] = Vec2(u[k], 0.5 + std::asin(std::clamp(d.y(), -1.0, 1.0)) / std::numbers::pi);
-        }
-    }
+    for (Vec3& p : mesh.positions) p = (p - centre) * scale;
+    // Spherical UVs about the generator's centre (where the rays started), now at -centre * scale.
+    sphericalUvs(mesh, -centre * scale);
     computeFaceNormals(mesh);
     return mesh;
 }

@@ -1,0 +1,63 @@
+// Import through Assimp.
+#include "hapticut/mesh/io/assimp_import.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <cmath>
+
+namespace hapticut::mesh::io {
+
+bool assimpCanImport(const std::filesystem::path& file) {
+    const std::string ext = file.extension().string();
+    if (ext.size() < 2) return false;
+    Assimp::Importer importer;
+    return importer.IsExtensionSupported(ext);
+}
+
+Result<ImportedMesh, LoadError> importWithAssimp(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) return unexpected(LoadError{file, 0, "cannot open: no such file"});
+    try {
+        Assimp::Importer importer;
+        // No vertex joining here: welding is ours, with a tolerance the user controls.
+        const aiScene* scene = importer.ReadFile(file.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
+        if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
+            return unexpected(LoadError{file, 0, std::string("cannot import: ") + (importer.GetErrorString()[0] ? importer.GetErrorString() : "unknown error")});
+        ImportedMesh out;
+        SurfaceMesh& m = out.mesh;
+        std::size_t skippedPrimitives = 0, nonFinite = 0;
+        for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
+            const aiMesh* mesh = scene->mMeshes[mi];
+            const auto base = static_cast<std::uint32_t>(m.positions.size());
+            for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+                const aiVector3D& p = mesh->mVertices[v];
+                if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) ++nonFinite;
+                m.positions.emplace_back(p.x, p.y, p.z);
+            }
+            const aiVector3D* uv = mesh->HasTextureCoords(0) ? mesh->mTextureCoords[0] : nullptr;
+            for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+                const aiFace& face = mesh->mFaces[f];
+                if (face.mNumIndices != 3) {
+                    ++skippedPrimitives;  // points and lines carry no surface
+                    continue;
+                }
+                m.faces.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+                FaceUvs corners{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+                if (uv)
+                    for (int k = 0; k < 3; ++k) corners[k] = Vec2(uv[face.mIndices[k]].x, uv[face.mIndices[k]].y);
+                m.uvs.push_back(corners);
+            }
+        }
+        if (nonFinite > 0) return unexpected(LoadError{file, 0, std::to_string(nonFinite) + " vertex coordinate(s) are NaN or infinite"});
+        if (m.faces.empty()) return unexpected(LoadError{file, 0, "no triangles found (" + std::to_string(scene->mNumMeshes) + " mesh(es) in the file)"});
+        if (skippedPrimitives > 0) out.warnings.push_back({file, 0, "skipped " + std::to_string(skippedPrimitives) + " point or line primitive(s)"});
+        completeMesh(m);
+        return out;
+    } catch (const std::exception& e) {
+        return unexpected(LoadError{file, 0, std::string("cannot import: ") + e.what()});
+    }
+}
+
+}  // namespace hapticut::mesh::io

@@ -1,0 +1,20 @@
+// Import through Assimp: STL, glTF/GLB, 3DS, FBX, Collada and the rest of what it reads. Every mesh in
+// the file is merged, triangulated and placed by its node transforms; corner UVs are kept.
+#pragma once
+
+#include <filesystem>
+
+#include "hapticut/common/result.h"
+#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/mesh/io/obj_format.h"
+
+namespace hapticut::mesh::io {
+
+/// True for extensions Assimp can import here (case-insensitive, with the dot: ".stl").
+bool assimpCanImport(const std::filesystem::path& file);
+
+/// Imports every triangle of the file. Assimp gives each mesh its own vertices (STL even one per
+/// corner), so the result is not welded yet: see repair.h.
+Result<ImportedMesh, LoadError> importWithAssimp(const std::filesystem::path& file);
+
+}  // namespace hapticut::mesh::io

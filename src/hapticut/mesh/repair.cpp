@@ -1,0 +1,236 @@
+// Cleaning and repairing imported meshes.
+#include "hapticut/mesh/repair.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <queue>
+#include <unordered_map>
+
+#include "hapticut/geometry/aabb.h"
+#include "hapticut/geometry/triangle.h"
+#include "hapticut/mesh/adjacency.h"
+#include "hapticut/mesh/uv_projection.h"
+
+namespace hapticut::mesh {
+
+namespace {
+
+std::string count(std::size_t n, const char* what) { return std::to_string(n) + " " + what; }
+
+/// Joins vertices within eps: a grid of cells eps wide, each vertex compared with the representatives
+/// in its own and the 26 neighbouring cells.
+std::size_t weld(SurfaceMesh& m, double eps) {
+    std::vector<std::uint32_t> remap(m.positions.size());
+    std::vector<Vec3> kept;
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
+    const double cell = std::max(eps, 1e-300);
+    auto key = [](long long x, long long y, long long z) {
+        return (static_cast<std::uint64_t>(x) * 73856093u) ^ (static_cast<std::uint64_t>(y) * 19349663u) ^ (static_cast<std::uint64_t>(z) * 83492791u);
+    };
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+        const Vec3& p = m.positions[i];
+        const long long cx = std::llround(std::floor(p.x() / cell)), cy = std::llround(std::floor(p.y() / cell)), cz = std::llround(std::floor(p.z() / cell));
+        std::int64_t found = -1;
+        for (long long dx = -1; dx <= 1 && found < 0; ++dx)
+            for (long long dy = -1; dy <= 1 && found < 0; ++dy)
+                for (long long dz = -1; dz <= 1 && found < 0; ++dz) {
+                    const auto it = cells.find(key(cx + dx, cy + dy, cz + dz));
+                    if (it == cells.end()) continue;
+                    for (std::uint32_t r : it->second)
+                        if ((kept[r] - p).norm() <= eps) {
+                            found = r;
+                            break;
+                        }
+                }
+        if (found < 0) {
+            found = static_cast<std::int64_t>(kept.size());
+            kept.push_back(p);
+            cells[key(cx, cy, cz)].push_back(static_cast<std::uint32_t>(found));
+        }
+        remap[i] = static_cast<std::uint32_t>(found);
+    }
+    const std::size_t welded = m.positions.size() - kept.size();
+    m.positions = std::move(kept);
+    for (Face& f : m.faces)
+        for (std::uint32_t& v : f) v = remap[v];
+    return welded;
+}
+
+/// Keeps the faces for which keep(i) is true, with their UVs.
+template <class Keep>
+std::size_t filterFaces(SurfaceMesh& m, Keep&& keep) {
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < m.faces.size(); ++i)
+        if (keep(i)) {
+            m.faces[out] = m.faces[i];
+            m.uvs[out] = m.uvs[i];
+            ++out;
+        }
+    const std::size_t removed = m.faces.size() - out;
+    m.faces.resize(out);
+    m.uvs.resize(out);
+    return removed;
+}
+
+std::size_t dropUnusedVertices(SurfaceMesh& m) {
+    std::vector<std::uint32_t> remap(m.positions.size(), kNoFace);
+    std::vector<Vec3> kept;
+    for (Face& f : m.faces)
+        for (std::uint32_t& v : f) {
+            if (remap[v] == kNoFace) {
+                remap[v] = static_cast<std::uint32_t>(kept.size());
+                kept.push_back(m.positions[v]);
+            }
+            v = remap[v];
+        }
+    const std::size_t removed = m.positions.size() - kept.size();
+    m.positions = std::move(kept);
+    return removed;
+}
+
+void flip(SurfaceMesh& m, std::size_t f) {
+    std::swap(m.faces[f][1], m.faces[f][2]);
+    std::swap(m.uvs[f][1], m.uvs[f][2]);
+}
+
+bool traversesForward(const Face& f, std::uint32_t a, std::uint32_t b) {
+    for (int k = 0; k < 3; ++k)
+        if (f[k] == a && f[(k + 1) % 3] == b) return true;
+    return false;
+}
+
+/// Faces beyond the first two on an edge get their own copies of the edge's two vertices.
+std::size_t splitNonManifoldEdges(SurfaceMesh& m) {
+    const MeshAdjacency adj = buildAdjacency(m.faces);
+    std::size_t split = 0;
+    for (std::size_t e = 0; e < adj.edges.size(); ++e) {
+        const auto faces = adj.facesOfEdge(e);
+        if (faces.size() <= 2) continue;
+        ++split;
+        for (std::size_t i = 2; i < faces.size(); ++i)
+            for (std::uint32_t v : adj.edges[e]) {
+                const auto copy = static_cast<std::uint32_t>(m.positions.size());
+                m.positions.push_back(m.positions[v]);
+                for (std::uint32_t& corner : m.faces[faces[i]])
+                    if (corner == v) corner = copy;
+            }
+    }
+    return split;
+}
+
+/// Flips faces so that neighbours agree (breadth-first over manifold edges), then turns each closed
+/// piece outward (positive enclosed volume). Returns the faces flipped and the piece of each face.
+std::size_t orient(SurfaceMesh& m, std::vector<std::uint32_t>& component) {
+    const MeshAdjacency adj = buildAdjacency(m.faces);
+    component.assign(m.faces.size(), kNoFace);
+    std::size_t flipped = 0;
+    std::uint32_t pieces = 0;
+    for (std::uint32_t seed = 0; seed < m.faces.size(); ++seed) {
+        if (component[seed] != kNoFace) continue;
+        std::vector<std::uint32_t> members;
+        std::queue<std::uint32_t> todo;
+        todo.push(seed);
+        component[seed] = pieces;
+        bool closed = true;
+        while (!todo.empty()) {
+            const std::uint32_t f = todo.front();
+            todo.pop();
+            members.push_back(f);
+            for (int k = 0; k < 3; ++k) {
+                const auto faces = adj.facesOfEdge(adj.faceEdges[f][k]);
+                if (faces.size() != 2) {
+                    closed = false;
+                    continue;
+                }
+                const std::uint32_t g = faces[0] == f ? faces[1] : faces[0];
+                if (component[g] != kNoFace) continue;
+                const std::uint32_t a = m.faces[f][k], b = m.faces[f][(k + 1) % 3];
+                if (traversesForward(m.faces[g], a, b)) flip(m, g), ++flipped;  // a neighbour must run b -> a
+                component[g] = pieces;
+                todo.push(g);
+            }
+        }
+        if (closed) {
+            double volume = 0;
+            for (std::uint32_t f : members) volume += m.positions[m.faces[f][0]].dot(m.positions[m.faces[f][1]].cross(m.positions[m.faces[f][2]]));
+            if (volume < 0)
+                for (std::uint32_t f : members) flip(m, f), ++flipped;
+        }
+        ++pieces;
+    }
+    return flipped;
+}
+
+}  // namespace
+
+RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
+    RepairReport r;
+    if (m.uvs.size() != m.faces.size()) m.uvs.assign(m.faces.size(), FaceUvs{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+    const geometry::Aabb box = geometry::boundsOf(m.positions);
+    const double eps = options.weldEpsilon_m >= 0 ? options.weldEpsilon_m : 1e-9 * box.extent().norm();
+    if ((r.weldedVertices = weld(m, eps)) > 0) r.notes.push_back("welded " + count(r.weldedVertices, "duplicate vertices"));
+
+    r.degenerateFaces = filterFaces(m, [&](std::size_t i) {
+        const Face& f = m.faces[i];
+        return f[0] != f[1] && f[1] != f[2] && f[0] != f[2] &&
+               geometry::areaNormal(m.positions[f[0]], m.positions[f[1]], m.positions[f[2]]).squaredNorm() > 0;
+    });
+    if (r.degenerateFaces > 0) r.notes.push_back("dropped " + count(r.degenerateFaces, "degenerate faces"));
+    std::vector<std::array<std::uint32_t, 4>> sorted;  // sorted corners + face index
+    for (std::uint32_t i = 0; i < m.faces.size(); ++i) {
+        Face f = m.faces[i];
+        std::sort(f.begin(), f.end());
+        sorted.push_back({f[0], f[1], f[2], i});
+    }
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<char> duplicate(m.faces.size(), 0);
+    for (std::size_t i = 1; i < sorted.size(); ++i)
+        if (sorted[i][0] == sorted[i - 1][0] && sorted[i][1] == sorted[i - 1][1] && sorted[i][2] == sorted[i - 1][2]) duplicate[sorted[i][3]] = 1;
+    r.duplicateFaces = filterFaces(m, [&](std::size_t i) { return !duplicate[i]; });
+    if (r.duplicateFaces > 0) r.notes.push_back("dropped " + count(r.duplicateFaces, "duplicate faces"));
+
+    if (options.repair) {
+        if ((r.splitNonManifoldEdges = splitNonManifoldEdges(m)) > 0)
+            r.notes.push_back("split " + count(r.splitNonManifoldEdges, "non-manifold edges"));
+        std::vector<std::uint32_t> component;
+        if ((r.flippedFaces = orient(m, component)) > 0) r.notes.push_back("flipped " + count(r.flippedFaces, "faces to a consistent, outward orientation"));
+        const std::uint32_t pieces = m.faces.empty() ? 0 : *std::max_element(component.begin(), component.end()) + 1;
+        std::vector<std::size_t> size(pieces, 0);
+        for (std::uint32_t c : component) ++size[c];
+        const std::size_t largest = size.empty() ? 0 : *std::max_element(size.begin(), size.end());
+        std::vector<char> drop(pieces, 0);
+        for (std::uint32_t c = 0; c < pieces; ++c)
+            if (static_cast<double>(size[c]) < options.minComponentShare * static_cast<double>(m.faces.size()) && size[c] < largest) {
+                drop[c] = 1;
+                ++r.removedComponents;
+                r.removedComponentFaces += size[c];
+            }
+        filterFaces(m, [&](std::size_t i) { return !drop[component[i]]; });
+        if (r.removedComponents > 0)
+            r.notes.push_back("removed " + count(r.removedComponents, "small fragments") + " (" + count(r.removedComponentFaces, "faces") + ")");
+    }
+    if ((r.unusedVertices = dropUnusedVertices(m)) > 0) r.notes.push_back("dropped " + count(r.unusedVertices, "unused vertices"));
+
+    const bool hasUvs = std::any_of(m.uvs.begin(), m.uvs.end(), [](const FaceUvs& uv) { return !uv[0].isZero() || !uv[1].isZero() || !uv[2].isZero(); });
+    if (!hasUvs && !m.faces.empty()) {
+        sphericalUvs(m, geometry::boundsOf(m.positions).center());
+        r.generatedUvs = true;
+        r.notes.push_back("generated spherical texture coordinates");
+    }
+    computeFaceNormals(m);
+    m.edges = edgesOfFaces(m.faces);
+    return r;
+}
+
+void fitUnitBox(SurfaceMesh& m) {
+    const geometry::Aabb box = geometry::boundsOf(m.positions);
+    const double size = box.extent().maxCoeff();
+    if (!(size > 0)) return;
+    const Vec3 centre = box.center();
+    for (Vec3& p : m.positions) p = (p - centre) / size;
+    m.edges = m.edges.empty() ? edgesOfFaces(m.faces) : m.edges;
+}
+
+}  // namespace hapticut::mesh
