@@ -1,11 +1,16 @@
-// `hapticut convert IN OUT`: between the thesis format, OBJ and PLY.
+// `hapticut convert IN OUT`: import any supported mesh, clean or repair it, and write the thesis
+// format, OBJ or PLY.
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <optional>
 
 #include "commands.h"
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/io/thesis_format.h"
+#include "hapticut/mesh/mesh_report.h"
+#include "hapticut/mesh/repair.h"
+#include "hapticut/physics/material.h"
 #include "model_source.h"
 
 namespace hapticut::app {
@@ -15,6 +20,8 @@ namespace {
 struct ConvertOptions {
     std::string in, out;
     int triangles = 1619;
+    std::optional<double> mass, ks, kd, kp, kdp, weld;
+    bool fitUnitBox = false, repair = false;
 };
 
 int convert(const ConvertOptions& o) {
@@ -22,17 +29,44 @@ int convert(const ConvertOptions& o) {
         std::cerr << "hapticut convert: cannot write '" << o.out << "': expected .txt (thesis format), .obj or .ply\n";
         return 2;
     }
-    const auto source = loadModelSource(o.in, o.triangles);
+    auto source = loadModelSource(o.in, o.triangles);
     if (!source) return 1;
+    mesh::SurfaceMesh& m = source->mesh;
+    if (o.weld || o.repair) {
+        mesh::RepairOptions options;
+        options.weldEpsilon_m = o.weld.value_or(-1);
+        options.repair = o.repair;
+        const mesh::RepairReport r = mesh::cleanMesh(m, options);
+        for (const std::string& note : r.notes) std::cout << "  " << note << "\n";
+        if (r.notes.empty()) std::cout << "  nothing to clean or repair\n";
+        if (!source->fromThesisFile) source->physics = physics::thesisPhysicsFor(m, physics::Material{});
+    }
+    if (o.fitUnitBox) {
+        mesh::fitUnitBox(m);
+        mesh::computeFaceNormals(m);
+        std::cout << "  fitted into the unit box centred at the origin\n";
+        if (!source->fromThesisFile) source->physics = physics::thesisPhysicsFor(m, physics::Material{});
+    }
+    if (o.mass) source->physics.mass = *o.mass;
+    if (o.ks) source->physics.structuralStiffness = *o.ks;
+    if (o.kd) source->physics.structuralDamping = *o.kd;
+    if (o.kp) source->physics.positioningStiffness = *o.kp;
+    if (o.kdp) source->physics.positioningDamping = *o.kdp;
+
+    const mesh::MeshReport report = mesh::validateMesh(m);
+    std::cout << "  " << report.vertices << " vertices, " << report.faces << " faces, " << report.edges << " edges; "
+              << (report.closed ? "closed" : std::to_string(report.boundaryEdges) + " boundary edges (holes or open ends)") << "; "
+              << (report.manifold ? "manifold" : std::to_string(report.nonManifoldEdges) + " non-manifold edges") << "; "
+              << (report.oriented ? "consistently oriented" : "inconsistently oriented") << "; " << report.components << " component(s)\n";
+
     const bool toThesis = mesh::io::formatFromExtension(o.out) == mesh::io::MeshFormat::Thesis;
-    const auto error = toThesis && source->toolThreshold_N ? mesh::io::writeToolFile(o.out, source->mesh, *source->toolThreshold_N)
-                                                           : mesh::io::saveMesh(o.out, source->mesh, source->physics);
+    const auto error = toThesis && source->toolThreshold_N ? mesh::io::writeToolFile(o.out, m, *source->toolThreshold_N)
+                                                           : mesh::io::saveMesh(o.out, m, source->physics);
     if (error) {
         std::cerr << error->toString() << "\n";
         return 1;
     }
-    std::cout << "wrote " << o.out << ": " << source->mesh.positions.size() << " vertices, " << source->mesh.faces.size() << " faces, "
-              << source->mesh.edges.size() << " edges\n";
+    std::cout << "wrote " << o.out << ": " << m.positions.size() << " vertices, " << m.faces.size() << " faces, " << m.edges.size() << " edges\n";
     return 0;
 }
 
@@ -40,10 +74,19 @@ int convert(const ConvertOptions& o) {
 
 Command addConvertCommand(CLI::App& app) {
     auto o = std::make_shared<ConvertOptions>();
-    CLI::App* cmd = app.add_subcommand("convert", "Convert a mesh between the thesis format (.txt), OBJ and PLY");
+    CLI::App* cmd = app.add_subcommand("convert", "Import a mesh (thesis .txt, OBJ, PLY, STL, glTF, 3DS, FBX, Collada, ...), clean it, write .txt/.obj/.ply");
     cmd->add_option("in", o->in, "Input file, or 'heart' for the procedural heart")->required();
     cmd->add_option("out", o->out, "Output file (.txt, .obj or .ply)")->required();
     cmd->add_option("--triangles", o->triangles, "Triangle count when the input is 'heart'")->capture_default_str()->check(CLI::Range(12, 20'000'000));
+    cmd->add_option("--mass", o->mass, "Total mass written to the physics line, kg")->check(CLI::PositiveNumber);
+    cmd->add_option("--ks", o->ks, "Structural spring stiffness per edge, N/m")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--kd", o->kd, "Structural spring damping per edge, N·s/m")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--kp", o->kp, "Positioning spring stiffness per node, N/m")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--kdp", o->kdp, "Positioning spring damping per node, N·s/m")->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--fit-unit-box", o->fitUnitBox, "Scale and centre into the unit box, as the thesis's models were");
+    cmd->add_option("--weld", o->weld, "Join vertices closer than this, m (imports other than OBJ/PLY weld exact duplicates anyway)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--repair", o->repair, "Orient faces consistently and outward, split non-manifold edges, remove small fragments");
     return [o] { return convert(*o); };
 }
 

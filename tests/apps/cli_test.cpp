@@ -113,7 +113,7 @@ TEST_F(Cli, BadArgumentsAreExplained) {
     r = run("info " + path("missing.obj"));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("missing.obj: cannot open"), std::string::npos) << r.err;
-    r = run("convert heart " + path("x.stl"));
+    r = run("convert heart " + path("x.stl"));  // STL is read, not written
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(r.err.find("expected .txt (thesis format), .obj or .ply"), std::string::npos) << r.err;
 }
@@ -129,6 +129,31 @@ TEST_F(Cli, ShippedAssetsAreWhatTheCodeGenerates) {
     EXPECT_NEAR(heart["faces"].get<double>(), 1619, 0.02 * 1619);
     const auto scalpel = nlohmann::json::parse(run(std::string("info ") + HAPTICUT_SOURCE_DIR + "/assets/tools/scalpel.txt --json").out);
     EXPECT_EQ(scalpel["tool_threshold_N"], 2.0);
+}
+
+TEST_F(Cli, ConvertsAnStlWithRepairUnitBoxAndPhysics) {
+    // A tetrahedron in ASCII STL (one vertex per corner), one face inside out.
+    const char* stl =
+        "solid t\n"
+        "facet normal 0 0 0\nouter loop\nvertex 1 1 1\nvertex 1 -1 -1\nvertex -1 1 -1\nendloop\nendfacet\n"
+        "facet normal 0 0 0\nouter loop\nvertex 1 1 1\nvertex 1 -1 -1\nvertex -1 -1 1\nendloop\nendfacet\n"
+        "facet normal 0 0 0\nouter loop\nvertex 1 1 1\nvertex -1 1 -1\nvertex -1 -1 1\nendloop\nendfacet\n"
+        "facet normal 0 0 0\nouter loop\nvertex 1 -1 -1\nvertex -1 -1 1\nvertex -1 1 -1\nendloop\nendfacet\n"
+        "endsolid t\n";
+    std::ofstream(path("t.stl")) << stl;
+    const CliResult r = run("convert " + path("t.stl") + " " + path("t.txt") + " --repair --fit-unit-box --mass 2 --ks 30");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("flipped"), std::string::npos) << r.out;
+    const auto j = nlohmann::json::parse(run("info " + path("t.txt") + " --json").out);
+    EXPECT_EQ(j["vertices"], 4);
+    EXPECT_EQ(j["faces"], 4);
+    EXPECT_EQ(j["closed"], true);
+    EXPECT_EQ(j["oriented"], true);
+    EXPECT_DOUBLE_EQ(j["physics"]["mass"].get<double>(), 2.0);
+    EXPECT_DOUBLE_EQ(j["physics"]["ks"].get<double>(), 30.0);
+    EXPECT_DOUBLE_EQ(j["bbox_max"][0].get<double>() - j["bbox_min"][0].get<double>(), 1.0);
+    // The STL runs directly too.
+    EXPECT_EQ(run("run --model " + path("t.stl") + " --steps 10").exitCode, 0);
 }
 
 TEST_F(Cli, ExportsTheDeformedMesh) {
