@@ -2,6 +2,8 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
+#include <optional>
+#include <set>
 #include <iostream>
 
 #include "commands.h"
@@ -11,6 +13,7 @@
 #include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/scene/haptic_run.h"
 #include "hapticut/scene/headless_run.h"
+#include "hapticut/scene/scene_file.h"
 #include "model_source.h"
 #include "terminal.h"
 
@@ -33,7 +36,33 @@ struct RunOptions {
     double rate_hz = 1000;
     double couplingStiffness_N_per_m = haptics::LoopConfig{}.couplingStiffness_N_per_m;
     std::string friction;  // "static,dynamic"
+    std::string scene;
+    std::set<std::string> given;  // options given on the command line: they override the scene
+    std::optional<scene::SceneFile> sceneFile;
 };
+
+/// Takes the scene's values for every option the command line did not give.
+bool applyScene(RunOptions& o) {
+    if (o.scene.empty()) return true;
+    auto sceneFile = scene::readScene(o.scene);
+    if (!sceneFile) {
+        std::cerr << sceneFile.error().toString() << "\n";
+        return false;
+    }
+    const scene::SceneFile& s = *sceneFile;
+    auto take = [&](const char* option) { return !o.given.count(option); };
+    if (take("--model")) o.model = s.model;
+    if (take("--triangles")) o.triangles = s.triangles;
+    if (take("--integrator")) o.integrator = std::string(physics::schemeName(s.scheme));
+    if (take("--rate")) o.rate_hz = s.rate_hz;
+    if (take("--coupling-stiffness")) o.couplingStiffness_N_per_m = s.couplingStiffness_N_per_m;
+    if (take("--friction") && (s.staticFriction > 0 || s.dynamicFriction > 0))
+        o.friction = mesh::io::formatDouble(s.staticFriction) + "," + mesh::io::formatDouble(s.dynamicFriction);
+    if (take("--trajectory") && s.deviceBackend == "replay") o.trajectory = s.trajectory;
+    if (take("--dt") && !o.given.count("--rate")) o.dt_s = 1 / s.rate_hz;
+    o.sceneFile = s;
+    return true;
+}
 
 /// Writes `text` to `file` if a file was asked for and says so; false on failure (already reported).
 bool writeOutput(const std::string& file, const std::string& text, const char* what) {
@@ -71,6 +100,19 @@ bool exportDeformed(const std::string& file, const ModelSource& source, const ph
     return true;
 }
 
+/// The scene's placement, applied to the rest shape.
+void placeBySceneFile(const RunOptions& o, ModelSource& source) {
+    if (!o.sceneFile) return;
+    scene::applyPlacement(*o.sceneFile, source.mesh.positions);
+    mesh::computeFaceNormals(source.mesh);
+}
+
+/// The model with the scene's material when the scene gives one, else the source's own constants.
+physics::MassSpringModel buildModelFor(const RunOptions& o, const ModelSource& source) {
+    if (o.sceneFile && o.sceneFile->materialGiven) return physics::buildModel(source.mesh, o.sceneFile->material);
+    return buildSimulationModel(source);
+}
+
 int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     const auto trajectory = haptics::readTrajectory(o.trajectory);
     if (!trajectory) {
@@ -81,14 +123,19 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
         std::cerr << "hapticut run: unknown tool '" << o.tool << "': expected probe or scalpel\n";
         return 2;
     }
-    const auto source = loadModelSource(o.model, o.triangles);
+    auto source = loadModelSource(o.model, o.triangles);
     if (!source) return 1;
-    physics::MassSpringModel model = buildSimulationModel(*source);
+    placeBySceneFile(o, *source);
+    physics::MassSpringModel model = buildModelFor(o, *source);
 
     scene::HapticRunConfig config;
     config.loop.scheme = scheme;
     config.loop.rate_hz = o.rate_hz;
     config.loop.couplingStiffness_N_per_m = o.couplingStiffness_N_per_m;
+    if (o.sceneFile) {
+        config.loop.couplingDamping_Ns_per_m = o.sceneFile->couplingDamping_Ns_per_m;
+        config.loop.activeRegion = o.sceneFile->activeRegion;
+    }
     if (!o.friction.empty()) {
         const auto comma = o.friction.find(',');
         double mus = 0, mud = 0;
@@ -152,7 +199,8 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     return status;
 }
 
-int run(const RunOptions& o) {
+int run(RunOptions& o) {
+    if (!applyScene(o)) return 1;
     const auto scheme = physics::parseScheme(o.integrator);
     if (!scheme) {
         std::cerr << "hapticut run: unknown integrator '" << o.integrator << "': expected euler, midpoint, rk4 or symplectic\n";
@@ -182,9 +230,10 @@ int run(const RunOptions& o) {
         config.force = scene::PointForce{*at, *force, o.forceUntil_s >= 0 ? o.forceUntil_s : 1e300};
     }
 
-    const auto source = loadModelSource(o.model, o.triangles);
+    auto source = loadModelSource(o.model, o.triangles);
     if (!source) return 1;
-    physics::MassSpringModel model = buildSimulationModel(*source);
+    placeBySceneFile(o, *source);
+    physics::MassSpringModel model = buildModelFor(o, *source);
     std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes, " << model.springs.size() << " springs, "
               << physics::schemeName(config.scheme) << ", dt " << config.dt_s << " s, " << config.steps << " steps\n";
 
@@ -260,7 +309,12 @@ Command addRunCommand(CLI::App& app) {
         ->check(CLI::Range(1.0, 5000.0));
     cmd->add_option("--friction", o->friction, "Static and dynamic friction coefficients 'S,D' of the proxy (with --trajectory); default none");
     cmd->add_option("--record", o->record, "Write the device path with the rendered forces appended, replayable as a trajectory");
-    cmd->callback([o, cmd] { o->stepsGiven = cmd->count("--steps") > 0; });
+    cmd->add_option("--scene", o->scene, "A scene file (TOML, see assets/scenes/heart.toml); options given here override it");
+    cmd->callback([o, cmd] {
+        o->stepsGiven = cmd->count("--steps") > 0;
+        for (const CLI::Option* option : cmd->get_options())
+            if (option->count() > 0) o->given.insert(option->get_name());
+    });
     return [o] { return run(*o); };
 }
 

@@ -156,6 +156,23 @@ TEST_F(Cli, ConvertsAnStlWithRepairUnitBoxAndPhysics) {
     EXPECT_EQ(run("run --model " + path("t.stl") + " --steps 10").exitCode, 0);
 }
 
+TEST_F(Cli, ASceneReproducesAnExperimentAndTheCommandLineOverridesIt) {
+    const std::string scene = std::string(HAPTICUT_SOURCE_DIR) + "/assets/scenes/press-front.toml";
+    ASSERT_EQ(run("run --scene " + scene + " --triangles 1619 --force-log " + path("a.csv")).exitCode, 0);
+    ASSERT_EQ(run("run --scene " + scene + " --triangles 1619 --force-log " + path("b.csv")).exitCode, 0);
+    EXPECT_EQ(slurp(path("a.csv")), slurp(path("b.csv"))) << "the same scene gives the same force log, bit for bit";
+    const CliResult r = run("run --scene " + scene + " --triangles 1619 --integrator midpoint --report " + path("r.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(path("r.json")));
+    EXPECT_EQ(j["integrator"], "midpoint");
+    EXPECT_NEAR(j["faces"].get<double>(), 1619, 0.02 * 1619);
+    EXPECT_NE(j["trajectory"].get<std::string>().find("press-front.csv"), std::string::npos) << "from the scene";
+    std::ofstream(path("bad.toml")) << "[device]\nbackend = \"joystick\"\n";
+    const CliResult bad = run("run --scene " + path("bad.toml"));
+    EXPECT_EQ(bad.exitCode, 1);
+    EXPECT_NE(bad.err.find("bad.toml:2: device.backend: 'joystick' is not allowed; allowed: replay, virtual"), std::string::npos) << bad.err;
+}
+
 TEST_F(Cli, ExportsTheDeformedMesh) {
     const CliResult r = run("run --steps 100 --force-at 0,0,0.05 --force 0,0,-1 --export-mesh " + path("pressed.ply"));
     ASSERT_EQ(r.exitCode, 0) << r.err;

@@ -1,0 +1,201 @@
+// Scene files (TOML) with strict checking of keys, types and ranges.
+#include "hapticut/scene/scene_file.h"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include "hapticut/mesh/procedural/tools.h"
+
+namespace hapticut::scene {
+
+namespace {
+
+struct SceneError {
+    int line;
+    std::string message;
+};
+
+int lineOf(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
+
+std::string join(const std::set<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out;
+}
+
+/// Refuses keys the table should not have, naming the allowed ones.
+void allowOnly(const toml::table& table, const std::string& path, const std::set<std::string>& allowed) {
+    for (const auto& [key, node] : table)
+        if (!allowed.count(std::string(key.str())))
+            throw SceneError{lineOf(node), (path.empty() ? "" : path + ".") + std::string(key.str()) + ": unknown key; allowed here: " + join(allowed)};
+}
+
+const toml::table* subTable(const toml::table& root, const std::string& name) {
+    const toml::node* node = root.get(name);
+    if (!node) return nullptr;
+    if (!node->is_table()) throw SceneError{lineOf(*node), name + ": expected a table [" + name + "]"};
+    return node->as_table();
+}
+
+double number(const toml::table& t, const std::string& path, const std::string& key, double fallback, double lo, double hi) {
+    const toml::node* node = t.get(key);
+    if (!node) return fallback;
+    const auto v = node->value<double>();
+    if (!v || !(node->is_floating_point() || node->is_integer())) throw SceneError{lineOf(*node), path + "." + key + ": expected a number"};
+    if (!std::isfinite(*v) || *v < lo || *v > hi) {
+        std::ostringstream s;
+        s << path << "." << key << ": " << *v << " is out of range; allowed: " << lo << " to " << hi;
+        throw SceneError{lineOf(*node), s.str()};
+    }
+    return *v;
+}
+
+bool boolean(const toml::table& t, const std::string& path, const std::string& key, bool fallback) {
+    const toml::node* node = t.get(key);
+    if (!node) return fallback;
+    if (!node->is_boolean()) throw SceneError{lineOf(*node), path + "." + key + ": expected true or false"};
+    return *node->value<bool>();
+}
+
+std::string text(const toml::table& t, const std::string& path, const std::string& key, const std::string& fallback,
+                 const std::set<std::string>& choices = {}) {
+    const toml::node* node = t.get(key);
+    if (!node) return fallback;
+    if (!node->is_string()) throw SceneError{lineOf(*node), path + "." + key + ": expected a string"};
+    std::string v = *node->value<std::string>();
+    if (!choices.empty() && !choices.count(v)) throw SceneError{lineOf(*node), path + "." + key + ": '" + v + "' is not allowed; allowed: " + join(choices)};
+    return v;
+}
+
+Vec3 vector3(const toml::table& t, const std::string& path, const std::string& key, const Vec3& fallback, double limit) {
+    const toml::node* node = t.get(key);
+    if (!node) return fallback;
+    const toml::array* a = node->as_array();
+    if (!a || a->size() != 3) throw SceneError{lineOf(*node), path + "." + key + ": expected three numbers [x, y, z]"};
+    Vec3 v;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const auto x = (*a)[k].value<double>();
+        if (!x || !std::isfinite(*x) || std::abs(*x) > limit)
+            throw SceneError{lineOf(*node), path + "." + key + ": expected three finite numbers within ±" + std::to_string(static_cast<long long>(limit))};
+        v[static_cast<Eigen::Index>(k)] = *x;
+    }
+    return v;
+}
+
+std::string resolve(const std::string& name, const std::filesystem::path& directory) {
+    if (name.empty() || name == "heart") return name;
+    const std::filesystem::path p(name);
+    return p.is_absolute() ? name : (directory / p).lexically_normal().string();
+}
+
+Eigen::Quaterniond rotationFromDegrees(const Vec3& deg) {
+    const Vec3 r = deg * std::numbers::pi / 180;
+    return Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) * Eigen::AngleAxisd(r.x(), Vec3::UnitX());
+}
+
+}  // namespace
+
+SceneFile defaultScene() {
+    SceneFile s;
+    s.tools = {{"probe", "", mesh::procedural::kProbeThreshold_N}, {"scalpel", "", mesh::procedural::kScalpelThreshold_N}};
+    return s;
+}
+
+Result<SceneFile, mesh::io::LoadError> parseScene(std::string_view source, const std::filesystem::path& file, const std::filesystem::path& directory) {
+    toml::table root;
+    try {
+        root = toml::parse(source, file.string());
+    } catch (const toml::parse_error& e) {
+        return unexpected(mesh::io::LoadError{file, static_cast<int>(e.source().begin.line), std::string(e.description())});
+    }
+    try {
+        SceneFile s = defaultScene();
+        allowOnly(root, "", {"model", "material", "tools", "device", "simulation", "rendering"});
+        if (const toml::table* m = subTable(root, "model")) {
+            allowOnly(*m, "model", {"source", "triangles", "translate_m", "rotate_deg", "scale"});
+            s.model = resolve(text(*m, "model", "source", s.model), directory);
+            s.triangles = static_cast<int>(number(*m, "model", "triangles", s.triangles, 12, 20'000'000));
+            s.translate_m = vector3(*m, "model", "translate_m", s.translate_m, 100);
+            s.rotate_deg = vector3(*m, "model", "rotate_deg", s.rotate_deg, 3600);
+            s.scale = number(*m, "model", "scale", s.scale, 1e-6, 1e6);
+        }
+        if (const toml::table* m = subTable(root, "material")) {
+            allowOnly(*m, "material", {"mass_kg", "structural_stiffness_N", "structural_damping_Ns", "positioning_stiffness_N_per_m3",
+                                       "positioning_damping_Ns_per_m3"});
+            physics::Material& mat = s.material;
+            mat.totalMass_kg = number(*m, "material", "mass_kg", mat.totalMass_kg, 1e-9, 1e6);
+            mat.structuralStiffness_N = number(*m, "material", "structural_stiffness_N", mat.structuralStiffness_N, 0, 1e9);
+            mat.structuralDamping_Ns = number(*m, "material", "structural_damping_Ns", mat.structuralDamping_Ns, 0, 1e9);
+            mat.positioningStiffness_N_per_m3 = number(*m, "material", "positioning_stiffness_N_per_m3", mat.positioningStiffness_N_per_m3, 0, 1e15);
+            mat.positioningDamping_Ns_per_m3 = number(*m, "material", "positioning_damping_Ns_per_m3", mat.positioningDamping_Ns_per_m3, 0, 1e15);
+            s.materialGiven = true;
+        }
+        if (const toml::node* tools = root.get("tools")) {
+            const toml::array* list = tools->as_array();
+            if (!list) throw SceneError{lineOf(*tools), "tools: expected a list of [[tools]] tables"};
+            s.tools.clear();
+            for (std::size_t i = 0; i < list->size(); ++i) {
+                const std::string path = "tools[" + std::to_string(i) + "]";
+                const toml::table* t = (*list)[i].as_table();
+                if (!t) throw SceneError{lineOf((*list)[i]), path + ": expected a table"};
+                allowOnly(*t, path, {"name", "file", "threshold_N"});
+                SceneTool tool;
+                tool.name = text(*t, path, "name", "");
+                if (tool.name.empty()) throw SceneError{lineOf(*t), path + ".name: every tool needs a name"};
+                tool.file = resolve(text(*t, path, "file", ""), directory);
+                const double fallback = tool.name == "scalpel" ? mesh::procedural::kScalpelThreshold_N : mesh::procedural::kProbeThreshold_N;
+                tool.threshold_N = number(*t, path, "threshold_N", fallback, 0, 1e12);
+                s.tools.push_back(tool);
+            }
+        }
+        if (const toml::table* d = subTable(root, "device")) {
+            allowOnly(*d, "device", {"backend", "trajectory", "stiffness_N_per_m", "damping_Ns_per_m", "max_force_N", "static_friction",
+                                     "dynamic_friction", "workspace_scale", "workspace_offset_m", "workspace_rotate_deg"});
+            s.deviceBackend = text(*d, "device", "backend", s.deviceBackend, {"virtual", "replay"});
+            s.trajectory = resolve(text(*d, "device", "trajectory", ""), directory);
+            if (s.deviceBackend == "replay" && s.trajectory.empty()) throw SceneError{lineOf(*d), "device.trajectory: the replay backend needs a trajectory file"};
+            s.couplingStiffness_N_per_m = number(*d, "device", "stiffness_N_per_m", s.couplingStiffness_N_per_m, 1, 5000);
+            s.couplingDamping_Ns_per_m = number(*d, "device", "damping_Ns_per_m", s.couplingDamping_Ns_per_m, 0, 100);
+            s.maxForce_N = number(*d, "device", "max_force_N", s.maxForce_N, 0, 50);
+            s.staticFriction = number(*d, "device", "static_friction", s.staticFriction, 0, 10);
+            s.dynamicFriction = number(*d, "device", "dynamic_friction", s.dynamicFriction, 0, 10);
+            if (s.dynamicFriction > s.staticFriction)
+                throw SceneError{lineOf(*d), "device.dynamic_friction: must not exceed device.static_friction"};
+            s.workspace.scale = number(*d, "device", "workspace_scale", 1, 1e-6, 1e6);
+            s.workspace.offset_m = vector3(*d, "device", "workspace_offset_m", Vec3::Zero(), 100);
+            s.workspace.rotation = rotationFromDegrees(vector3(*d, "device", "workspace_rotate_deg", Vec3::Zero(), 3600));
+        }
+        if (const toml::table* m = subTable(root, "simulation")) {
+            allowOnly(*m, "simulation", {"integrator", "rate_hz", "active_region"});
+            s.scheme = *physics::parseScheme(text(*m, "simulation", "integrator", "rk4", {"euler", "midpoint", "rk4", "symplectic"}));
+            s.rate_hz = number(*m, "simulation", "rate_hz", s.rate_hz, 100, 10'000);
+            s.activeRegion = boolean(*m, "simulation", "active_region", s.activeRegion);
+        }
+        if (const toml::table* r = subTable(root, "rendering")) {
+            allowOnly(*r, "rendering", {"stereo", "wireframe"});
+            s.stereo = text(*r, "rendering", "stereo", s.stereo, {"off", "quad", "anaglyph", "side-by-side"});
+            s.wireframe = boolean(*r, "rendering", "wireframe", s.wireframe);
+        }
+        return s;
+    } catch (const SceneError& e) {
+        return unexpected(mesh::io::LoadError{file, e.line, e.message});
+    }
+}
+
+Result<SceneFile, mesh::io::LoadError> readScene(const std::filesystem::path& file) {
+    mesh::io::LoadError error;
+    const auto contents = mesh::io::readTextFile(file, error, std::size_t{16} << 20);
+    if (!contents) return unexpected(error);
+    return parseScene(*contents, file, file.parent_path());
+}
+
+void applyPlacement(const SceneFile& scene, std::span<Vec3> positions) {
+    const Eigen::Quaterniond r = rotationFromDegrees(scene.rotate_deg);
+    for (Vec3& p : positions) p = r * (scene.scale * p) + scene.translate_m;
+}
+
+}  // namespace hapticut::scene

@@ -1,0 +1,62 @@
+// Scene files (TOML): an experiment described in a file rather than in code (SPEC R23).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hapticut/common/result.h"
+#include "hapticut/haptics/device.h"
+#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/physics/integrators.h"
+#include "hapticut/physics/material.h"
+
+namespace hapticut::scene {
+
+struct SceneTool {
+    std::string name;        // "probe", "scalpel", or any name for a tool file
+    std::string file;        // a tool file (thesis format); empty: the procedural tool of that name
+    double threshold_N = 1e9;
+};
+
+struct SceneFile {
+    // [model]
+    std::string model = "heart";  // "heart" or a mesh file, resolved against the scene's folder
+    int triangles = 1619;
+    Vec3 translate_m = Vec3::Zero();
+    Vec3 rotate_deg = Vec3::Zero();  // about x, then y, then z
+    double scale = 1;
+    // [material]: resolution-independent; applied to thesis files too when given
+    physics::Material material;
+    bool materialGiven = false;
+    // [[tools]]
+    std::vector<SceneTool> tools;
+    // [device]
+    std::string deviceBackend = "virtual";  // virtual or replay
+    std::string trajectory;                 // replay: a trajectory CSV, resolved against the scene's folder
+    double couplingStiffness_N_per_m = 400, couplingDamping_Ns_per_m = 0.3, maxForce_N = haptics::kDefaultMaxForce_N;
+    double staticFriction = 0, dynamicFriction = 0;
+    haptics::WorkspaceTransform workspace;
+    // [simulation]
+    physics::Scheme scheme = physics::Scheme::RungeKutta4;
+    double rate_hz = 1000;
+    bool activeRegion = true;
+    // [rendering]
+    std::string stereo = "off";  // off, quad, anaglyph, side-by-side
+    bool wireframe = false;
+};
+
+/// The built-in default: the heart with the probe and the scalpel.
+SceneFile defaultScene();
+
+/// Parses a scene; relative paths are resolved against `directory`. Errors name the file, the line,
+/// the key's path and what is allowed.
+Result<SceneFile, mesh::io::LoadError> parseScene(std::string_view text, const std::filesystem::path& file_for_errors,
+                                                  const std::filesystem::path& directory);
+Result<SceneFile, mesh::io::LoadError> readScene(const std::filesystem::path& file);
+
+/// Moves, turns and scales positions by the scene's placement (scale, then rotation, then translation).
+void applyPlacement(const SceneFile& scene, std::span<Vec3> positions);
+
+}  // namespace hapticut::scene

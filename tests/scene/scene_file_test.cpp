@@ -1,0 +1,82 @@
+// Scene files: the shipped example, every kind of mistake with its key path and line, paths, placement.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "hapticut/scene/scene_file.h"
+
+namespace hapticut::scene {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(SceneFile, TheCommentedExampleIsTheBuiltInDefault) {
+    const auto s = readScene(fs::path(HAPTICUT_SOURCE_DIR) / "assets/scenes/heart.toml");
+    ASSERT_TRUE(s.has_value()) << s.error().toString();
+    const SceneFile d = defaultScene();
+    EXPECT_EQ(s->model, d.model);
+    EXPECT_EQ(s->triangles, d.triangles);
+    EXPECT_EQ(s->scheme, d.scheme);
+    EXPECT_EQ(s->rate_hz, d.rate_hz);
+    EXPECT_EQ(s->couplingStiffness_N_per_m, d.couplingStiffness_N_per_m);
+    EXPECT_EQ(s->material.positioningStiffness_N_per_m3, physics::Material{}.positioningStiffness_N_per_m3);
+    EXPECT_EQ(s->material.structuralStiffness_N, physics::Material{}.structuralStiffness_N);
+    ASSERT_EQ(s->tools.size(), 2u);
+    EXPECT_EQ(s->tools[0].name, "probe");
+    EXPECT_EQ(s->tools[1].name, "scalpel");
+    EXPECT_EQ(s->tools[1].threshold_N, d.tools[1].threshold_N);
+    EXPECT_EQ(s->stereo, "off");
+}
+
+TEST(SceneFile, RelativePathsResolveAgainstTheScenesFolder) {
+    const auto s = parseScene("[model]\nsource = \"organs/liver.stl\"\n[device]\nbackend = \"replay\"\ntrajectory = \"../t.csv\"\n", "x.toml",
+                              "/data/scenes");
+    ASSERT_TRUE(s.has_value()) << s.error().toString();
+    EXPECT_EQ(s->model, "/data/scenes/organs/liver.stl");
+    EXPECT_EQ(s->trajectory, "/data/t.csv");
+}
+
+TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
+    auto expectError = [](const std::string& text, int line, const std::string& fragment) {
+        const auto r = parseScene(text, "s.toml", ".");
+        ASSERT_FALSE(r.has_value()) << fragment;
+        EXPECT_EQ(r.error().line, line) << r.error().toString();
+        EXPECT_NE(r.error().message.find(fragment), std::string::npos) << r.error().toString();
+    };
+    expectError("[modle]\n", 1, "modle: unknown key; allowed here: device, material, model, rendering, simulation, tools");
+    expectError("[model]\ntriangle = 5\n", 2, "model.triangle: unknown key; allowed here: rotate_deg, scale, source, translate_m, triangles");
+    expectError("[device]\nstiffness_N_per_m = \"hard\"\n", 2, "device.stiffness_N_per_m: expected a number");
+    expectError("[simulation]\nrate_hz = 50\n", 2, "simulation.rate_hz: 50 is out of range; allowed: 100 to 10000");
+    expectError("[simulation]\nintegrator = \"verlet\"\n", 2, "'verlet' is not allowed; allowed: euler, midpoint, rk4, symplectic");
+    expectError("[simulation]\nactive_region = 1\n", 2, "simulation.active_region: expected true or false");
+    expectError("[model]\ntranslate_m = [1, 2]\n", 2, "model.translate_m: expected three numbers");
+    expectError("[model]\ntranslate_m = [1, \"a\", 2]\n", 2, "expected three finite numbers");
+    expectError("[device]\nbackend = \"replay\"\n", 1, "device.trajectory: the replay backend needs a trajectory file");
+    expectError("[device]\nstatic_friction = 0.2\ndynamic_friction = 0.5\n", 1, "must not exceed device.static_friction");
+    expectError("[[tools]]\nthreshold_N = 3\n", 1, "tools[0].name: every tool needs a name");
+    expectError("[[tools]]\nname = \"knife\"\nsharpness = 3\n", 3, "tools[0].sharpness: unknown key");
+    expectError("tools = 3\n", 1, "tools: expected a list");
+    expectError("model = 3\n", 1, "model: expected a table");
+    expectError("[simulation\n", 1, "expected ']'");
+    expectError("[material]\nmass_kg = nan\n", 2, "material.mass_kg: nan is out of range");
+    expectError("[material]\nmass_kg = -1\n", 2, "out of range");
+}
+
+TEST(SceneFile, PlacementScalesThenRotatesThenTranslates) {
+    SceneFile s = defaultScene();
+    s.scale = 2;
+    s.rotate_deg = Vec3(0, 0, 90);
+    s.translate_m = Vec3(1, 0, 0);
+    std::vector<Vec3> p = {Vec3(1, 0, 0)};
+    applyPlacement(s, p);
+    EXPECT_LT((p[0] - Vec3(1, 2, 0)).norm(), 1e-12);
+}
+
+TEST(SceneFile, MissingFileIsAClearError) {
+    const auto r = readScene("/nonexistent/scene.toml");
+    ASSERT_FALSE(r.has_value());
+    EXPECT_NE(r.error().message.find("cannot open"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace hapticut::scene
