@@ -12,6 +12,7 @@
 #include "hapticut/geometry/triangle.h"
 #include "hapticut/mesh/adjacency.h"
 #include "hapticut/mesh/uv_projection.h"
+#include "hapticut/mesh/vertex_faces.h"
 
 namespace hapticut::mesh {
 
@@ -120,6 +121,50 @@ std::size_t splitNonManifoldEdges(SurfaceMesh& m) {
     return split;
 }
 
+/// A vertex where separate fans of faces meet (a bowtie) gets one copy per extra fan. Fans are the
+/// groups of the vertex's faces connected through edges that contain the vertex.
+std::size_t splitNonManifoldVertices(SurfaceMesh& m) {
+    const MeshAdjacency adj = buildAdjacency(m.faces);
+    const VertexFaces around = buildVertexFaces(m.faces, m.positions.size());
+    std::size_t split = 0;
+    std::vector<std::uint32_t> fan;
+    const std::size_t vertexCount = m.positions.size();
+    for (std::uint32_t v = 0; v < vertexCount; ++v) {
+        const auto faces = around.of(v);
+        if (faces.size() < 2) continue;
+        fan.assign(faces.size(), kNoFace);
+        std::uint32_t fans = 0;
+        for (std::size_t seed = 0; seed < faces.size(); ++seed) {
+            if (fan[seed] != kNoFace) continue;
+            std::vector<std::size_t> todo{seed};
+            fan[seed] = fans;
+            while (!todo.empty()) {
+                const std::uint32_t f = faces[todo.back()];
+                todo.pop_back();
+                for (int k = 0; k < 3; ++k) {
+                    const Edge& e = adj.edges[adj.faceEdges[f][k]];
+                    if (e[0] != v && e[1] != v) continue;  // only edges through the vertex join fans
+                    for (std::uint32_t g : adj.facesOfEdge(adj.faceEdges[f][k]))
+                        for (std::size_t j = 0; j < faces.size(); ++j)
+                            if (faces[j] == g && fan[j] == kNoFace) fan[j] = fans, todo.push_back(j);
+                }
+            }
+            ++fans;
+        }
+        if (fans < 2) continue;
+        ++split;
+        for (std::uint32_t extra = 1; extra < fans; ++extra) {
+            const auto copy = static_cast<std::uint32_t>(m.positions.size());
+            m.positions.push_back(m.positions[v]);
+            for (std::size_t j = 0; j < faces.size(); ++j)
+                if (fan[j] == extra)
+                    for (std::uint32_t& corner : m.faces[faces[j]])
+                        if (corner == v) corner = copy;
+        }
+    }
+    return split;
+}
+
 /// Flips faces so that neighbours agree (breadth-first over manifold edges), then turns each closed
 /// piece outward (positive enclosed volume). Returns the faces flipped and the piece of each face.
 std::size_t orient(SurfaceMesh& m, std::vector<std::uint32_t>& component) {
@@ -194,6 +239,8 @@ RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
     if (options.repair) {
         if ((r.splitNonManifoldEdges = splitNonManifoldEdges(m)) > 0)
             r.notes.push_back("split " + count(r.splitNonManifoldEdges, "non-manifold edges"));
+        if ((r.splitNonManifoldVertices = splitNonManifoldVertices(m)) > 0)
+            r.notes.push_back("split " + count(r.splitNonManifoldVertices, "non-manifold vertices"));
         std::vector<std::uint32_t> component;
         if ((r.flippedFaces = orient(m, component)) > 0) r.notes.push_back("flipped " + count(r.flippedFaces, "faces to a consistent, outward orientation"));
         const std::uint32_t pieces = m.faces.empty() ? 0 : *std::max_element(component.begin(), component.end()) + 1;

@@ -14,7 +14,7 @@ struct RepairOptions {
     /// Vertices closer than this are one (m). Negative: 1e-9 of the bounding-box diagonal, which joins
     /// exact duplicates (STL's per-corner vertices) and nothing else.
     double weldEpsilon_m = -1;
-    /// Also fix what can be fixed safely: orientation, non-manifold edges, small fragments.
+    /// Also fix what can be fixed safely: orientation, non-manifold edges and vertices, small fragments.
     bool repair = false;
     /// With repair: pieces with fewer than this share of the faces go (the largest piece always stays).
     double minComponentShare = 0.01;
@@ -22,7 +22,7 @@ struct RepairOptions {
 
 struct RepairReport {
     std::size_t weldedVertices = 0, degenerateFaces = 0, duplicateFaces = 0, unusedVertices = 0;
-    std::size_t flippedFaces = 0, splitNonManifoldEdges = 0, removedComponents = 0, removedComponentFaces = 0;
+    std::size_t flippedFaces = 0, splitNonManifoldEdges = 0, splitNonManifoldVertices = 0, removedComponents = 0, removedComponentFaces = 0;
     bool generatedUvs = false;
     std::vector<std::string> notes;  // one line per thing done, for the user
 };

@@ -150,6 +150,27 @@ TEST(Repair, SplitsANonManifoldEdge) {
     EXPECT_EQ(after.faces, 5u);
 }
 
+TEST(Repair, SplitsANonManifoldVertex) {
+    // Two tetrahedra touching at one corner (a bowtie vertex): after the split, two separate pieces.
+    SurfaceMesh m = test::tetrahedron();
+    SurfaceMesh other = test::tetrahedron();
+    for (Vec3& p : other.positions) p = Vec3(2, 2, 2) - (p - Vec3(1, 1, 1));  // mirrored through vertex 0 at (1, 1, 1)
+    procedural::appendMesh(m, other);
+    for (Face& f : m.faces)
+        for (std::uint32_t& v : f)
+            if (v == 4) v = 0;  // share the corner
+    completeMesh(m);
+    m.edges = edgesOfFaces(m.faces);
+    ASSERT_EQ(validateMesh(m).vertices - validateMesh(m).unusedVertices, 7u) << "joined at one shared vertex";
+    const RepairReport r = cleanMesh(m, {.repair = true, .minComponentShare = 0});
+    EXPECT_EQ(r.splitNonManifoldVertices, 1u);
+    const MeshReport after = validateMesh(m);
+    EXPECT_EQ(after.vertices, 8u);
+    EXPECT_EQ(after.eulerCharacteristic, 4) << "two spheres";
+    EXPECT_TRUE(after.closed);
+    EXPECT_TRUE(after.oriented);
+}
+
 TEST(Repair, RemovesSmallFragmentsButKeepsTheLargestPiece) {
     // A sphere of 160 faces with a stray 4-face fragment: 2.4% of the faces, below a 5% share.
     SurfaceMesh m = procedural::makeSphere(Vec3::Zero(), 0.05, 10, 9);
