@@ -1,6 +1,10 @@
 // Small models and meshes shared by the tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <string>
+
 #include "hapticut/mesh/surface_mesh.h"
 #include "hapticut/physics/mass_spring_model.h"
 
@@ -18,5 +22,13 @@ Vec3 wobble(std::size_t i, double size_m);
 
 /// The signed volume enclosed by a closed mesh: positive when the faces point outward.
 double signedVolume(const mesh::SurfaceMesh& mesh);
+
+/// Expects a failed parse at `line` (1-based; 0 for none) whose message contains `fragment`.
+template <class ParseResult>
+void expectLoadError(const ParseResult& result, int line, const std::string& fragment) {
+    ASSERT_FALSE(result.has_value()) << "accepted malformed input; expected: " << fragment;
+    EXPECT_EQ(result.error().line, line) << result.error().toString();
+    EXPECT_NE(result.error().message.find(fragment), std::string::npos) << result.error().toString();
+}
 
 }  // namespace hapticut::test

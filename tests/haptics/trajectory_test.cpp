@@ -5,6 +5,8 @@
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/haptics/trajectory.h"
 
+#include "test_support.h"
+
 namespace hapticut::haptics {
 namespace {
 
@@ -48,10 +50,7 @@ TEST(ReplayDevice, InterpolatesLinearlyAndHoldsTheEnds) {
 
 TEST(Trajectory, ErrorsNameTheLineAndWhatWasExpected) {
     auto expectError = [](const std::string& text, int line, const std::string& fragment) {
-        const auto r = parseTrajectory(text, "path.csv");
-        ASSERT_FALSE(r.has_value()) << fragment;
-        EXPECT_EQ(r.error().line, line) << r.error().toString();
-        EXPECT_NE(r.error().message.find(fragment), std::string::npos) << r.error().toString();
+        test::expectLoadError(parseTrajectory(text, "path.csv"), line, fragment);
     };
     expectError("", 0, "file is empty");
     expectError("time,x,y,z,button\n", 1, "header column 1 should be 't'");

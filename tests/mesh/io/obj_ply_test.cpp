@@ -43,10 +43,7 @@ TEST(ObjFormat, ReadsPolygonsNegativeIndicesAndIgnoresOtherStatements) {
 
 TEST(ObjFormat, ErrorsNameTheLine) {
     auto expectError = [](const std::string& text, int line, const std::string& fragment) {
-        const auto r = parseObj(text, "bad.obj");
-        ASSERT_FALSE(r.has_value()) << fragment;
-        EXPECT_EQ(r.error().line, line) << r.error().toString();
-        EXPECT_NE(r.error().message.find(fragment), std::string::npos) << r.error().toString();
+        test::expectLoadError(parseObj(text, "bad.obj"), line, fragment);
     };
     expectError("v 0 0 0\nv 1 0 0\nf 1 2 3\n", 3, "vertex index 3 is out of range: 2 defined so far");
     expectError("v 0 0 nan\n", 1, "expected a finite number for z");

@@ -38,10 +38,10 @@ std::string firstLines(const std::string& text, int lines) {
 
 void expectError(const std::string& text, int line, const std::string& fragment) {
     const auto r = parseModel(text, "organ.txt");
-    ASSERT_FALSE(r.has_value()) << "accepted malformed input, expected: " << fragment;
-    EXPECT_EQ(r.error().line, line) << r.error().toString();
-    EXPECT_NE(r.error().message.find(fragment), std::string::npos) << r.error().toString();
-    EXPECT_EQ(r.error().file, "organ.txt");
+    test::expectLoadError(r, line, fragment);
+    if (!r.has_value()) {
+        EXPECT_EQ(r.error().file, "organ.txt");
+    }
 }
 
 bool sameMesh(const SurfaceMesh& a, const SurfaceMesh& b) {
