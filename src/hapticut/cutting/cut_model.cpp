@@ -1,0 +1,183 @@
+// Topology edits of the cuttable organ, keeping surface and mass-spring model consistent.
+#include "hapticut/cutting/cut_model.h"
+
+#include <algorithm>
+
+#include "hapticut/common/assert.h"
+#include "hapticut/geometry/triangle.h"
+
+namespace hapticut::cutting {
+
+CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model) : mesh_(std::move(mesh)), model_(std::move(model)) {
+    HAPTICUT_ASSERT(mesh_.positions.size() == model_.nodes.size());
+    mesh::completeMesh(mesh_);
+    facesAround_.resize(mesh_.positions.size());
+    for (std::uint32_t f = 0; f < mesh_.faces.size(); ++f)
+        for (std::uint32_t v : mesh_.faces[f]) facesAround_[v].push_back(f);
+    const physics::Springs& s = model_.springs;
+    for (std::uint32_t k = 0; k < s.size(); ++k) springOfEdge_[edgeKey(s.a[k], s.b[k])] = k;
+    // New springs and anchors follow the model's material: springs scale as 1/L (as the
+    // resolution-independent material does), anchors with the node's mass (mass follows area).
+    double kl = 0, dl = 0, km = 0, dm = 0, mass = 0;
+    for (std::size_t k = 0; k < s.size(); ++k) kl += s.stiffness[k] * s.restLength[k], dl += s.damping[k] * s.restLength[k];
+    for (std::size_t i = 0; i < model_.nodes.size(); ++i)
+        km += model_.nodes.anchorStiffness[i], dm += model_.nodes.anchorDamping[i], mass += model_.nodes.mass[i];
+    if (s.size() > 0) stiffnessTimesLength_ = kl / static_cast<double>(s.size()), dampingTimesLength_ = dl / static_cast<double>(s.size());
+    if (mass > 0) anchorStiffnessPerKg_ = km / mass, anchorDampingPerKg_ = dm / mass;
+}
+
+std::uint64_t CutModel::edgeKey(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
+
+std::optional<std::uint32_t> CutModel::springOf(std::uint32_t a, std::uint32_t b) const {
+    const auto it = springOfEdge_.find(edgeKey(a, b));
+    return it == springOfEdge_.end() ? std::nullopt : std::optional<std::uint32_t>(it->second);
+}
+
+std::vector<std::uint32_t> CutModel::facesOfEdge(std::uint32_t a, std::uint32_t b) const {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t f : facesAround_[a]) {
+        const mesh::Face& face = mesh_.faces[f];
+        if (face[0] == b || face[1] == b || face[2] == b) out.push_back(f);
+    }
+    return out;
+}
+
+std::uint32_t CutModel::addVertex(const Vec3& rest, const Vec3& position, const Vec3& velocity, double mass) {
+    const auto v = static_cast<std::uint32_t>(mesh_.positions.size());
+    mesh_.positions.push_back(rest);
+    physics::Nodes& n = model_.nodes;
+    n.position.push_back(position);
+    n.velocity.push_back(velocity);
+    n.restPosition.push_back(rest);
+    n.externalForce.push_back(Vec3::Zero());
+    n.mass.push_back(mass);
+    n.inverseMass.push_back(mass > 0 ? 1 / mass : 0);
+    n.anchorStiffness.push_back(anchorStiffnessPerKg_ * mass);
+    n.anchorDamping.push_back(anchorDampingPerKg_ * mass);
+    facesAround_.emplace_back();
+    return v;
+}
+
+void CutModel::addSpring(std::uint32_t a, std::uint32_t b) {
+    if (springOfEdge_.count(edgeKey(a, b))) return;
+    physics::Springs& s = model_.springs;
+    const double length = (mesh_.positions[b] - mesh_.positions[a]).norm();
+    springOfEdge_[edgeKey(a, b)] = static_cast<std::uint32_t>(s.size());
+    s.a.push_back(a);
+    s.b.push_back(b);
+    s.restLength.push_back(length);
+    s.stiffness.push_back(stiffnessTimesLength_ / std::max(length, 1e-9));
+    s.damping.push_back(dampingTimesLength_ / std::max(length, 1e-9));
+    mesh_.edges.push_back({a, b});
+}
+
+void CutModel::replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs) {
+    for (std::uint32_t v : mesh_.faces[face]) {
+        auto& around = facesAround_[v];
+        around.erase(std::remove(around.begin(), around.end(), face), around.end());
+    }
+    mesh_.faces[face] = corners;
+    mesh_.uvs[face] = uvs;
+    mesh_.normals[face] = geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]);
+    for (std::uint32_t v : corners) facesAround_[v].push_back(face);
+}
+
+std::uint32_t CutModel::appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs) {
+    const auto face = static_cast<std::uint32_t>(mesh_.faces.size());
+    mesh_.faces.push_back(corners);
+    mesh_.uvs.push_back(uvs);
+    mesh_.normals.push_back(geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]));
+    for (std::uint32_t v : corners) facesAround_[v].push_back(face);
+    return face;
+}
+
+std::uint32_t CutModel::splitFace(std::uint32_t face, const Vec3& bary) {
+    const mesh::Face f = mesh_.faces[face];
+    const mesh::FaceUvs uv = mesh_.uvs[face];
+    const physics::Nodes& n = model_.nodes;
+    // Returns a Vec3, not an Eigen expression: an expression would refer to temporaries gone by then.
+    auto mix = [&](const std::vector<Vec3>& values) -> Vec3 { return bary.x() * values[f[0]] + bary.y() * values[f[1]] + bary.z() * values[f[2]]; };
+    // The rest point lies on the undeformed face (R15's k' = k - N((k - a)·N) for a point given in the
+    // face's own barycentric coordinates), so the new springs' rest lengths are right.
+    const Vec3 rest = mix(mesh_.positions);
+    const Vec3 position = mix(n.position);
+    const Vec3 velocity = mix(n.velocity);
+    // The face's three masses are shared equally among its corners and the new vertex (R15).
+    const double faceMass = n.mass[f[0]] + n.mass[f[1]] + n.mass[f[2]];
+    for (std::uint32_t v : f) {
+        model_.nodes.mass[v] = faceMass / 4;
+        model_.nodes.inverseMass[v] = 4 / faceMass;
+        model_.nodes.anchorStiffness[v] = anchorStiffnessPerKg_ * faceMass / 4;
+        model_.nodes.anchorDamping[v] = anchorDampingPerKg_ * faceMass / 4;
+    }
+    const std::uint32_t k = addVertex(rest, position, velocity, faceMass / 4);
+    const Vec2 uvk = bary.x() * uv[0] + bary.y() * uv[1] + bary.z() * uv[2];
+    replaceFace(face, {f[0], f[1], k}, {uv[0], uv[1], uvk});
+    appendFace({f[1], f[2], k}, {uv[1], uv[2], uvk});
+    appendFace({f[2], f[0], k}, {uv[2], uv[0], uvk});
+    for (std::uint32_t v : f) addSpring(v, k);
+    return k;
+}
+
+std::uint32_t CutModel::splitEdge(std::uint32_t a, std::uint32_t b, double u) {
+    HAPTICUT_ASSERT(u > 0 && u < 1);
+    const std::vector<std::uint32_t> faces = facesOfEdge(a, b);
+    physics::Nodes& n = model_.nodes;
+    const Vec3 rest = (1 - u) * mesh_.positions[a] + u * mesh_.positions[b];
+    const Vec3 position = (1 - u) * n.position[a] + u * n.position[b];
+    const Vec3 velocity = (1 - u) * n.velocity[a] + u * n.velocity[b];
+    // The new vertex takes a third of each end's mass, weighted by closeness (total conserved).
+    const double fromA = n.mass[a] * (1 - u) / 3, fromB = n.mass[b] * u / 3;
+    for (const auto& [v, take] : {std::pair{a, fromA}, std::pair{b, fromB}}) {
+        n.mass[v] -= take;
+        n.inverseMass[v] = n.mass[v] > 0 ? 1 / n.mass[v] : 0;
+        n.anchorStiffness[v] = anchorStiffnessPerKg_ * n.mass[v];
+        n.anchorDamping[v] = anchorDampingPerKg_ * n.mass[v];
+    }
+    const std::uint32_t p = addVertex(rest, position, velocity, fromA + fromB);
+
+    // The edge's spring now joins a and p (its end at b moves to p); p and b get a new one (R16).
+    // mesh_.edges stays parallel to the springs: edge k is spring k.
+    if (const auto k = springOf(a, b)) {
+        physics::Springs& s = model_.springs;
+        springOfEdge_.erase(edgeKey(a, b));
+        (s.a[*k] == b ? s.a[*k] : s.b[*k]) = p;
+        const double length = (mesh_.positions[p] - mesh_.positions[a]).norm();
+        s.restLength[*k] = length;
+        s.stiffness[*k] = stiffnessTimesLength_ / std::max(length, 1e-9);
+        s.damping[*k] = dampingTimesLength_ / std::max(length, 1e-9);
+        springOfEdge_[edgeKey(a, p)] = *k;
+        mesh_.edges[*k] = {s.a[*k], s.b[*k]};
+    }
+    addSpring(a, p);
+    addSpring(p, b);
+    for (std::uint32_t face : faces) {
+        // Name the face (x, y, c) with x -> y the edge in the face's own winding.
+        mesh::Face f = mesh_.faces[face];
+        mesh::FaceUvs uv = mesh_.uvs[face];
+        int k = 0;
+        while (!((f[k] == a && f[(k + 1) % 3] == b) || (f[k] == b && f[(k + 1) % 3] == a))) ++k;
+        const std::uint32_t x = f[k], y = f[(k + 1) % 3], c = f[(k + 2) % 3];
+        const Vec2 ux = uv[k], uy = uv[(k + 1) % 3], uc = uv[(k + 2) % 3];
+        const double t = x == a ? u : 1 - u;  // where p lies from x toward y
+        const Vec2 up = (1 - t) * ux + t * uy;
+        replaceFace(face, {x, p, c}, {ux, up, uc});
+        appendFace({p, y, c}, {up, uy, uc});
+        addSpring(p, c);
+    }
+    return p;
+}
+
+std::optional<std::uint32_t> CutModel::snapVertex(std::uint32_t face, const Vec3& bary, double radius_m) const {
+    const mesh::Face& f = mesh_.faces[face];
+    const Vec3 point = bary.x() * mesh_.positions[f[0]] + bary.y() * mesh_.positions[f[1]] + bary.z() * mesh_.positions[f[2]];
+    std::optional<std::uint32_t> best;
+    double bestDistance = radius_m;
+    for (std::uint32_t v : f) {
+        const double d = (mesh_.positions[v] - point).norm();
+        if (d <= bestDistance) bestDistance = d, best = v;
+    }
+    return best;
+}
+
+}  // namespace hapticut::cutting

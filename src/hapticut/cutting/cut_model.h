@@ -1,0 +1,60 @@
+// The organ as cutting changes it: surface and mass-spring model kept consistent under topology edits
+// (SPEC R15-R16), with the lookups the cutter needs (faces around a vertex, the spring of an edge).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "hapticut/mesh/surface_mesh.h"
+#include "hapticut/physics/mass_spring_model.h"
+
+namespace hapticut::cutting {
+
+/// Node i of the model is vertex i of the mesh; spring k of the model is an edge of the faces.
+/// mesh.positions hold the rest (undeformed) shape, model.nodes.position the deformed one.
+class CutModel {
+public:
+    CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model);
+
+    const mesh::SurfaceMesh& mesh() const { return mesh_; }
+    const physics::MassSpringModel& model() const { return model_; }
+    physics::MassSpringModel& model() { return model_; }
+
+    const std::vector<std::uint32_t>& facesAround(std::uint32_t vertex) const { return facesAround_[vertex]; }
+    /// The spring along edge (a, b), if there is one.
+    std::optional<std::uint32_t> springOf(std::uint32_t a, std::uint32_t b) const;
+    /// The faces that have edge (a, b), in any orientation (two on a manifold interior edge).
+    std::vector<std::uint32_t> facesOfEdge(std::uint32_t a, std::uint32_t b) const;
+
+    /// R15: a new vertex inside `face` at barycentric `bary` of the face's rest triangle, which becomes
+    /// three faces. The rest position lies on the undeformed face, so the new springs get correct rest
+    /// lengths; the deformed position and velocity are interpolated; UVs are interpolated per corner;
+    /// the face's three masses are shared among the four vertices (total conserved exactly).
+    std::uint32_t splitFace(std::uint32_t face, const Vec3& bary);
+
+    /// R16: a new vertex on edge (a, b) at a + u (b - a), u in (0, 1); both faces on the edge become
+    /// two each, the edge's spring becomes two, and springs join the new vertex to the opposite corners.
+    /// The new vertex takes a share of a's and b's mass (total conserved exactly).
+    std::uint32_t splitEdge(std::uint32_t a, std::uint32_t b, double u);
+
+    /// The vertex of `face` nearest to the rest point at `bary`, if it lies within `radius_m`.
+    std::optional<std::uint32_t> snapVertex(std::uint32_t face, const Vec3& bary, double radius_m) const;
+
+private:
+    std::uint32_t addVertex(const Vec3& rest, const Vec3& position, const Vec3& velocity, double mass);
+    void addSpring(std::uint32_t a, std::uint32_t b);
+    void replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs);
+    std::uint32_t appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs);
+    static std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b);
+
+    mesh::SurfaceMesh mesh_;
+    physics::MassSpringModel model_;
+    std::vector<std::vector<std::uint32_t>> facesAround_;
+    std::unordered_map<std::uint64_t, std::uint32_t> springOfEdge_;
+    // Material of new springs and anchors: the means of the model's own, per unit length and mass.
+    double stiffnessTimesLength_ = 0, dampingTimesLength_ = 0, anchorStiffnessPerKg_ = 0, anchorDampingPerKg_ = 0;
+};
+
+}  // namespace hapticut::cutting

@@ -1,0 +1,149 @@
+// Topology edits for cutting: face and edge splits against hand-counted results, and thousands of
+// random splits with every invariant checked, after which the model still simulates.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "hapticut/cutting/cut_model.h"
+#include "hapticut/cutting/invariants.h"
+#include "hapticut/mesh/mesh_report.h"
+#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/mesh/procedural/primitives.h"
+#include "hapticut/physics/integrators.h"
+#include "hapticut/physics/material.h"
+
+namespace hapticut::cutting {
+namespace {
+
+CutModel cuttable(const mesh::SurfaceMesh& mesh) { return CutModel(mesh, physics::buildModel(mesh, physics::Material{})); }
+
+TEST(CutModel, SplittingAFaceAddsAVertexTwoFacesAndThreeSprings) {
+    CutModel cut = cuttable(mesh::procedural::makeGrid(4, 0.01));
+    const double mass = physics::totalMass(cut.model());
+    const std::size_t v0 = cut.mesh().positions.size(), f0 = cut.mesh().faces.size(), s0 = cut.model().springs.size();
+    const mesh::Face face = cut.mesh().faces[5];
+    const mesh::FaceUvs uv = cut.mesh().uvs[5];
+    const Vec3 bary(0.2, 0.3, 0.5);
+    const std::uint32_t k = cut.splitFace(5, bary);
+    EXPECT_EQ(k, v0);
+    EXPECT_EQ(cut.mesh().positions.size(), v0 + 1);
+    EXPECT_EQ(cut.mesh().faces.size(), f0 + 2);
+    EXPECT_EQ(cut.model().springs.size(), s0 + 3);
+    const Vec3 expected = 0.2 * cut.mesh().positions[face[0]] + 0.3 * cut.mesh().positions[face[1]] + 0.5 * cut.mesh().positions[face[2]];
+    EXPECT_LT((cut.mesh().positions[k] - expected).norm(), 1e-15) << "rest position on the undeformed face";
+    EXPECT_NEAR(cut.mesh().positions[k].z(), 0, 1e-15);
+    for (std::uint32_t v : face) {
+        const auto spring = cut.springOf(v, k);
+        ASSERT_TRUE(spring.has_value());
+        EXPECT_NEAR(cut.model().springs.restLength[*spring], (cut.mesh().positions[v] - expected).norm(), 1e-15);
+    }
+    // The new corner's UV is the barycentric mix of the face's UVs.
+    const Vec2 uvk = 0.2 * uv[0] + 0.3 * uv[1] + 0.5 * uv[2];
+    EXPECT_LT((cut.mesh().uvs[5][2] - uvk).norm(), 1e-15);
+    EXPECT_NEAR(physics::totalMass(cut.model()), mass, 1e-15);
+    const InvariantReport r = checkInvariants(cut, mass);
+    EXPECT_TRUE(r.ok()) << r.problems.front();
+    EXPECT_EQ(mesh::validateMesh(cut.mesh()).boundaryEdges, 16u) << "a face split opens nothing";
+}
+
+TEST(CutModel, SplittingAnEdgeSplitsBothFacesAndTheSpring) {
+    CutModel cut = cuttable(mesh::procedural::makeGrid(4, 0.01));
+    const double mass = physics::totalMass(cut.model());
+    const std::size_t v0 = cut.mesh().positions.size(), f0 = cut.mesh().faces.size(), s0 = cut.model().springs.size();
+    // An interior edge: the diagonal of the first quad, (0, 6).
+    ASSERT_EQ(cut.facesOfEdge(0, 6).size(), 2u);
+    const std::uint32_t p = cut.splitEdge(0, 6, 0.25);
+    EXPECT_EQ(cut.mesh().faces.size(), f0 + 2);
+    EXPECT_EQ(cut.model().springs.size(), s0 + 3);
+    EXPECT_FALSE(cut.springOf(0, 6).has_value()) << "the old edge is gone";
+    EXPECT_LT((cut.mesh().positions[p] - (0.75 * cut.mesh().positions[0] + 0.25 * cut.mesh().positions[6])).norm(), 1e-15);
+    EXPECT_NEAR(physics::totalMass(cut.model()), mass, 1e-15);
+    // A boundary edge has one face.
+    ASSERT_EQ(cut.facesOfEdge(0, 1).size(), 1u);
+    cut.splitEdge(0, 1, 0.5);
+    EXPECT_EQ(cut.mesh().positions.size(), v0 + 2);
+    EXPECT_EQ(cut.mesh().faces.size(), f0 + 3);
+    const InvariantReport r = checkInvariants(cut, mass);
+    EXPECT_TRUE(r.ok()) << r.problems.front();
+    EXPECT_EQ(mesh::validateMesh(cut.mesh()).boundaryEdges, 17u) << "the split boundary edge is two boundary edges";
+}
+
+TEST(CutModel, SnapsToACornerWithinTheRadius) {
+    CutModel cut = cuttable(mesh::procedural::makeGrid(4, 0.01));
+    const mesh::Face face = cut.mesh().faces[0];
+    EXPECT_EQ(cut.snapVertex(0, Vec3(0.97, 0.02, 0.01), 0.001), face[0]);
+    EXPECT_FALSE(cut.snapVertex(0, Vec3(0.4, 0.3, 0.3), 0.001).has_value());
+}
+
+TEST(CutModel, InvariantsCatchABrokenModel) {
+    CutModel cut = cuttable(mesh::procedural::makeGrid(2, 0.01));
+    EXPECT_FALSE(checkInvariants(cut, 1.0).ok()) << "wrong mass";
+    cut.model().nodes.position[0].x() = std::nan("");
+    const InvariantReport r = checkInvariants(cut, physics::totalMass(cut.model()));
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.problems.front().find("not finite"), std::string::npos) << r.problems.front();
+}
+
+/// One random split: a face at a random interior point, or one of its edges at a random point. The new
+/// vertex must sit exactly where it was asked for, at rest and deformed.
+void randomSplit(CutModel& cut, std::mt19937& rng) {
+    std::uniform_int_distribution<std::uint32_t> pickFace(0, static_cast<std::uint32_t>(cut.mesh().faces.size() - 1));
+    std::uniform_real_distribution<double> u(0.15, 0.85);
+    const std::uint32_t f = pickFace(rng);
+    const mesh::Face face = cut.mesh().faces[f];
+    const auto& rest = cut.mesh().positions;
+    if (rng() % 2) {
+        Vec3 bary(u(rng), u(rng), u(rng));
+        bary /= bary.sum();
+        const Vec3 expected = bary.x() * rest[face[0]] + bary.y() * rest[face[1]] + bary.z() * rest[face[2]];
+        const std::uint32_t v = cut.splitFace(f, bary);
+        ASSERT_LT((cut.mesh().positions[v] - expected).norm(), 1e-12);
+    } else {
+        const int k = static_cast<int>(rng() % 3);
+        const double t = u(rng);
+        const Vec3 expected = (1 - t) * rest[face[k]] + t * rest[face[(k + 1) % 3]];
+        const std::uint32_t v = cut.splitEdge(face[k], face[(k + 1) % 3], t);
+        ASSERT_LT((cut.mesh().positions[v] - expected).norm(), 1e-12);
+    }
+}
+
+TEST(CutModel, ThousandsOfRandomSplitsKeepEveryInvariant) {
+    std::mt19937 rng(7);
+    CutModel cut = cuttable(mesh::procedural::makeSphere(Vec3::Zero(), 0.05, 12, 8));
+    const double mass = physics::totalMass(cut.model());
+    for (int i = 0; i < 2000; ++i) {
+        randomSplit(cut, rng);
+        const InvariantReport r = checkInvariants(cut, mass);
+        ASSERT_TRUE(r.ok()) << "after split " << i << ": " << r.problems.front();
+    }
+    const mesh::MeshReport after = mesh::validateMesh(cut.mesh());
+    EXPECT_TRUE(after.closed);
+    EXPECT_EQ(after.eulerCharacteristic, 2);
+}
+
+TEST(CutModel, TheHeartStillSimulatesAfterTenThousandSplits) {
+    std::mt19937 rng(11);
+    CutModel cut = cuttable(mesh::procedural::makeHeart({}));
+    const double mass = physics::totalMass(cut.model());
+    for (int i = 0; i < 10'000; ++i) {
+        randomSplit(cut, rng);
+        if (i % 500 == 499) {
+            const InvariantReport r = checkInvariants(cut, mass);
+            ASSERT_TRUE(r.ok()) << "after split " << i << ": " << r.problems.front();
+        }
+    }
+    // Random splits make tiny, stiff triangles (the cutter will snap instead), so step at the model's
+    // own stable step rather than substepping 1 ms: the point is that the model is sound.
+    physics::MassSpringModel& model = cut.model();
+    physics::Stepper stepper(physics::Scheme::RungeKutta4);
+    stepper.setAutoSubstep(false);
+    stepper.prepare(model);
+    ASSERT_GT(stepper.stableStep_s(), 0.0);
+    model.nodes.externalForce[100] = Vec3(0, 0, -0.5);
+    for (int i = 0; i < 200; ++i) ASSERT_TRUE(stepper.step(model, stepper.stableStep_s()).finite) << "step " << i;
+    EXPECT_GT(physics::maxDisplacement(model), 0.0);
+    EXPECT_NEAR(physics::totalMass(model), mass, 1e-12);
+}
+
+}  // namespace
+}  // namespace hapticut::cutting
