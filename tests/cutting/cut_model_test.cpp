@@ -147,3 +147,86 @@ TEST(CutModel, TheHeartStillSimulatesAfterTenThousandSplits) {
 
 }  // namespace
 }  // namespace hapticut::cutting
+
+namespace hapticut::cutting {
+namespace {
+
+/// The thesis's figure 3.6 on a flat 8 x 8 grid: a straight cut left to right along the middle row
+/// of vertices c0 ... c4, each new point opening the one before.
+TEST(OpenCut, AStraightCutOpensProgressivelyAndTheLipsSeparate) {
+    const int n = 8;
+    CutModel cut = cuttable(mesh::procedural::makeGrid(n, 0.01));
+    const double mass = physics::totalMass(cut.model());
+    auto vertex = [&](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+    std::vector<std::uint32_t> points;
+    for (int i = 2; i <= 6; ++i) points.push_back(vertex(i, 4));
+    const std::size_t boundary0 = mesh::validateMesh(cut.mesh()).boundaryEdges;
+    std::vector<std::uint32_t> copies;
+    for (std::size_t i = 2; i < points.size(); ++i) {
+        const auto copy = cut.openCut(points[i - 2], points[i - 1], points[i]);
+        ASSERT_TRUE(copy.has_value()) << "opening point " << i - 1;
+        copies.push_back(*copy);
+        const InvariantReport r = checkInvariants(cut, mass);
+        ASSERT_TRUE(r.ok()) << r.problems.front();
+    }
+    // Three openings: the cut's four edges appear twice each as boundary (both lips).
+    const mesh::MeshReport after = mesh::validateMesh(cut.mesh());
+    EXPECT_EQ(after.vertices, static_cast<std::size_t>((n + 1) * (n + 1) + 3));
+    EXPECT_EQ(after.boundaryEdges, boundary0 + 8);
+    EXPECT_TRUE(after.manifold);
+    EXPECT_TRUE(after.oriented);
+    // The left lip lies above the cut (+y): the duplicate of c1 is used by faces above the row.
+    for (std::uint32_t f : cut.facesAround(copies[0])) {
+        const mesh::Face& face = cut.mesh().faces[f];
+        for (std::uint32_t v : face) EXPECT_GE(cut.mesh().positions[v].y(), cut.mesh().positions[points[1]].y() - 1e-12);
+    }
+    // Shortened springs pull the lips apart, and they stay apart. With the default material the
+    // anchors are far stiffer than the edge springs, so the gap is tens of micrometres.
+    physics::MassSpringModel& model = cut.model();
+    physics::Stepper stepper(physics::Scheme::RungeKutta4);
+    auto gap = [&] { return (model.nodes.position[points[2]] - model.nodes.position[copies[1]]).norm(); };
+    EXPECT_EQ(gap(), 0.0);
+    for (int i = 0; i < 10; ++i) ASSERT_TRUE(stepper.step(model, 1e-3).finite);
+    EXPECT_GT(gap(), 1e-5) << "the lips separate";
+    for (int i = 0; i < 500; ++i) ASSERT_TRUE(stepper.step(model, 1e-3).finite);
+    EXPECT_GT(gap(), 1e-5) << "and stay apart at rest";
+    // Above the cut the duplicate moves up (+y), below it the original moves down.
+    EXPECT_GT(model.nodes.position[copies[1]].y(), model.nodes.position[points[2]].y());
+}
+
+TEST(OpenCut, CutsAlongAPathOnTheHeartKeepEveryInvariant) {
+    CutModel cut = cuttable(mesh::procedural::makeHeart({}));
+    const double mass = physics::totalMass(cut.model());
+    // A path of edges across the front: from the vertex nearest each waypoint, step to the
+    // neighbour that gets closest to the next waypoint.
+    std::vector<std::uint32_t> path;
+    auto nearest = [&](const Vec3& p) {
+        std::uint32_t best = 0;
+        for (std::uint32_t v = 0; v < cut.mesh().positions.size(); ++v)
+            if ((cut.mesh().positions[v] - p).norm() < (cut.mesh().positions[best] - p).norm()) best = v;
+        return best;
+    };
+    path.push_back(nearest(Vec3(-0.025, -0.01, 0.04)));
+    const std::uint32_t goal = nearest(Vec3(0.025, -0.01, 0.04));
+    while (path.back() != goal && path.size() < 40) {
+        std::uint32_t best = path.back();
+        for (std::uint32_t f : cut.facesAround(path.back()))
+            for (std::uint32_t v : cut.mesh().faces[f])
+                if ((cut.mesh().positions[v] - cut.mesh().positions[goal]).norm() < (cut.mesh().positions[best] - cut.mesh().positions[goal]).norm()) best = v;
+        if (best == path.back()) break;
+        path.push_back(best);
+    }
+    ASSERT_GE(path.size(), 5u);
+    for (std::size_t i = 2; i < path.size(); ++i) {
+        ASSERT_TRUE(cut.openCut(path[i - 2], path[i - 1], path[i]).has_value()) << "point " << i - 1;
+        const InvariantReport r = checkInvariants(cut, mass);
+        ASSERT_TRUE(r.ok()) << "after opening point " << i - 1 << ": " << r.problems.front();
+    }
+    EXPECT_EQ(mesh::validateMesh(cut.mesh()).boundaryEdges, 2 * (path.size() - 1));
+    physics::Stepper stepper(physics::Scheme::RungeKutta4);
+    for (int i = 0; i < 300; ++i) ASSERT_TRUE(stepper.step(cut.model(), 1e-3).finite);
+    EXPECT_GT(physics::maxDisplacement(cut.model()), 1e-5) << "the wound pulls open";
+}
+
+}  // namespace
+}  // namespace hapticut::cutting

@@ -168,6 +168,84 @@ std::uint32_t CutModel::splitEdge(std::uint32_t a, std::uint32_t b, double u) {
     return p;
 }
 
+std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten) {
+    // In a consistently oriented mesh the face whose winding runs v -> next lies on the left of the cut.
+    auto runs = [&](std::uint32_t f, std::uint32_t from, std::uint32_t to) {
+        const mesh::Face& face = mesh_.faces[f];
+        for (int k = 0; k < 3; ++k)
+            if (face[k] == from && face[(k + 1) % 3] == to) return true;
+        return false;
+    };
+    std::optional<std::uint32_t> start;
+    for (std::uint32_t f : facesAround_[v])
+        if (runs(f, v, next)) start = f;
+    if (!start) return std::nullopt;
+
+    // Walk round v from the left face across the edges through v, away from next, until the edge to
+    // prev or a boundary: those faces are the left side.
+    std::vector<std::uint32_t> left;
+    std::uint32_t face = *start;
+    for (std::size_t guard = 0; guard <= facesAround_[v].size(); ++guard) {
+        left.push_back(face);
+        // In face (v, x, y) with v -> x first, the edge walked across next is (y, v).
+        const mesh::Face& f = mesh_.faces[face];
+        int k = 0;
+        while (f[k] != v) ++k;
+        const std::uint32_t y = f[(k + 2) % 3];
+        if (y == prev) break;
+        std::optional<std::uint32_t> across;
+        for (std::uint32_t g : facesAround_[v])
+            if (g != face && runs(g, v, y)) across = g;
+        if (!across || std::find(left.begin(), left.end(), *across) != left.end()) break;  // a boundary, or all the way round
+        face = *across;
+    }
+    if (left.size() == facesAround_[v].size()) return std::nullopt;  // no right side: nothing to open
+
+    physics::Nodes& n = model_.nodes;
+    const double half = n.mass[v] / 2;
+    const std::uint32_t w = addVertex(mesh_.positions[v], n.position[v], n.velocity[v], half);
+    n.mass[v] = half;
+    n.inverseMass[v] = half > 0 ? 1 / half : 0;
+    n.anchorStiffness[v] = anchorStiffnessPerKg_ * half;
+    n.anchorDamping[v] = anchorDampingPerKg_ * half;
+
+    // Left faces take the duplicate; their vertices other than the cut ends move their springs to it.
+    std::vector<std::uint32_t> leftVertices;
+    for (std::uint32_t f : left) {
+        mesh::Face corners = mesh_.faces[f];
+        for (std::uint32_t& c : corners) {
+            if (c == v) c = w;
+            else leftVertices.push_back(c);
+        }
+        replaceFace(f, corners, mesh_.uvs[f]);
+    }
+    std::sort(leftVertices.begin(), leftVertices.end());
+    leftVertices.erase(std::unique(leftVertices.begin(), leftVertices.end()), leftVertices.end());
+    physics::Springs& s = model_.springs;
+    for (std::uint32_t x : leftVertices) {
+        const auto k = springOf(v, x);
+        if (!k) continue;
+        if (!facesOfEdge(v, x).empty()) {  // the edge still has a right-side face: it is a cut edge, both lips need a spring
+            addSpring(w, x);
+            continue;
+        }
+        springOfEdge_.erase(edgeKey(v, x));
+        (s.a[*k] == v ? s.a[*k] : s.b[*k]) = w;
+        springOfEdge_[edgeKey(w, x)] = *k;
+        mesh_.edges[*k] = {s.a[*k], s.b[*k]};
+    }
+    // Pull the wound open: every spring at either copy a little shorter, except along the cut. After
+    // the opening the cut's edges at v and v' are exactly their boundary edges (the lips).
+    for (std::uint32_t copy : {v, w})
+        for (std::uint32_t f : facesAround_[copy])
+            for (std::uint32_t x : mesh_.faces[f]) {
+                if (x == copy || facesOfEdge(copy, x).size() < 2) continue;
+                if (const auto k = springOf(copy, x); k && shortened_.insert(*k).second) s.restLength[*k] *= 1 - shorten;
+            }
+    shortened_.clear();
+    return w;
+}
+
 std::optional<std::uint32_t> CutModel::snapVertex(std::uint32_t face, const Vec3& bary, double radius_m) const {
     const mesh::Face& f = mesh_.faces[face];
     const Vec3 point = bary.x() * mesh_.positions[f[0]] + bary.y() * mesh_.positions[f[1]] + bary.z() * mesh_.positions[f[2]];

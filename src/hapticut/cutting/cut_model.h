@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "hapticut/mesh/surface_mesh.h"
@@ -39,6 +40,15 @@ public:
     /// The new vertex takes a share of a's and b's mass (total conserved exactly).
     std::uint32_t splitEdge(std::uint32_t a, std::uint32_t b, double u);
 
+    /// R17: opens the cut at v, the cut running prev -> v -> next along mesh edges. The faces on the
+    /// left of the cut (seen from outside) that use v get a duplicate v' at the same place: positioning
+    /// spring, half of v's mass, the left side's springs moved to it, new springs along the cut edges for
+    /// the new lip. Then every spring at v and v' except those along the cut (the lips) is shortened
+    /// by `shorten` (0.1: 10%), so the wound pulls open. The walk round v stops at the edge to prev or at a
+    /// boundary, so an already opened prev (a progressive cut) works the same. Returns v', or nothing
+    /// when v has no face on the left of v -> next.
+    std::optional<std::uint32_t> openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten = 0.1);
+
     /// The vertex of `face` nearest to the rest point at `bary`, if it lies within `radius_m`.
     std::optional<std::uint32_t> snapVertex(std::uint32_t face, const Vec3& bary, double radius_m) const;
 
@@ -53,6 +63,7 @@ private:
     physics::MassSpringModel model_;
     std::vector<std::vector<std::uint32_t>> facesAround_;
     std::unordered_map<std::uint64_t, std::uint32_t> springOfEdge_;
+    std::unordered_set<std::uint64_t> shortened_;  // scratch for openCut: each spring shortened once
     // Material of new springs and anchors: the means of the model's own, per unit length and mass.
     double stiffnessTimesLength_ = 0, dampingTimesLength_ = 0, anchorStiffnessPerKg_ = 0, anchorDampingPerKg_ = 0;
 };
