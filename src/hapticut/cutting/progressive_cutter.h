@@ -1,0 +1,55 @@
+// The thesis's progressive cutter (SPEC R14-R17): scalpel contacts become cut points joined by mesh
+// edges, each new point opening the one before it.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "hapticut/cutting/cut_model.h"
+
+namespace hapticut::cutting {
+
+struct CutterParams {
+    /// A new point this close to an existing vertex (as a fraction of the local edge length) reuses it,
+    /// so cutting never makes a sliver.
+    double snapFraction = 0.2;
+    /// A fast stroke may cross many faces in one step; more crossings than this in one call stop there.
+    int maxCrossingsPerCall = 256;
+};
+
+struct CutStats {
+    long cutPoints = 0, verticesAdded = 0, facesAdded = 0, cuts = 0;
+    double length_m = 0;  // along the cut, on the rest shape
+    bool opened = false;  // true once any cut point has opened
+};
+
+class ProgressiveCutter {
+public:
+    explicit ProgressiveCutter(CutModel& model, CutterParams params = {}) : model_(model), params_(params) {}
+
+    /// The scalpel presses past its threshold at `bary` on `face`: starts a cut there, or continues the
+    /// current one up to that point. Returns true when the mesh changed.
+    bool cutAt(std::uint32_t face, const Vec3& bary);
+    /// The force dropped below the threshold or contact was lost: the next cutAt starts a new cut.
+    void endCut() { points_.clear(); }
+
+    bool cutting() const { return !points_.empty(); }
+    const std::vector<std::uint32_t>& points() const { return points_; }
+    const CutStats& stats() const { return stats_; }
+
+private:
+    /// The face around `vertex` that contains the rest point q, if any.
+    bool fanContains(std::uint32_t vertex, const Vec3& q) const;
+    /// Adds the next cut point toward q across the fan of the last one; false when there is none.
+    bool crossToward(const Vec3& q);
+    void addPoint(std::uint32_t vertex);
+    /// On an open end of the organ or the lip of a wound.
+    bool onBoundary(std::uint32_t vertex) const;
+
+    CutModel& model_;
+    CutterParams params_;
+    std::vector<std::uint32_t> points_;
+    CutStats stats_;
+};
+
+}  // namespace hapticut::cutting
