@@ -246,6 +246,29 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     return w;
 }
 
+double CutModel::splitEdgeMinAngle_deg(std::uint32_t a, std::uint32_t b, double u) const {
+    const auto& x = mesh_.positions;
+    const Vec3 p = (1 - u) * x[a] + u * x[b];
+    double worst = 180;
+    for (std::uint32_t f : facesOfEdge(a, b)) {
+        const mesh::Face& face = mesh_.faces[f];
+        std::uint32_t c = face[0];
+        for (std::uint32_t v : face)
+            if (v != a && v != b) c = v;
+        worst = std::min({worst, geometry::minAngle(x[a], p, x[c]), geometry::minAngle(p, x[b], x[c])});
+    }
+    return worst * 180 / 3.14159265358979323846;
+}
+
+double CutModel::splitFaceMinAngle_deg(std::uint32_t face, const Vec3& bary) const {
+    const auto& x = mesh_.positions;
+    const mesh::Face& f = mesh_.faces[face];
+    const Vec3 p = bary.x() * x[f[0]] + bary.y() * x[f[1]] + bary.z() * x[f[2]];
+    double worst = 180;
+    for (int k = 0; k < 3; ++k) worst = std::min(worst, geometry::minAngle(x[f[k]], x[f[(k + 1) % 3]], p));
+    return worst * 180 / 3.14159265358979323846;
+}
+
 std::optional<std::uint32_t> CutModel::snapVertex(std::uint32_t face, const Vec3& bary, double radius_m) const {
     const mesh::Face& f = mesh_.faces[face];
     const Vec3 point = bary.x() * mesh_.positions[f[0]] + bary.y() * mesh_.positions[f[1]] + bary.z() * mesh_.positions[f[2]];

@@ -49,6 +49,11 @@ public:
     /// when v has no face on the left of v -> next.
     std::optional<std::uint32_t> openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten = 0.1);
 
+    /// The smallest angle (degrees) of the faces splitEdge(a, b, u) would make, on the rest shape.
+    double splitEdgeMinAngle_deg(std::uint32_t a, std::uint32_t b, double u) const;
+    /// The smallest angle (degrees) of the faces splitFace(face, bary) would make, on the rest shape.
+    double splitFaceMinAngle_deg(std::uint32_t face, const Vec3& bary) const;
+
     /// The vertex of `face` nearest to the rest point at `bary`, if it lies within `radius_m`.
     std::optional<std::uint32_t> snapVertex(std::uint32_t face, const Vec3& bary, double radius_m) const;
 

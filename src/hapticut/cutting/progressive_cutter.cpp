@@ -82,8 +82,9 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
         const double length = (m.positions[c.b] - m.positions[c.a]).norm();
         const double snap = params_.snapFraction * length;
         std::uint32_t next;
-        if (c.u * length < snap) next = c.a;
-        else if ((1 - c.u) * length < snap) next = c.b;
+        const bool sliver = model_.splitEdgeMinAngle_deg(c.a, c.b, c.u) < params_.minAngle_deg;
+        if (c.u * length < snap || (sliver && c.u < 0.5)) next = c.a;
+        else if ((1 - c.u) * length < snap || sliver) next = c.b;
         else {
             const std::size_t faces = m.faces.size();
             next = model_.splitEdge(c.a, c.b, c.u);
@@ -120,14 +121,28 @@ bool ProgressiveCutter::cutAt(std::uint32_t face, const Vec3& bary) {
             const double u = std::clamp(ab.dot(q - m.positions[a]) / ab.squaredNorm(), 0.0, 1.0);
             if ((m.positions[a] + u * ab - q).norm() >= params_.snapFraction * shortest) continue;
             if (model_.facesOfEdge(a, b).size() < 2) break;  // an open end or a wound: start inside the face
-            const std::uint32_t v = model_.splitEdge(a, b, std::clamp(u, params_.snapFraction, 1 - params_.snapFraction));
+            const double at = std::clamp(u, params_.snapFraction, 1 - params_.snapFraction);
+            if (model_.splitEdgeMinAngle_deg(a, b, at) < params_.minAngle_deg) break;  // a sliver: try inside the face
+            const std::uint32_t v = model_.splitEdge(a, b, at);
             addPoint(v);
             ++stats_.verticesAdded;
             stats_.facesAdded += static_cast<long>(m.faces.size() - faces);
             return true;
         }
         Vec3 inside = bary.cwiseMax(params_.snapFraction / 3);  // keep the new vertex off the face's edges
-        addPoint(model_.splitFace(face, inside / inside.sum()));
+        inside /= inside.sum();
+        if (model_.splitFaceMinAngle_deg(face, inside) < params_.minAngle_deg) {
+            // No good place to start here: at the nearest corner if it is free, else not at all.
+            int k = 0;
+            for (int j = 1; j < 3; ++j)
+                if (bary[j] > bary[k]) k = j;
+            --stats_.cuts;
+            if (onBoundary(f[k])) return false;
+            ++stats_.cuts;
+            addPoint(f[k]);
+            return false;
+        }
+        addPoint(model_.splitFace(face, inside));
         ++stats_.verticesAdded;
         stats_.facesAdded += static_cast<long>(m.faces.size() - faces);
         return true;

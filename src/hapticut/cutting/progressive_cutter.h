@@ -13,6 +13,8 @@ struct CutterParams {
     /// A new point this close to an existing vertex (as a fraction of the local edge length) reuses it,
     /// so cutting never makes a sliver.
     double snapFraction = 0.2;
+    /// A split that would make a triangle with a smaller angle than this snaps to a vertex instead.
+    double minAngle_deg = 10;
     /// A fast stroke may cross many faces in one step; more crossings than this in one call stop there.
     int maxCrossingsPerCall = 256;
 };
