@@ -1,9 +1,24 @@
 // Small models and meshes shared by the tests.
 #include "test_support.h"
 
+#include <unistd.h>
+
 #include <cmath>
 
 namespace hapticut::test {
+
+ScratchDir::ScratchDir() {
+    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    const std::string name = test ? std::string(test->test_suite_name()) + "-" + test->name() : std::string("no-test");
+    path_ = std::filesystem::temp_directory_path() / ("hapticut-" + name + "-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+}
+
+ScratchDir::~ScratchDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+}
 
 physics::MassSpringModel oscillator(double m, double k, double c, double x0) {
     physics::MassSpringModel model;

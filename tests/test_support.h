@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 #include "hapticut/mesh/surface_mesh.h"
@@ -22,6 +23,21 @@ Vec3 wobble(std::size_t i, double size_m);
 
 /// The signed volume enclosed by a closed mesh: positive when the faces point outward.
 double signedVolume(const mesh::SurfaceMesh& mesh);
+
+/// A fresh folder of the test's own, named after the running test and the process, removed again at the end.
+/// ctest runs tests in parallel processes, so a folder shared between tests would be deleted under another's feet.
+class ScratchDir {
+public:
+    ScratchDir();
+    ~ScratchDir();
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+private:
+    std::filesystem::path path_;
+};
 
 /// Expects a failed parse at `line` (1-based; 0 for none) whose message contains `fragment`.
 template <class ParseResult>

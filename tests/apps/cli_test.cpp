@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_support.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -27,12 +29,6 @@ std::string slurp(const fs::path& file) {
 
 class Cli : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("hapticut-cli-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
 
     CliResult run(const std::string& args) const {
         const std::string cmd = std::string(HAPTICUT_EXE) + " " + args + " >" + (dir_ / "out").string() + " 2>" + (dir_ / "err").string();
@@ -41,7 +37,8 @@ protected:
     }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
-    fs::path dir_;
+    hapticut::test::ScratchDir scratch_;
+    const fs::path& dir_ = scratch_.path();
 };
 
 TEST_F(Cli, RunWritesAReportWithEveryKey) {

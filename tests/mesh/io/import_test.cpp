@@ -50,12 +50,8 @@ struct SceneForExport {
 
 class Import : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / "hapticut-import-test";
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-    fs::path dir_;
+    test::ScratchDir scratch_;
+    const fs::path& dir_ = scratch_.path();
 };
 
 TEST_F(Import, EveryFormatGivesTheSameMeshAfterWelding) {

@@ -123,7 +123,7 @@ TEST(PlyFormat, ErrorsAreClear) {
 }
 
 TEST(MeshFile, LoadsByExtensionAndRefusesUnknownOnes) {
-    const auto dir = std::filesystem::temp_directory_path();
+    const test::ScratchDir dir;
     const SurfaceMesh t = test::tetrahedron();
     for (const char* name : {"t.txt", "t.obj", "t.PLY"}) {
         const auto file = dir / name;
@@ -132,7 +132,6 @@ TEST(MeshFile, LoadsByExtensionAndRefusesUnknownOnes) {
         ASSERT_TRUE(loaded.has_value()) << loaded.error().toString();
         EXPECT_EQ(loaded->mesh.faces, t.faces) << name;
         EXPECT_EQ(loaded->physics.has_value(), std::string(name) == "t.txt");
-        std::filesystem::remove(file);
     }
     const auto unknown = loadMesh(dir / "t.xyzzy");
     ASSERT_FALSE(unknown.has_value());

@@ -213,8 +213,7 @@ TEST(ThesisFormatErrors, MissingFileAndDirectory) {
 }
 
 TEST(ThesisFormat, FailedWriteKeepsTheExistingFile) {
-    const auto dir = std::filesystem::temp_directory_path() / "hapticut-write-test";
-    std::filesystem::create_directories(dir);
+    const test::ScratchDir dir;
     const auto file = dir / "heart.txt";
     ASSERT_FALSE(writeModelFile(file, test::tetrahedron(), kThesisHeart).has_value());
     const auto before = readModelFile(file);
@@ -226,7 +225,6 @@ TEST(ThesisFormat, FailedWriteKeepsTheExistingFile) {
     const auto after = readModelFile(file);
     ASSERT_TRUE(after.has_value());
     EXPECT_EQ(after->mesh.faces.size(), 4u);
-    std::filesystem::remove_all(dir);
 }
 
 }  // namespace
