@@ -40,9 +40,10 @@ haptics::Trajectory pressTrajectory(const mesh::SurfaceMesh& heart, const collis
     return t;
 }
 
-/// Press 4 mm into the front, stroke 4 cm across it following the surface, lift off.
-haptics::Trajectory strokeTrajectory(const mesh::SurfaceMesh& heart, const collision::Bvh& bvh) {
-    const double y = -0.01, x0 = -0.02, x1 = 0.02, depth = 0.004;
+/// Press `depth_m` into the front, stroke 4 cm across it following the surface, lift off. 4 mm is a
+/// probe's stroke; 12 mm presses with about 2.5 N, past the scalpel's 2 N threshold, so it cuts.
+haptics::Trajectory strokeTrajectory(const mesh::SurfaceMesh& heart, const collision::Bvh& bvh, double depth_m) {
+    const double y = -0.01, x0 = -0.02, x1 = 0.02, depth = depth_m;
     haptics::Trajectory t;
     t.points.push_back(at(0.0, Vec3(x0, y, frontSurfaceZ(heart, bvh, x0, y) + 0.03)));
     t.points.push_back(at(0.6, Vec3(x0, y, frontSurfaceZ(heart, bvh, x0, y) + 0.003)));
@@ -74,7 +75,9 @@ int assets(const std::filesystem::path& out) {
         {out / "trajectories/press-front.csv",
          mesh::io::writeTextFileAtomically(out / "trajectories/press-front.csv", haptics::formatTrajectory(pressTrajectory(heart, bvh)))},
         {out / "trajectories/stroke-front.csv",
-         mesh::io::writeTextFileAtomically(out / "trajectories/stroke-front.csv", haptics::formatTrajectory(strokeTrajectory(heart, bvh)))},
+         mesh::io::writeTextFileAtomically(out / "trajectories/stroke-front.csv", haptics::formatTrajectory(strokeTrajectory(heart, bvh, 0.004)))},
+        {out / "trajectories/cut-front.csv",
+         mesh::io::writeTextFileAtomically(out / "trajectories/cut-front.csv", haptics::formatTrajectory(strokeTrajectory(heart, bvh, 0.012)))},
     };
     int status = 0;
     for (const auto& w : written) {

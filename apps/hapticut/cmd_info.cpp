@@ -45,6 +45,7 @@ int info(const InfoOptions& o) {
         j["bbox_max"] = toJson(r.bboxMax);
         j["min_angle_deg"] = r.minAngleDeg;
         j["mean_edge_length_m"] = r.meanEdgeLength_m;
+        j["shortest_edge_m"] = r.shortestEdge_m;
         j["area_m2"] = r.area_m2;
         if (source->toolThreshold_N) j["tool_threshold_N"] = *source->toolThreshold_N;
         else j["physics"] = {{"mass", source->physics.mass},
@@ -65,7 +66,8 @@ int info(const InfoOptions& o) {
                 r.degenerateFaces, r.unusedVertices, r.springsNotOnFaces, r.faceEdgesWithoutSpring);
     std::printf("  bounding box (%.4g, %.4g, %.4g) to (%.4g, %.4g, %.4g) m\n", r.bboxMin.x(), r.bboxMin.y(), r.bboxMin.z(), r.bboxMax.x(),
                 r.bboxMax.y(), r.bboxMax.z());
-    std::printf("  min angle %.2f deg, mean edge %.4g m, area %.4g m^2\n", r.minAngleDeg, r.meanEdgeLength_m, r.area_m2);
+    std::printf("  min angle %.2f deg, mean edge %.4g m, shortest edge %.4g m, area %.4g m^2\n", r.minAngleDeg, r.meanEdgeLength_m,
+                r.shortestEdge_m, r.area_m2);
     if (source->toolThreshold_N) std::printf("  tool cut threshold %g N\n", *source->toolThreshold_N);
     else std::printf("  physics: mass %g, ks %g, kd %g, kp %g, kdp %g\n", source->physics.mass, source->physics.structuralStiffness,
                      source->physics.structuralDamping, source->physics.positioningStiffness, source->physics.positioningDamping);

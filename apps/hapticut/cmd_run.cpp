@@ -8,6 +8,8 @@
 
 #include "commands.h"
 #include "hapticut/mesh/io/mesh_file.h"
+#include "hapticut/mesh/io/thesis_format.h"
+#include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/io/line_reader.h"
 #include "hapticut/mesh/io/load_error.h"
 #include "hapticut/mesh/procedural/tools.h"
@@ -86,10 +88,10 @@ nlohmann::ordered_json reportHeader(const ModelSource& source, const physics::Ma
     return j;
 }
 
-/// Writes the deformed mesh, if asked; false on failure (already reported).
-bool exportDeformed(const std::string& file, const ModelSource& source, const physics::MassSpringModel& model) {
+/// Writes the deformed mesh (rest mesh `rest` at the model's positions), if asked; false on failure (already reported).
+bool exportDeformed(const std::string& file, const mesh::SurfaceMesh& rest, const ModelSource& source, const physics::MassSpringModel& model) {
     if (file.empty()) return true;
-    mesh::SurfaceMesh deformed = source.mesh;
+    mesh::SurfaceMesh deformed = rest;
     deformed.positions = model.nodes.position;
     mesh::computeFaceNormals(deformed);
     if (const auto error = mesh::io::saveMesh(file, deformed, source.physics)) {
@@ -113,20 +115,43 @@ physics::MassSpringModel buildModelFor(const RunOptions& o, const ModelSource& s
     return buildSimulationModel(source);
 }
 
+/// The cut threshold of --tool: the procedural probe's or scalpel's, a scene tool's of that name, or a
+/// thesis tool file's. Nothing (with the reason printed, and `status` set to the exit code) for an
+/// unknown name (2) or a bad file (1).
+std::optional<double> toolThreshold(const RunOptions& o, int& status) {
+    if (o.sceneFile)
+        for (const scene::SceneTool& t : o.sceneFile->tools)
+            if (t.name == o.tool) return t.threshold_N;
+    if (o.tool == "probe") return mesh::procedural::kProbeThreshold_N;
+    if (o.tool == "scalpel") return mesh::procedural::kScalpelThreshold_N;
+    if (o.tool.find('.') == std::string::npos) {
+        std::cerr << "hapticut run: unknown tool '" << o.tool << "': expected probe, scalpel or a tool file (thesis format)\n";
+        status = 2;
+        return std::nullopt;
+    }
+    const auto tool = mesh::io::readToolFile(o.tool);
+    if (!tool) {
+        std::cerr << tool.error().toString() << "\n";
+        status = 1;
+        return std::nullopt;
+    }
+    return tool->threshold_N;
+}
+
 int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     const auto trajectory = haptics::readTrajectory(o.trajectory);
     if (!trajectory) {
         std::cerr << trajectory.error().toString() << "\n";
         return 1;
     }
-    if (o.tool != "probe" && o.tool != "scalpel") {
-        std::cerr << "hapticut run: unknown tool '" << o.tool << "': expected probe or scalpel\n";
-        return 2;
-    }
+    int toolStatus = 0;
+    const auto threshold_N = toolThreshold(o, toolStatus);
+    if (!threshold_N) return toolStatus;
     auto source = loadModelSource(o.model, o.triangles);
     if (!source) return 1;
     placeBySceneFile(o, *source);
-    physics::MassSpringModel model = buildModelFor(o, *source);
+    cutting::CutModel organ(source->mesh, buildModelFor(o, *source));
+    const physics::MassSpringModel& model = organ.model();
 
     scene::HapticRunConfig config;
     config.loop.scheme = scheme;
@@ -150,10 +175,10 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     config.steps = o.stepsGiven ? o.steps : -1;
     config.realtime = o.realtime;
     config.tool = o.tool;
-    config.toolThreshold_N = o.tool == "scalpel" ? mesh::procedural::kScalpelThreshold_N : mesh::procedural::kProbeThreshold_N;
+    config.loop.cutThreshold_N = *threshold_N;
     std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << o.tool << " on " << o.trajectory << " ("
               << trajectory->duration_s() << " s) at " << o.rate_hz << " Hz, " << (o.realtime ? "real time" : "simulated time") << "\n";
-    const scene::HapticRunResult r = scene::runHaptic(source->mesh, model, *trajectory, config);
+    const scene::HapticRunResult r = scene::runHaptic(organ, *trajectory, config);
 
     std::cout << r.steps << " haptic steps (" << r.simTime_s << " s simulated) in " << r.wallTime_s << " s wall: " << r.hapticRate_hz
               << " steps/s; step " << r.stepTime_us.p50 << " us p50, " << r.stepTime_us.p99 << " us p99, " << r.stepTime_us.max << " us max\n";
@@ -163,19 +188,29 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     std::cout << "contact in " << r.contactSteps << " steps; max force " << r.maxForce_N << " N; max proxy penetration " << r.maxProxyPenetration_m
               << " m; max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, " << r.finalMaxDisplacement_m * 1e3 << " mm at the end\n";
     if (r.watchdogTripped) std::cout << "watchdog tripped: " << r.nonFiniteEvents << " non-finite value(s); force was zeroed\n";
-    if (o.tool == "scalpel") std::cout << "note: cutting is not implemented yet; the scalpel presses like the probe\n";
+    const mesh::MeshReport after = mesh::validateMesh(organ.mesh());
+    if (r.cut.cuts > 0)
+        std::cout << "cut " << r.cut.cuts << " time(s): " << r.cut.cutPoints << " cut points, " << r.cut.length_m * 1e3 << " mm long, "
+                  << r.cut.verticesAdded << " vertices and " << r.cut.facesAdded << " faces added, " << (r.cut.opened ? "opened" : "not opened")
+                  << "; " << after.boundaryEdges << " boundary edges now; cut event " << r.cutTime_us.p50 << " us p50, " << r.cutTime_us.max
+                  << " us max\n";
+    else if (std::isfinite(config.loop.cutThreshold_N))
+        std::cout << "no cut: the " << o.tool << " never pressed harder than its " << config.loop.cutThreshold_N << " N threshold\n";
+    if (!r.invariantProblems.empty()) std::cout << "the cut broke the organ: " << r.invariantProblems.front() << "\n";
 
     int status = r.watchdogTripped ? 3 : 0;
     if (!o.forceLog.empty() && !writeOutput(o.forceLog, scene::formatForceLog(r.log), "the force log")) status = 1;
     if (!o.record.empty() && !writeOutput(o.record, haptics::formatRecording(r.log), "the recording")) status = 1;
-    if (!exportDeformed(o.exportMesh, *source, model)) status = 1;
+    if (!exportDeformed(o.exportMesh, organ.mesh(), *source, model)) status = 1;
     if (!o.report.empty()) {
         nlohmann::ordered_json j = reportHeader(*source, model, scheme);
+        j["vertices"] = organ.mesh().positions.size();
+        j["faces"] = organ.mesh().faces.size();
         j["dt"] = 1 / o.rate_hz;
         j["substeps"] = r.substeps;
         j["steps"] = r.steps;
         j["tool"] = o.tool;
-        j["tool_threshold_N"] = config.toolThreshold_N;
+        j["tool_threshold_N"] = std::isfinite(config.loop.cutThreshold_N) ? nlohmann::ordered_json(config.loop.cutThreshold_N) : nlohmann::ordered_json(nullptr);
         j["coupling_stiffness_N_per_m"] = config.loop.couplingStiffness_N_per_m;
         j["friction"] = {{"static", config.loop.proxy.staticFriction}, {"dynamic", config.loop.proxy.dynamicFriction}};
         j["trajectory"] = o.trajectory;
@@ -193,6 +228,19 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
         j["final_max_displacement_m"] = r.finalMaxDisplacement_m;
         j["nan_events"] = r.nonFiniteEvents;
         j["watchdog_tripped"] = r.watchdogTripped;
+        j["cut_points"] = r.cut.cutPoints;
+        j["cuts"] = r.cut.cuts;
+        j["cut_events"] = r.cutEvents;
+        j["vertices_added"] = r.cut.verticesAdded;
+        j["faces_added"] = r.cut.facesAdded;
+        j["cut_length_m"] = r.cut.length_m;
+        j["opened"] = r.cut.opened;
+        j["cut_event_us"] = r.cutEvents > 0 ? toJson(r.cutTime_us) : nlohmann::ordered_json(nullptr);
+        j["invariants_ok"] = r.invariantProblems.empty();
+        j["invariant_problems"] = r.invariantProblems;
+        j["boundary_edges"] = after.boundaryEdges;
+        j["min_angle_deg"] = after.minAngleDeg;
+        j["shortest_edge_m"] = after.shortestEdge_m;
         if (!writeJson(o.report, j)) return 1;
         std::cout << "wrote the report to " << o.report << "\n";
     }
@@ -254,7 +302,7 @@ int run(RunOptions& o) {
               << " mm at the end; kinetic energy at the end " << r.kineticEnergyEnd_J << " J; non-finite steps " << r.nanEvents << "\n";
 
     int status = r.nanEvents > 0 ? 3 : 0;
-    if (!exportDeformed(o.exportMesh, *source, model)) status = 1;
+    if (!exportDeformed(o.exportMesh, source->mesh, *source, model)) status = 1;
     if (!o.report.empty()) {
         nlohmann::ordered_json j = reportHeader(*source, model, config.scheme);
         j["dt"] = config.dt_s;
@@ -300,7 +348,8 @@ Command addRunCommand(CLI::App& app) {
     cmd->add_option("--export-mesh", o->exportMesh, "Write the final deformed mesh (.txt, .obj or .ply)");
     cmd->add_option("--report", o->report, "Write a JSON report");
     cmd->add_option("--trajectory", o->trajectory, "Drive the haptic loop with a device trajectory (CSV t,x,y,z,button)");
-    cmd->add_option("--tool", o->tool, "probe or scalpel (with --trajectory)")->capture_default_str();
+    cmd->add_option("--tool", o->tool, "probe, scalpel (cuts above its threshold), a scene's tool or a tool file (with --trajectory)")
+        ->capture_default_str();
     cmd->add_flag("--realtime", o->realtime, "Run the haptic loop at wall-clock rate in its own thread (with --trajectory)");
     cmd->add_option("--rate", o->rate_hz, "Haptic loop rate in Hz (with --trajectory)")->capture_default_str()->check(CLI::Range(100.0, 10'000.0));
     cmd->add_option("--force-log", o->forceLog, "Write every haptic step as CSV (with --trajectory)");

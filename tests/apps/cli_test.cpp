@@ -118,7 +118,8 @@ TEST_F(Cli, BadArgumentsAreExplained) {
 TEST_F(Cli, ShippedAssetsAreWhatTheCodeGenerates) {
     const CliResult r = run("assets --out " + dir_.string());
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    for (const char* file : {"models/heart.txt", "tools/scalpel.txt", "tools/probe.txt", "trajectories/press-front.csv", "trajectories/stroke-front.csv"})
+    for (const char* file : {"models/heart.txt", "tools/scalpel.txt", "tools/probe.txt", "trajectories/press-front.csv", "trajectories/stroke-front.csv",
+                             "trajectories/cut-front.csv"})
         EXPECT_TRUE(slurp(fs::path(HAPTICUT_SOURCE_DIR) / "assets" / file) == slurp(dir_ / file))
             << file << " is stale: run 'hapticut assets' and commit the result";
     const auto heart = nlohmann::json::parse(run(std::string("info ") + HAPTICUT_SOURCE_DIR + "/assets/models/heart.txt --json").out);
@@ -168,6 +169,32 @@ TEST_F(Cli, ASceneReproducesAnExperimentAndTheCommandLineOverridesIt) {
     const CliResult bad = run("run --scene " + path("bad.toml"));
     EXPECT_EQ(bad.exitCode, 1);
     EXPECT_NE(bad.err.find("bad.toml:2: device.backend: 'joystick' is not allowed; allowed: replay, virtual"), std::string::npos) << bad.err;
+}
+
+TEST_F(Cli, AScalpelStrokeCutsTheExportedMeshOpenAndAProbeDoesNot) {
+    const std::string trajectory = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv";
+    const CliResult r = run("run --trajectory " + trajectory + " --tool scalpel --report " + path("cut.json") + " --export-mesh " + path("cut.obj"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(path("cut.json")));
+    for (const char* key : {"cut_points", "vertices_added", "faces_added", "cut_length_m", "opened", "invariants_ok", "cut_event_us",
+                            "boundary_edges", "min_angle_deg", "shortest_edge_m", "tool_threshold_N"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j["opened"], true);
+    EXPECT_EQ(j["invariants_ok"], true) << j["invariant_problems"];
+    EXPECT_GT(j["cut_length_m"].get<double>(), 0.02);
+    EXPECT_GT(j["min_angle_deg"].get<double>(), 5.0);
+    const auto info = nlohmann::json::parse(run("info " + path("cut.obj") + " --json").out);
+    EXPECT_EQ(info["closed"], false);
+    EXPECT_EQ(info["boundary_edges"], j["boundary_edges"]);
+    EXPECT_GT(info["boundary_edges"].get<int>(), 10) << "the wound's lips are boundary edges";
+    EXPECT_EQ(info["manifold"], true);
+
+    ASSERT_EQ(run("run --trajectory " + trajectory + " --tool probe --report " + path("probe.json")).exitCode, 0);
+    const auto probe = nlohmann::json::parse(slurp(path("probe.json")));
+    EXPECT_EQ(probe["cut_points"], 0);
+    EXPECT_EQ(probe["boundary_edges"], 0);
+    EXPECT_EQ(probe["faces"], nlohmann::json::parse(run("info heart --json").out)["faces"]);
+    EXPECT_EQ(run("run --trajectory " + trajectory + " --tool chisel").exitCode, 2);
 }
 
 TEST_F(Cli, ExportsTheDeformedMesh) {

@@ -23,8 +23,8 @@ std::string traceOf(const std::string& trajectory_name) {
     const auto trajectory = haptics::readTrajectory(fs::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories" / trajectory_name);
     EXPECT_TRUE(trajectory.has_value());
     const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
-    physics::MassSpringModel model = physics::buildModel(mesh, physics::Material{});
-    const HapticRunResult r = runHaptic(mesh, model, *trajectory, {});
+    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
+    const HapticRunResult r = runHaptic(organ, *trajectory, {});
     std::string out = "t,fx,fy,fz,contact\n";
     for (std::size_t i = 0; i < r.log.size(); i += kEvery) {
         const haptics::StepOutput& s = r.log[i];

@@ -11,9 +11,7 @@ namespace hapticut::cutting {
 CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model) : mesh_(std::move(mesh)), model_(std::move(model)) {
     HAPTICUT_ASSERT(mesh_.positions.size() == model_.nodes.size());
     mesh::completeMesh(mesh_);
-    facesAround_.resize(mesh_.positions.size());
-    for (std::uint32_t f = 0; f < mesh_.faces.size(); ++f)
-        for (std::uint32_t v : mesh_.faces[f]) facesAround_[v].push_back(f);
+    facesAround_ = mesh::buildVertexFaces(mesh_.faces, mesh_.positions.size());
     const physics::Springs& s = model_.springs;
     for (std::uint32_t k = 0; k < s.size(); ++k) springOfEdge_[edgeKey(s.a[k], s.b[k])] = k;
     // New springs and anchors follow the model's material: springs scale as 1/L (as the
@@ -35,7 +33,7 @@ std::optional<std::uint32_t> CutModel::springOf(std::uint32_t a, std::uint32_t b
 
 std::vector<std::uint32_t> CutModel::facesOfEdge(std::uint32_t a, std::uint32_t b) const {
     std::vector<std::uint32_t> out;
-    for (std::uint32_t f : facesAround_[a]) {
+    for (std::uint32_t f : facesAround_.around[a]) {
         const mesh::Face& face = mesh_.faces[f];
         if (face[0] == b || face[1] == b || face[2] == b) out.push_back(f);
     }
@@ -54,7 +52,7 @@ std::uint32_t CutModel::addVertex(const Vec3& rest, const Vec3& position, const 
     n.inverseMass.push_back(mass > 0 ? 1 / mass : 0);
     n.anchorStiffness.push_back(anchorStiffnessPerKg_ * mass);
     n.anchorDamping.push_back(anchorDampingPerKg_ * mass);
-    facesAround_.emplace_back();
+    facesAround_.around.emplace_back();
     return v;
 }
 
@@ -73,13 +71,13 @@ void CutModel::addSpring(std::uint32_t a, std::uint32_t b) {
 
 void CutModel::replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs) {
     for (std::uint32_t v : mesh_.faces[face]) {
-        auto& around = facesAround_[v];
+        auto& around = facesAround_.around[v];
         around.erase(std::remove(around.begin(), around.end(), face), around.end());
     }
     mesh_.faces[face] = corners;
     mesh_.uvs[face] = uvs;
     mesh_.normals[face] = geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]);
-    for (std::uint32_t v : corners) facesAround_[v].push_back(face);
+    for (std::uint32_t v : corners) facesAround_.around[v].push_back(face);
 }
 
 std::uint32_t CutModel::appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs) {
@@ -87,7 +85,7 @@ std::uint32_t CutModel::appendFace(const mesh::Face& corners, const mesh::FaceUv
     mesh_.faces.push_back(corners);
     mesh_.uvs.push_back(uvs);
     mesh_.normals.push_back(geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]));
-    for (std::uint32_t v : corners) facesAround_[v].push_back(face);
+    for (std::uint32_t v : corners) facesAround_.around[v].push_back(face);
     return face;
 }
 
@@ -177,7 +175,7 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
         return false;
     };
     std::optional<std::uint32_t> start;
-    for (std::uint32_t f : facesAround_[v])
+    for (std::uint32_t f : facesAround_.around[v])
         if (runs(f, v, next)) start = f;
     if (!start) return std::nullopt;
 
@@ -185,7 +183,7 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     // prev or a boundary: those faces are the left side.
     std::vector<std::uint32_t> left;
     std::uint32_t face = *start;
-    for (std::size_t guard = 0; guard <= facesAround_[v].size(); ++guard) {
+    for (std::size_t guard = 0; guard <= facesAround_.around[v].size(); ++guard) {
         left.push_back(face);
         // In face (v, x, y) with v -> x first, the edge walked across next is (y, v).
         const mesh::Face& f = mesh_.faces[face];
@@ -194,12 +192,12 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
         const std::uint32_t y = f[(k + 2) % 3];
         if (y == prev) break;
         std::optional<std::uint32_t> across;
-        for (std::uint32_t g : facesAround_[v])
+        for (std::uint32_t g : facesAround_.around[v])
             if (g != face && runs(g, v, y)) across = g;
         if (!across || std::find(left.begin(), left.end(), *across) != left.end()) break;  // a boundary, or all the way round
         face = *across;
     }
-    if (left.size() == facesAround_[v].size()) return std::nullopt;  // no right side: nothing to open
+    if (left.size() == facesAround_.around[v].size()) return std::nullopt;  // no right side: nothing to open
 
     physics::Nodes& n = model_.nodes;
     const double half = n.mass[v] / 2;
@@ -237,7 +235,7 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     // Pull the wound open: every spring at either copy a little shorter, except along the cut. After
     // the opening the cut's edges at v and v' are exactly their boundary edges (the lips).
     for (std::uint32_t copy : {v, w})
-        for (std::uint32_t f : facesAround_[copy])
+        for (std::uint32_t f : facesAround_.around[copy])
             for (std::uint32_t x : mesh_.faces[f]) {
                 if (x == copy || facesOfEdge(copy, x).size() < 2) continue;
                 if (const auto k = springOf(copy, x); k && shortened_.insert(*k).second) s.restLength[*k] *= 1 - shorten;

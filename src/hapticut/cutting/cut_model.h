@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hapticut/mesh/surface_mesh.h"
+#include "hapticut/mesh/vertex_faces.h"
 #include "hapticut/physics/mass_spring_model.h"
 
 namespace hapticut::cutting {
@@ -23,7 +24,9 @@ public:
     const physics::MassSpringModel& model() const { return model_; }
     physics::MassSpringModel& model() { return model_; }
 
-    const std::vector<std::uint32_t>& facesAround(std::uint32_t vertex) const { return facesAround_[vertex]; }
+    const std::vector<std::uint32_t>& facesAround(std::uint32_t vertex) const { return facesAround_.around[vertex]; }
+    /// The faces around every vertex, kept current through every edit (the proxy's fast path reads it).
+    const mesh::VertexFaces& vertexFaces() const { return facesAround_; }
     /// The spring along edge (a, b), if there is one.
     std::optional<std::uint32_t> springOf(std::uint32_t a, std::uint32_t b) const;
     /// The faces that have edge (a, b), in any orientation (two on a manifold interior edge).
@@ -66,7 +69,7 @@ private:
 
     mesh::SurfaceMesh mesh_;
     physics::MassSpringModel model_;
-    std::vector<std::vector<std::uint32_t>> facesAround_;
+    mesh::VertexFaces facesAround_;
     std::unordered_map<std::uint64_t, std::uint32_t> springOfEdge_;
     std::unordered_set<std::uint64_t> shortened_;  // scratch for openCut: each spring shortened once
     // Material of new springs and anchors: the means of the model's own, per unit length and mass.

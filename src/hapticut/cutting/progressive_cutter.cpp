@@ -100,6 +100,38 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
     return false;
 }
 
+std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlade(const Vec3& device_m) {
+    if (points_.empty()) return std::nullopt;
+    const mesh::SurfaceMesh& m = model_.mesh();
+    // Three rings of faces round the last point: the blade moves well under a face per step at 1 kHz,
+    // and a farther target is reached over the next steps.
+    nearbyFaces_.clear();
+    ring_.assign(1, points_.back());
+    for (int ring = 0; ring < 3; ++ring) {
+        const std::size_t vertices = ring_.size();
+        for (std::size_t i = 0; i < vertices; ++i)
+            for (std::uint32_t f : model_.facesAround(ring_[i])) {
+                if (std::find(nearbyFaces_.begin(), nearbyFaces_.end(), f) != nearbyFaces_.end()) continue;
+                nearbyFaces_.push_back(f);
+                for (std::uint32_t v : m.faces[f])
+                    if (std::find(ring_.begin(), ring_.end(), v) == ring_.end()) ring_.push_back(v);
+            }
+    }
+    std::optional<BladeProjection> best;
+    double bestD2 = 1e300;
+    for (std::uint32_t f : nearbyFaces_) {
+        const mesh::Face& face = m.faces[f];
+        const Vec3 &a = m.positions[face[0]], &b = m.positions[face[1]], &c = m.positions[face[2]];
+        const auto hit = geometry::closestPointOnTriangle(device_m, a, b, c);
+        const double d2 = (hit.point - device_m).squaredNorm();
+        if (d2 >= bestD2) continue;
+        bestD2 = d2;
+        const Vec3 normal = (b - a).cross(c - a).normalized();
+        best = BladeProjection{f, hit.bary, (hit.point - device_m).dot(normal)};
+    }
+    return best;
+}
+
 bool ProgressiveCutter::cutAt(std::uint32_t face, const Vec3& bary) {
     const mesh::SurfaceMesh& m = model_.mesh();
     const Vec3 q = restPoint(m, face, bary);

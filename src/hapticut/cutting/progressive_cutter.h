@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "hapticut/cutting/cut_model.h"
@@ -32,6 +33,16 @@ public:
     /// The scalpel presses past its threshold at `bary` on `face`: starts a cut there, or continues the
     /// current one up to that point. Returns true when the mesh changed.
     bool cutAt(std::uint32_t face, const Vec3& bary);
+    /// Where the blade is, seen from the cut: the point of the rest surface nearest to `device_m` among
+    /// the faces a few rings round the last cut point, and how deep the device is under it (negative:
+    /// above the surface). Only while cutting.
+    struct BladeProjection {
+        std::uint32_t face = 0;
+        Vec3 bary = Vec3::Zero();
+        double depth_m = 0;
+    };
+    std::optional<BladeProjection> projectBlade(const Vec3& device_m);
+
     /// The force dropped below the threshold or contact was lost: the next cutAt starts a new cut.
     void endCut() { points_.clear(); }
 
@@ -52,6 +63,7 @@ private:
     CutterParams params_;
     std::vector<std::uint32_t> points_;
     CutStats stats_;
+    std::vector<std::uint32_t> nearbyFaces_, ring_;  // scratch for projectBlade
 };
 
 }  // namespace hapticut::cutting

@@ -23,18 +23,36 @@ ProxyParams withClosedFlag(ProxyParams params, std::span<const mesh::Face> faces
 
 HapticLoop::HapticLoop(physics::MassSpringModel& model, std::span<const mesh::Face> faces, Device& device, LoopConfig config)
     : model_(model), faces_(faces), device_(device), config_(config), stepper_(config.scheme), proxy_(withClosedFlag(config.proxy, faces)) {
+    ownTopology_ = mesh::buildVertexFaces(faces_, model_.nodes.size());
+    topology_ = &ownTopology_;
+    initialise();
+}
+
+HapticLoop::HapticLoop(cutting::CutModel& organ, Device& device, LoopConfig config)
+    : model_(organ.model()), faces_(organ.mesh().faces), organ_(&organ), device_(device), config_(config), stepper_(config.scheme),
+      proxy_(withClosedFlag(config.proxy, organ.mesh().faces)) {
+    topology_ = &organ.vertexFaces();
+    cutter_.emplace(organ, config_.cutter);
+    initialise();
+}
+
+void HapticLoop::initialise() {
     preparedCouplingStiffness_ = config_.couplingStiffness_N_per_m;
     stepper_.setToolStiffness(preparedCouplingStiffness_);
     stepper_.setActiveRegion(config_.activeRegion);
     stepper_.prepare(model_);
     bvh_.build(surface());
-    topology_ = mesh::buildVertexFaces(faces_, model_.nodes.size());
-    proxy_.setTopology(&topology_);
+    proxy_.setTopology(topology_);
     // Start the proxy where the device is, or just outside the surface if the device begins inside.
     const Vec3 start = device_.read(0).position_m;
     proxy_.reset(start + Vec3(0, 0, 1.0));
     proxy_.update(start, surface(), bvh_);
-    for (Snapshot& s : snapshots_.slots()) s.positions.resize(model_.nodes.size());
+    for (Snapshot& s : snapshots_.slots()) {
+        s.positions.resize(model_.nodes.size());
+        s.faces.assign(faces_.begin(), faces_.end());
+        if (organ_) s.uvs = organ_->mesh().uvs;
+        s.topologyVersion = topologyVersion_;
+    }
 }
 
 HapticLoop::~HapticLoop() {
@@ -51,6 +69,7 @@ void HapticLoop::applyPendingCommands() noexcept {
                 break;
             case LoopCommand::Kind::SetCouplingDamping: config_.couplingDamping_Ns_per_m = c->value; break;
             case LoopCommand::Kind::SetMaxForceScale: maxForceScale_ = std::clamp(c->value, 0.0, 1.0); break;
+            case LoopCommand::Kind::SetCutThreshold: config_.cutThreshold_N = std::max(c->value, 0.0); break;
             case LoopCommand::Kind::ResetModel:
                 std::copy(model_.nodes.restPosition.begin(), model_.nodes.restPosition.end(), model_.nodes.position.begin());
                 std::fill(model_.nodes.velocity.begin(), model_.nodes.velocity.end(), Vec3::Zero());
@@ -76,7 +95,7 @@ StepOutput HapticLoop::step() noexcept {
 
     // A device that reports NaN or infinity (a driver fault, a lost connection) trips the watchdog
     // before its sample can reach the proxy or the tissue.
-    const collision::SurfaceView view = surface();
+    collision::SurfaceView view = surface();
     const bool deviceOk = dev.position_m.allFinite() && dev.velocity_m_per_s.allFinite();
     if (!deviceOk) {
         ++stats_.nonFiniteEvents;
@@ -87,7 +106,37 @@ StepOutput HapticLoop::step() noexcept {
     if (deviceOk) proxy_.update(dev.position_m, view, bvh_);
     out.proxy_m = proxy_.position();
     const Contact& contact = proxy_.contact();
-    const bool constrained = deviceOk && contact.active && (proxy_.position() - dev.position_m).squaredNorm() > 1e-18;
+    auto touching = [&] { return deviceOk && contact.active && (proxy_.position() - dev.position_m).squaredNorm() > 1e-18; };
+
+    // 5. The scalpel cuts (R14). A cut starts at the contact when the tool presses harder than its
+    // threshold (the last step's force, so the cut comes before this step's force is spread over faces
+    // the cut may replace). It then follows the blade: the device's position projected onto the
+    // undeformed surface near the cut, so the blade slices through the dimple it presses instead of
+    // dragging it along. It goes on while the tool presses past the threshold, or while the blade is
+    // down in its own wound with the proxy fallen in (no contact); it ends when the press eases or the
+    // blade lifts above the surface.
+    if (cutter_) {
+        const auto cutStart = Clock::now();
+        bool changed = false;
+        const bool pressing = touching() && lastForce_N_ > config_.cutThreshold_N && !stats_.watchdogTripped;
+        if (!cutter_->cutting()) {
+            if (pressing) changed = cutter_->cutAt(contact.face, contact.bary);
+        } else {
+            const auto blade = deviceOk && !stats_.watchdogTripped ? cutter_->projectBlade(dev.position_m) : std::nullopt;
+            const bool inWound = !touching() && blade && blade->depth_m > 0;
+            if (blade && (pressing || inWound)) changed = cutter_->cutAt(blade->face, blade->bary);
+            else cutter_->endCut();
+        }
+        if (changed) {
+            afterTopologyChange();
+            view = surface();
+            out.proxy_m = proxy_.position();
+            out.cut = true;
+            ++stats_.cutEvents;
+            stats_.cutTime_us.record(std::chrono::duration<double, std::micro>(Clock::now() - cutStart).count());
+        }
+    }
+    const bool constrained = touching();
 
     // 3-4. Force: the coupling spring from the device to the contact point, as a force term of the
     // physics (model_.tool), so the tissue feels it reversed in every integrator stage and stiff contact
@@ -142,6 +191,7 @@ StepOutput HapticLoop::step() noexcept {
 
     // 7. Send the force; publish a snapshot now and then.
     device_.commandForce(force);
+    lastForce_N_ = force.norm();
     out.force_N = force;
     out.contact = constrained;
     out.face = contact.face;
@@ -150,18 +200,37 @@ StepOutput HapticLoop::step() noexcept {
     stats_.maxForce_N = std::max(stats_.maxForce_N, force.norm());
     stats_.contactSteps += constrained;
     ++stats_.steps;
-    if (stepIndex_ % config_.snapshotEvery == 0) {
-        Snapshot& s = snapshots_.writeSlot();
-        std::copy(model_.nodes.position.begin(), model_.nodes.position.end(), s.positions.begin());
-        s.device_m = out.device_m;
-        s.proxy_m = out.proxy_m;
-        s.force_N = force;
-        s.contact = constrained;
-        s.step = stepIndex_;
-        snapshots_.publish();
-    }
+    if (stepIndex_ % config_.snapshotEvery == 0 || out.cut) publishSnapshot(out);
     ++stepIndex_;
     return out;
+}
+
+void HapticLoop::afterTopologyChange() {
+    faces_ = organ_->mesh().faces;
+    const collision::SurfaceView view = surface();
+    bvh_.refit(view);       // faces split in place shrank
+    bvh_.facesAdded(view);  // new faces are searched linearly until a rebuild pays
+    stepper_.prepare(model_);  // new nodes and springs, springs moved to the opened copy, the stable step
+    // Once a cut has opened, the surface has lips: no longer closed, so no ray-parity check.
+    proxy_.surfaceRemeshed(view, bvh_, proxy_.params().closedSurface && !cutter_->stats().opened);
+    ++topologyVersion_;
+}
+
+void HapticLoop::publishSnapshot(const StepOutput& out) {
+    Snapshot& s = snapshots_.writeSlot();
+    // Sizes change only after a cut, the one time this may allocate.
+    s.positions.assign(model_.nodes.position.begin(), model_.nodes.position.end());
+    if (s.topologyVersion != topologyVersion_) {
+        s.faces.assign(faces_.begin(), faces_.end());
+        if (organ_) s.uvs.assign(organ_->mesh().uvs.begin(), organ_->mesh().uvs.end());
+        s.topologyVersion = topologyVersion_;
+    }
+    s.device_m = out.device_m;
+    s.proxy_m = out.proxy_m;
+    s.force_N = out.force_N;
+    s.contact = out.contact;
+    s.step = stepIndex_;
+    snapshots_.publish();
 }
 
 void HapticLoop::runSimulated(long steps, const std::function<void(const StepOutput&)>& observer) {

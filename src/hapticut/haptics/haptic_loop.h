@@ -5,6 +5,8 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <span>
 #include <thread>
 #include <vector>
@@ -13,6 +15,7 @@
 #include "hapticut/common/latency_histogram.h"
 #include "hapticut/common/spsc_queue.h"
 #include "hapticut/common/triple_buffer.h"
+#include "hapticut/cutting/progressive_cutter.h"
 #include "hapticut/haptics/device.h"
 #include "hapticut/haptics/proxy.h"
 #include "hapticut/physics/integrators.h"
@@ -28,7 +31,11 @@ struct LoopConfig {
     double rampTime_s = 0.5;                   // force fades in over this long after start
     int snapshotEvery = 8;                     // publish positions for the renderer every N steps (125 Hz)
     bool activeRegion = true;                  // integrate only the tissue near the tool (Stepper::setActiveRegion)
+    /// The tool cuts while its force is above this (R14): the scalpel's threshold; the probe's is infinite.
+    /// Only a loop built on a CutModel cuts.
+    double cutThreshold_N = std::numeric_limits<double>::infinity();
     ProxyParams proxy;
+    cutting::CutterParams cutter;
 };
 
 /// What one step did, for logs and tests.
@@ -38,6 +45,7 @@ struct StepOutput {
     bool contact = false;
     std::uint32_t face = 0;
     std::uint32_t buttons = 0;
+    bool cut = false;  // the scalpel changed the mesh in this step
     double stepTime_us = 0;
 };
 
@@ -46,20 +54,25 @@ struct LoopStats {
     LatencyHistogram periodError_us{0.1, 20'000};  // real-time mode: how late each step started
     long steps = 0, contactSteps = 0, overruns = 0, nonFiniteEvents = 0;
     bool watchdogTripped = false;  // latched by a non-finite force or state: force stays zero
+    long cutEvents = 0;            // steps in which the scalpel changed the mesh
+    LatencyHistogram cutTime_us{0.1, 100'000};  // the cut and the updates it needs (tree, stepper, proxy)
     double maxForce_N = 0;
     double wallTime_s = 0;
 };
 
-/// What the renderer reads: the deformed positions and the tool state.
+/// What the renderer reads: the deformed positions, the faces when a cut changed them, and the tool state.
 struct Snapshot {
     std::vector<Vec3> positions;
+    std::vector<mesh::Face> faces;  // copied only when topologyVersion changes
+    std::vector<mesh::FaceUvs> uvs;
+    long topologyVersion = -1;
     Vec3 device_m = Vec3::Zero(), proxy_m = Vec3::Zero(), force_N = Vec3::Zero();
     bool contact = false;
     long step = 0;
 };
 
 struct LoopCommand {
-    enum class Kind { SetCouplingStiffness, SetCouplingDamping, SetMaxForceScale, ResetModel, ResetWatchdog, Pause, Resume } kind;
+    enum class Kind { SetCouplingStiffness, SetCouplingDamping, SetMaxForceScale, SetCutThreshold, ResetModel, ResetWatchdog, Pause, Resume } kind;
     double value = 0;
 };
 
@@ -67,6 +80,9 @@ class HapticLoop {
 public:
     /// The loop keeps references to the model, the faces and the device; they must outlive it.
     HapticLoop(physics::MassSpringModel& model, std::span<const mesh::Face> faces, Device& device, LoopConfig config = {});
+    /// A loop whose tool can cut the organ (when config.cutThreshold_N is finite). Cut events change
+    /// the organ's arrays, so nothing else may read them while the loop runs: the renderer reads snapshots.
+    HapticLoop(cutting::CutModel& organ, Device& device, LoopConfig config = {});
     ~HapticLoop();
     HapticLoop(const HapticLoop&) = delete;
     HapticLoop& operator=(const HapticLoop&) = delete;
@@ -89,19 +105,32 @@ public:
     const GodObjectProxy& proxy() const { return proxy_; }
     const collision::Bvh& bvh() const { return bvh_; }
     collision::SurfaceView surface() const { return {model_.nodes.position, faces_}; }
+    /// The cutter's counts (cut points, added vertices and faces, length), if this loop can cut.
+    const cutting::ProgressiveCutter* cutter() const { return cutter_ ? &*cutter_ : nullptr; }
+    /// Bumped by every cut that changed the mesh.
+    long topologyVersion() const { return topologyVersion_; }
     double time_s() const { return static_cast<double>(stepIndex_) / config_.rate_hz; }
 
 private:
+    void initialise();
     void applyPendingCommands() noexcept;
+    /// Brings the tree, the stepper and the proxy up to date after the cutter changed the mesh.
+    void afterTopologyChange();
+    void publishSnapshot(const StepOutput& out);
     void threadMain(long max_steps, std::function<void(const StepOutput&)> observer);
 
     physics::MassSpringModel& model_;
     std::span<const mesh::Face> faces_;
+    cutting::CutModel* organ_ = nullptr;  // set when the tool can cut; owns model_ and the faces
     Device& device_;
     LoopConfig config_;
     physics::Stepper stepper_;
     collision::Bvh bvh_;
-    mesh::VertexFaces topology_;
+    mesh::VertexFaces ownTopology_;                // the faces around each vertex, when no CutModel keeps them
+    const mesh::VertexFaces* topology_ = nullptr;
+    std::optional<cutting::ProgressiveCutter> cutter_;
+    long topologyVersion_ = 0;
+    double lastForce_N_ = 0;                       // the force of the previous step, which decides whether to cut
     GodObjectProxy proxy_;
     LoopStats stats_;
     TripleBuffer<Snapshot> snapshots_;

@@ -132,10 +132,22 @@ void GodObjectProxy::findContact(const collision::SurfaceView& s, const collisio
         contact_.active = false;
         return;
     }
+    // The side is the one the proxy came from, kept while the contact lasts: a proxy never crosses the
+    // surface, and under a deep press folded faces can point the other way, which must not flip it.
+    const bool continuing = contact_.active;
     contact_.active = true;
     contact_.face = near->face;
     contact_.bary = near->bary;
-    contact_.side = faceNormal(s, near->face).dot(position_ - near->point) >= 0 ? 1.0 : -1.0;
+    if (!continuing) contact_.side = faceNormal(s, near->face).dot(position_ - near->point) >= 0 ? 1.0 : -1.0;
+}
+
+void GodObjectProxy::surfaceRemeshed(const collision::SurfaceView& s, const collision::Bvh& bvh, bool closed_surface) {
+    params_.closedSurface = closed_surface;
+    const Contact before = contact_;
+    contact_.active = false;
+    planeCount_ = 0;
+    findContact(s, bvh);
+    if (before.active && contact_.active) contact_.side = before.side;  // the proxy has not moved: still the same side
 }
 
 void GodObjectProxy::followSurface(const collision::SurfaceView& s, const collision::Bvh& bvh) {

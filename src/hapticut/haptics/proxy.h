@@ -48,6 +48,11 @@ public:
     /// The topology must outlive the proxy and match the surface (cutting updates it).
     void setTopology(const mesh::VertexFaces* topology) { topology_ = topology; }
     long fastPathContacts() const { return fastPathContacts_; }
+
+    /// After a cut the touched face's index may name another triangle: find the contact again from the
+    /// proxy's position with the whole tree. Only the ray-parity check of a closed surface is lost once
+    /// a cut has opened it.
+    void surfaceRemeshed(const collision::SurfaceView& surface, const collision::Bvh& bvh, bool closed_surface);
     long treeContactQueries() const { return treeContactQueries_; }
 
     const Vec3& position() const { return position_; }

@@ -2,6 +2,7 @@
 #include "hapticut/mesh/mesh_report.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <numbers>
 #include <numeric>
@@ -80,8 +81,13 @@ MeshReport validateMesh(const SurfaceMesh& mesh) {
         r.bboxMax = box.max;
     }
     r.area_m2 = surfaceArea(mesh);
-    double sum = 0;
-    for (const Edge& e : adj.edges) sum += (mesh.positions[e[1]] - mesh.positions[e[0]]).norm();
+    double sum = 0, shortest = adj.edges.empty() ? 0 : std::numeric_limits<double>::infinity();
+    for (const Edge& e : adj.edges) {
+        const double length = (mesh.positions[e[1]] - mesh.positions[e[0]]).norm();
+        sum += length;
+        shortest = std::min(shortest, length);
+    }
+    r.shortestEdge_m = shortest;
     r.meanEdgeLength_m = adj.edges.empty() ? 0 : sum / static_cast<double>(adj.edges.size());
     return r;
 }

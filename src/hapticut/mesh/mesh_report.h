@@ -21,7 +21,7 @@ struct MeshReport {
     std::size_t components = 0;        // face-connected pieces
     long eulerCharacteristic = 0;      // V - E + F over the used vertices
     Vec3 bboxMin = Vec3::Zero(), bboxMax = Vec3::Zero();
-    double minAngleDeg = 0, meanEdgeLength_m = 0, area_m2 = 0;
+    double minAngleDeg = 0, meanEdgeLength_m = 0, shortestEdge_m = 0, area_m2 = 0;
 };
 
 MeshReport validateMesh(const SurfaceMesh& mesh);

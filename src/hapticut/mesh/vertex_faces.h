@@ -1,4 +1,5 @@
-// The faces around each vertex (compressed rows), for one-ring searches such as the proxy's fast path.
+// The faces around each vertex, for one-ring searches such as the proxy's fast path; cutting keeps it
+// up to date as faces are split, so it is a list per vertex rather than one packed array.
 #pragma once
 
 #include <cstdint>
@@ -10,10 +11,9 @@
 namespace hapticut::mesh {
 
 struct VertexFaces {
-    std::vector<std::uint32_t> start;  // faces of vertex v are faces[start[v] .. start[v + 1])
-    std::vector<std::uint32_t> faces;
+    std::vector<std::vector<std::uint32_t>> around;  // around[v]: the faces that use vertex v
 
-    std::span<const std::uint32_t> of(std::uint32_t v) const { return {faces.data() + start[v], start[v + 1] - start[v]}; }
+    std::span<const std::uint32_t> of(std::uint32_t v) const { return around[v]; }
 };
 
 VertexFaces buildVertexFaces(std::span<const Face> faces, std::size_t vertex_count);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hapticut/common/stats.h"
+#include "hapticut/cutting/cut_model.h"
 #include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/trajectory.h"
 #include "hapticut/mesh/surface_mesh.h"
@@ -18,8 +19,7 @@ struct HapticRunConfig {
     haptics::LoopConfig loop;
     long steps = -1;          // negative: the trajectory's duration at the loop rate
     bool realtime = false;    // wall-clock rate in the loop's own thread, else as fast as possible
-    std::string tool = "probe";
-    double toolThreshold_N = 1e9;
+    std::string tool = "probe";  // its cut threshold is config.loop.cutThreshold_N
 };
 
 struct HapticRunResult {
@@ -30,16 +30,23 @@ struct HapticRunResult {
     long overruns = 0, contactSteps = 0, nonFiniteEvents = 0;
     bool watchdogTripped = false;
     double maxForce_N = 0;
-    double maxProxyPenetration_m = 0;    // by the ray-parity test on the current surface, every step
+    double maxProxyPenetration_m = 0;    // by the ray-parity test on the current surface, every step until a cut opens it
     double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
     int substeps = 1;
+    // Cutting: what the scalpel did, how long cut events took, and whether the organ stayed sound.
+    cutting::CutStats cut;
+    long cutEvents = 0;
+    Summary cutTime_us;
+    std::vector<std::string> invariantProblems;  // empty: every cutting invariant holds at the end
     std::vector<haptics::StepOutput> log;  // every step
 };
 
-HapticRunResult runHaptic(const mesh::SurfaceMesh& mesh, physics::MassSpringModel& model, const haptics::Trajectory& trajectory,
-                          const HapticRunConfig& config);
+/// Replays the trajectory through the haptic loop on the organ, which the tool cuts when
+/// config.loop.cutThreshold_N is below the force it presses with.
+HapticRunResult runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory, const HapticRunConfig& config);
 
-/// The force log as CSV: t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face.
+/// The force log as CSV: t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut
+/// (cut: 1 when the scalpel changed the mesh in that step).
 std::string formatForceLog(const std::vector<haptics::StepOutput>& log);
 
 }  // namespace hapticut::scene
