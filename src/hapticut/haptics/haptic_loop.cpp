@@ -208,7 +208,8 @@ StepOutput HapticLoop::step() noexcept {
 void HapticLoop::afterTopologyChange() {
     faces_ = organ_->mesh().faces;
     const collision::SurfaceView view = surface();
-    bvh_.refit(view);       // faces split in place shrank
+    // No refit here: a face split in place becomes part of itself and an opened copy sits where its
+    // vertex was, so the old boxes still hold them; the step's own refit after the physics tightens them.
     bvh_.facesAdded(view);  // new faces are searched linearly until a rebuild pays
     stepper_.prepare(model_);  // new nodes and springs, springs moved to the opened copy, the stable step
     // Once a cut has opened, the surface has lips: no longer closed, so no ray-parity check.
