@@ -166,7 +166,7 @@ std::uint32_t CutModel::splitEdge(std::uint32_t a, std::uint32_t b, double u) {
     return p;
 }
 
-std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten) {
+std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten, double retract) {
     // In a consistently oriented mesh the face whose winding runs v -> next lies on the left of the cut.
     auto runs = [&](std::uint32_t f, std::uint32_t from, std::uint32_t to) {
         const mesh::Face& face = mesh_.faces[f];
@@ -241,6 +241,23 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
                 if (const auto k = springOf(copy, x); k && shortened_.insert(*k).second) s.restLength[*k] *= 1 - shorten;
             }
     shortened_.clear();
+    if (retract > 0) {
+        // The surface normal at v crossed with the cut's direction points across the cut, to the left lip.
+        const Vec3 along = mesh_.positions[next] - mesh_.positions[prev];
+        Vec3 normal = Vec3::Zero();
+        for (std::uint32_t copy : {v, w})
+            for (std::uint32_t f : facesAround_.around[copy]) {
+                const mesh::Face& c = mesh_.faces[f];
+                normal += (mesh_.positions[c[1]] - mesh_.positions[c[0]]).cross(mesh_.positions[c[2]] - mesh_.positions[c[0]]);
+            }
+        const Vec3 side = normal.cross(along);
+        if (side.norm() > 0) {
+            const double edge = 0.5 * ((mesh_.positions[v] - mesh_.positions[prev]).norm() + (mesh_.positions[next] - mesh_.positions[v]).norm());
+            const Vec3 shift = side.normalized() * (retract * edge);
+            n.restPosition[w] += shift;
+            n.restPosition[v] -= shift;
+        }
+    }
     return w;
 }
 

@@ -47,10 +47,13 @@ public:
     /// left of the cut (seen from outside) that use v get a duplicate v' at the same place: positioning
     /// spring, half of v's mass, the left side's springs moved to it, new springs along the cut edges for
     /// the new lip. Then every spring at v and v' except those along the cut (the lips) is shortened
-    /// by `shorten` (0.1: 10%), so the wound pulls open. The walk round v stops at the edge to prev or at a
+    /// by `shorten` (0.1: 10%), so the wound pulls open. Stiff positioning springs hold every node to its
+    /// anchor, so shortening alone barely opens a wound: `retract` moves the two copies' anchors apart,
+    /// each by that fraction of the local edge length, across the cut in the surface's plane, as cut
+    /// tissue under tension retracts. The walk round v stops at the edge to prev or at a
     /// boundary, so an already opened prev (a progressive cut) works the same. Returns v', or nothing
     /// when v has no face on the left of v -> next.
-    std::optional<std::uint32_t> openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten = 0.1);
+    std::optional<std::uint32_t> openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten = 0.1, double retract = 0);
 
     /// The smallest angle (degrees) of the faces splitEdge(a, b, u) would make, on the rest shape.
     double splitEdgeMinAngle_deg(std::uint32_t a, std::uint32_t b, double u) const;

@@ -30,7 +30,7 @@ void ProgressiveCutter::addPoint(std::uint32_t vertex) {
     if (points_.size() >= 3) {
         const std::size_t n = points_.size();
         const std::size_t before = model_.mesh().positions.size();
-        if (model_.openCut(points_[n - 3], points_[n - 2], points_[n - 1])) stats_.opened = true;
+        if (model_.openCut(points_[n - 3], points_[n - 2], points_[n - 1], params_.shorten, params_.retract)) stats_.opened = true;
         stats_.verticesAdded += static_cast<long>(model_.mesh().positions.size() - before);
     }
 }

@@ -18,6 +18,11 @@ struct CutterParams {
     double minAngle_deg = 10;
     /// A fast stroke may cross many faces in one step; more crossings than this in one call stop there.
     int maxCrossingsPerCall = 256;
+    /// Opening a cut point (R17): springs there shortened by this fraction (the thesis's 10%)...
+    double shorten = 0.1;
+    /// ...and the lips' anchors moved apart, each by this fraction of the local edge length, so the
+    /// wound gapes against the stiff positioning springs (see CutModel::openCut).
+    double retract = 0.3;
 };
 
 struct CutStats {
