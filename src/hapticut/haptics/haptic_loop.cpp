@@ -77,6 +77,11 @@ void HapticLoop::applyPendingCommands() noexcept {
             case LoopCommand::Kind::ResetWatchdog: stats_.watchdogTripped = false; break;
             case LoopCommand::Kind::Pause: paused_ = true; break;
             case LoopCommand::Kind::Resume: paused_ = false; break;
+            case LoopCommand::Kind::ScaleMass:
+            case LoopCommand::Kind::ScaleStructuralStiffness:
+            case LoopCommand::Kind::ScaleStructuralDamping:
+            case LoopCommand::Kind::ScalePositioningStiffness:
+            case LoopCommand::Kind::ScalePositioningDamping: scaleMaterial(c->kind, c->value); break;
         }
     }
 }
@@ -197,12 +202,37 @@ StepOutput HapticLoop::step() noexcept {
     out.face = contact.face;
     out.stepTime_us = elapsed_us;
     stats_.stepTime_us.record(elapsed_us);
+    maxStepSinceSnapshot_us_ = std::max(maxStepSinceSnapshot_us_, elapsed_us);
     stats_.maxForce_N = std::max(stats_.maxForce_N, force.norm());
     stats_.contactSteps += constrained;
     ++stats_.steps;
     if (stepIndex_ % config_.snapshotEvery == 0 || out.cut) publishSnapshot(out);
     ++stepIndex_;
     return out;
+}
+
+void HapticLoop::scaleMaterial(LoopCommand::Kind kind, double factor) noexcept {
+    if (!(factor > 0) || !std::isfinite(factor)) return;
+    auto scale = [factor](std::vector<double>& values) {
+        for (double& v : values) v *= factor;
+    };
+    using K = LoopCommand::Kind;
+    switch (kind) {
+        case K::ScaleMass:
+            scale(model_.nodes.mass);
+            for (double& m : model_.nodes.inverseMass) m /= factor;
+            break;
+        case K::ScaleStructuralStiffness: scale(model_.springs.stiffness); break;
+        case K::ScaleStructuralDamping: scale(model_.springs.damping); break;
+        case K::ScalePositioningStiffness: scale(model_.nodes.anchorStiffness); break;
+        case K::ScalePositioningDamping: scale(model_.nodes.anchorDamping); break;
+        default: return;
+    }
+    try {
+        stepper_.prepare(model_);  // a stiffer or lighter model needs a smaller step: substeps follow
+    } catch (...) {
+        stats_.watchdogTripped = true;  // out of memory re-preparing: stop pushing rather than step unprepared
+    }
 }
 
 void HapticLoop::afterTopologyChange() {
@@ -231,6 +261,16 @@ void HapticLoop::publishSnapshot(const StepOutput& out) {
     s.force_N = out.force_N;
     s.contact = out.contact;
     s.step = stepIndex_;
+    s.stepTime_us = out.stepTime_us;
+    s.maxStepTime_us = std::max(maxStepSinceSnapshot_us_, out.stepTime_us);
+    maxStepSinceSnapshot_us_ = 0;
+    s.stableStep_s = stepper_.stableStep_s();
+    s.substeps = stepper_.substepsFor(1 / config_.rate_hz);
+    s.overruns = stats_.overruns;
+    s.cutEvents = stats_.cutEvents;
+    s.contactSteps = stats_.contactSteps;
+    s.watchdogTripped = stats_.watchdogTripped;
+    s.paused = paused_;
     snapshots_.publish();
 }
 

@@ -69,10 +69,22 @@ struct Snapshot {
     Vec3 device_m = Vec3::Zero(), proxy_m = Vec3::Zero(), force_N = Vec3::Zero();
     bool contact = false;
     long step = 0;
+    // The loop's health, for the viewer's panel: reading LoopStats from another thread would race.
+    double stepTime_us = 0;     // of the step that published this
+    double maxStepTime_us = 0;  // the slowest step since the previous snapshot
+    double stableStep_s = 0;    // the integrator's stable step on the current model
+    int substeps = 1;
+    long overruns = 0, cutEvents = 0, contactSteps = 0;
+    bool watchdogTripped = false, paused = false;
 };
 
 struct LoopCommand {
-    enum class Kind { SetCouplingStiffness, SetCouplingDamping, SetMaxForceScale, SetCutThreshold, ResetModel, ResetWatchdog, Pause, Resume } kind;
+    enum class Kind {
+        SetCouplingStiffness, SetCouplingDamping, SetMaxForceScale, SetCutThreshold, ResetModel, ResetWatchdog, Pause, Resume,
+        // Material, live: each multiplies the model's current values by `value` (> 0) and re-prepares the
+        // stepper for the new stable step. That allocates, like a cut: a user's action, not steady state.
+        ScaleMass, ScaleStructuralStiffness, ScaleStructuralDamping, ScalePositioningStiffness, ScalePositioningDamping
+    } kind;
     double value = 0;
 };
 
@@ -116,6 +128,7 @@ private:
     void applyPendingCommands() noexcept;
     /// Brings the tree, the stepper and the proxy up to date after the cutter changed the mesh.
     void afterTopologyChange();
+    void scaleMaterial(LoopCommand::Kind kind, double factor) noexcept;
     void publishSnapshot(const StepOutput& out);
     void threadMain(long max_steps, std::function<void(const StepOutput&)> observer);
 
@@ -139,6 +152,7 @@ private:
     double maxForceScale_ = 1;
     bool paused_ = false;
     bool realtime_ = false;
+    double maxStepSinceSnapshot_us_ = 0;
     double preparedCouplingStiffness_ = 0;  // the stable step allows for a coupling up to this stiff
     std::atomic<bool> running_{false}, stopRequested_{false};
     std::thread thread_;
