@@ -17,5 +17,9 @@ Command addInfoCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);
 Command addAssetsCommand(CLI::App& app);
+#ifdef HAPTICUT_WITH_VIEWER
+Command addViewCommand(CLI::App& app);
+Command addScreenshotCommand(CLI::App& app);
+#endif
 
 }  // namespace hapticut::app

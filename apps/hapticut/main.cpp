@@ -1,4 +1,4 @@
-// hapticut: one executable with git-style subcommands (run, info, convert, bench).
+// hapticut: one executable with git-style subcommands (view, screenshot, run, info, convert, bench, assets).
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -14,8 +14,12 @@ int main(int argc, char** argv) {
 
     using hapticut::app::Command;
     std::vector<std::pair<CLI::App*, Command>> commands;
-    for (auto add : {hapticut::app::addRunCommand, hapticut::app::addInfoCommand, hapticut::app::addConvertCommand,
-                     hapticut::app::addBenchCommand, hapticut::app::addAssetsCommand}) {
+    for (auto add : {
+#ifdef HAPTICUT_WITH_VIEWER
+             hapticut::app::addViewCommand, hapticut::app::addScreenshotCommand,
+#endif
+             hapticut::app::addRunCommand, hapticut::app::addInfoCommand, hapticut::app::addConvertCommand, hapticut::app::addBenchCommand,
+             hapticut::app::addAssetsCommand}) {
         Command run = add(app);
         commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
     }

@@ -1,0 +1,71 @@
+// `hapticut view`: the interactive viewer on a scene or a model.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "commands.h"
+#include "viewer/viewer.h"
+
+namespace hapticut::app {
+
+namespace {
+
+struct ViewCommandOptions {
+    viewer::ViewerOptions viewer;
+    std::string model, stereo = "off", size = "1280x1024";
+    int triangles = 1619;
+};
+
+int view(ViewCommandOptions& o) {
+    const auto stereo = render::parseStereoMode(o.stereo);
+    if (!stereo) {
+        std::cerr << "hapticut view: unknown --stereo '" << o.stereo << "': expected off, quad, anaglyph or side-by-side\n";
+        return 2;
+    }
+    o.viewer.stereo = *stereo;
+    const auto x = o.size.find('x');
+    try {
+        if (x == std::string::npos) throw std::invalid_argument("no x");
+        o.viewer.width = std::stoi(o.size.substr(0, x));
+        o.viewer.height = std::stoi(o.size.substr(x + 1));
+    } catch (const std::exception&) {
+        o.viewer.width = 0;
+    }
+    if (o.viewer.width < 64 || o.viewer.height < 64 || o.viewer.width > 16384 || o.viewer.height > 16384) {
+        std::cerr << "hapticut view: --size takes WIDTHxHEIGHT, each 64 to 16384, found '" << o.size << "'\n";
+        return 2;
+    }
+    if (!o.viewer.screenshot.empty() && o.viewer.frames < 0) {
+        std::cerr << "hapticut view: --screenshot needs --frames: it captures the last frame\n";
+        return 2;
+    }
+    return viewer::runViewer(o.viewer);
+}
+
+}  // namespace
+
+Command addViewCommand(CLI::App& app) {
+    auto o = std::make_shared<ViewCommandOptions>();
+    CLI::App* cmd = app.add_subcommand("view", "Open the interactive viewer: press and cut the organ with the mouse (h lists the keys)");
+    cmd->add_option("--scene", o->viewer.choice.scene, "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
+    cmd->add_option("--model", o->model, "'heart' or a model file; overrides the scene's model");
+    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->check(CLI::Range(12, 20'000'000));
+    cmd->add_option("--tool", o->viewer.tool, "The tool in hand at the start")->capture_default_str();
+    cmd->add_option("--stereo", o->stereo, "off, quad, anaglyph or side-by-side")->capture_default_str();
+    cmd->add_flag("--fullscreen", o->viewer.fullscreen, "Fill the primary monitor");
+    cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT")->capture_default_str();
+    cmd->add_flag("--wireframe", o->viewer.wireframe, "Start in wireframe");
+    cmd->add_flag("--no-panel", o->viewer.hidePanel, "Start with the panel hidden (F1 shows it)");
+    cmd->add_option("--trajectory", o->viewer.trajectory, "Replay this device path instead of following the mouse");
+    cmd->add_option("--frames", o->viewer.frames, "Quit after this many frames, unthrottled (scripted runs, frame-rate measurements)")
+        ->check(CLI::Range(0L, 100'000'000L));
+    cmd->add_option("--screenshot", o->viewer.screenshot, "With --frames: write the last frame (panel and all) as a PNG");
+    cmd->add_option("--report", o->viewer.report, "Write a JSON report: frames, frame rate, haptic rate, renderer");
+    cmd->callback([o, cmd] {
+        if (cmd->count("--model")) o->viewer.choice.model = o->model;
+        if (cmd->count("--triangles")) o->viewer.choice.triangles = o->triangles;
+    });
+    return [o] { return view(*o); };
+}
+
+}  // namespace hapticut::app

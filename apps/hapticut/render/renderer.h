@@ -1,0 +1,60 @@
+// Draws one frame: the shaded organ, the tool at the proxy, the device and proxy markers, the force
+// arrow, in mono or stereo, into whatever framebuffer is bound.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "hapticut/mesh/surface_mesh.h"
+#include "render/camera.h"
+#include "render/stereo.h"
+
+namespace hapticut::render {
+
+/// What is in the scene this frame, independent of where it comes from (the loop's snapshot, a
+/// headless run). Spans must stay valid for the draw call only.
+struct SceneFrame {
+    std::span<const Vec3> organPositions;  // deformed, one per vertex
+    std::span<const mesh::Face> faces;     // read when topologyVersion differs from the last frame's
+    std::span<const mesh::FaceUvs> uvs;
+    long topologyVersion = 0;
+    int tool = 0;                          // index into the tools given to the renderer; -1: none
+    Vec3 proxy_m = Vec3::Zero(), device_m = Vec3::Zero(), force_N = Vec3::Zero();
+    bool contact = false;
+    bool showDevice = true;                // the tool, markers and force arrow
+    double maxForce_N = 3.3;               // the arrow turns red at this force
+};
+
+struct ViewSettings {
+    OrbitCamera camera;
+    StereoMode stereo = StereoMode::Off;
+    double eyeSeparation_m = 0.012, focalLength_m = 0.35;
+    bool wireframe = false;
+    bool normalMapping = true;
+    bool quadBufferAvailable = false;      // the bound framebuffer has left and right back buffers
+    double forceArrowLength_m_per_N = 0.01;
+};
+
+class Renderer {
+public:
+    /// Compiles the shaders and uploads the generated textures; nothing (with `error`) when the GL
+    /// context lacks what is needed. `tools` are drawn with their tip at the proxy.
+    static std::unique_ptr<Renderer> create(std::span<const mesh::SurfaceMesh> tools, std::string& error, int textureSize = 512);
+    ~Renderer();
+
+    /// Draws into the bound framebuffer's (0, 0, width, height).
+    void draw(const SceneFrame& frame, const ViewSettings& view, int width, int height);
+    /// Forget the organ's topology, e.g. after the model was reset to a different mesh.
+    void invalidateOrgan();
+
+private:
+    struct Impl;
+    explicit Renderer(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hapticut::render

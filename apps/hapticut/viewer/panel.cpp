@@ -1,0 +1,184 @@
+// The panel: what the loop is doing, the tool, the device, the material, the files.
+#include "viewer/panel.h"
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include "hapticut/mesh/io/load_error.h"
+
+namespace hapticut::viewer {
+
+const std::vector<KeyHelp> kKeyHelp = {
+    {"1 / 2", "hold the probe / the scalpel"},
+    {"left drag", "engage the device at the surface and move it (press, stroke, cut)"},
+    {"wheel (engaged)", "push the device in / pull it out, 1 mm a click"},
+    {"right drag", "orbit the camera"},
+    {"middle drag, shift+right", "pan the camera"},
+    {"wheel", "zoom"},
+    {"w", "wireframe on/off (R18)"},
+    {"b", "bump mapping on/off"},
+    {"s", "stereo: off, anaglyph, side-by-side, quad buffer"},
+    {"4 / 5", "eye separation down / up"},
+    {"6 / 7", "focal length down / up"},
+    {"r", "reset the model (undo every cut)"},
+    {"space", "pause / resume the physics"},
+    {"f", "frame the organ"},
+    {"h", "this help"},
+    {"F1", "the panel"},
+    {"Esc, q", "quit"},
+};
+
+void drawHelp() {
+    ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x * 0.5f, ImGui::GetIO().DisplaySize.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    ImGui::Begin("Keys", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
+    if (ImGui::BeginTable("keys", 2)) {
+        for (const KeyHelp& k : kKeyHelp) {
+            ImGui::TableNextRow();
+            ImGui::TableSetColumnIndex(0);
+            ImGui::TextColored(ImVec4(1, 0.85f, 0.4f, 1), "%s", k.key);
+            ImGui::TableSetColumnIndex(1);
+            ImGui::TextUnformatted(k.what);
+        }
+        ImGui::EndTable();
+    }
+    ImGui::End();
+}
+
+namespace {
+
+void section(const char* title) {
+    ImGui::Spacing();
+    ImGui::Separator();
+    ImGui::TextColored(ImVec4(1, 0.85f, 0.4f, 1), "%s", title);
+}
+
+void materialSlider(Session& session, const char* label, MaterialKnob knob) {
+    float scale = static_cast<float>(session.materialScale(knob));
+    if (ImGui::SliderFloat(label, &scale, 0.1f, 10.0f, "x %.2f", ImGuiSliderFlags_Logarithmic)) session.setMaterialScale(knob, scale);
+}
+
+void loopSection(Session& session, const haptics::Snapshot& s, const Rates& rates) {
+    ImGui::Text("render %.0f fps   haptic %.0f Hz", rates.renderFps, rates.hapticRate_hz);
+    ImGui::Text("step %.1f us (max %.1f us)   %d substep%s", s.stepTime_us, s.maxStepTime_us, s.substeps, s.substeps == 1 ? "" : "s");
+    ImGui::Text("stable step %.2f ms   overruns %ld   cut events %ld", s.stableStep_s * 1e3, s.overruns, s.cutEvents);
+    if (s.watchdogTripped) {
+        ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "watchdog tripped: force is zero");
+        ImGui::SameLine();
+        if (ImGui::SmallButton("reset")) session.loop().commands().push({haptics::LoopCommand::Kind::ResetWatchdog, 0});
+    }
+    if (s.paused) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "physics paused (space)");
+    haptics::LoopConfig& c = session.config();
+    int scheme = static_cast<int>(c.scheme);
+    const char* schemes[] = {"euler", "midpoint", "rk4", "symplectic"};
+    bool restart = ImGui::Combo("integrator", &scheme, schemes, 4);
+    float rate = static_cast<float>(c.rate_hz);
+    ImGui::SliderFloat("loop rate", &rate, 250.0f, 4000.0f, "%.0f Hz", ImGuiSliderFlags_Logarithmic);
+    restart |= ImGui::IsItemDeactivatedAfterEdit();
+    if (restart) {
+        c.scheme = static_cast<physics::Scheme>(scheme);
+        c.rate_hz = rate;
+        session.restartLoop();
+    }
+}
+
+}  // namespace
+
+void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snapshot& s, const Rates& rates, const ForcePlot& plot, PanelState& state) {
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
+    ImGui::Begin("Hapticut");
+    loopSection(session, s, rates);
+
+    section("Force");
+    ImGui::Text("|F| %.2f N  (%.2f, %.2f, %.2f)  %s", s.force_N.norm(), s.force_N.x(), s.force_N.y(), s.force_N.z(), s.contact ? "contact" : "free");
+    plot.draw(session.scene().settings.maxForce_N, ImGui::GetContentRegionAvail().x, 110);
+
+    section("Tool");
+    const auto& tools = session.scene().tools;
+    for (std::size_t i = 0; i < tools.size(); ++i) {
+        if (i) ImGui::SameLine();
+        if (ImGui::RadioButton(tools[i].name.c_str(), session.tool() == i)) session.setTool(i);
+    }
+    haptics::LoopConfig& c = session.config();
+    float threshold = static_cast<float>(std::min(c.cutThreshold_N, 100.0));
+    if (ImGui::SliderFloat("cut threshold", &threshold, 0.2f, 100.0f, threshold >= 100 ? "never cuts" : "%.2f N", ImGuiSliderFlags_Logarithmic)) {
+        c.cutThreshold_N = threshold >= 100 ? 1e9 : threshold;
+        session.loop().commands().push({haptics::LoopCommand::Kind::SetCutThreshold, c.cutThreshold_N});
+    }
+
+    section("Device");
+    if (session.replaying()) ImGui::Text("replaying %s", session.replayFile().c_str());
+    float k = static_cast<float>(c.couplingStiffness_N_per_m);
+    if (ImGui::SliderFloat("stiffness k_h", &k, 10.0f, 2000.0f, "%.0f N/m", ImGuiSliderFlags_Logarithmic)) {
+        c.couplingStiffness_N_per_m = k;
+        session.loop().commands().push({haptics::LoopCommand::Kind::SetCouplingStiffness, k});
+    }
+    if (ImGui::IsItemDeactivatedAfterEdit()) session.restartLoop();  // a stiffer coupling needs the stable step prepared for it
+    float b = static_cast<float>(c.couplingDamping_Ns_per_m);
+    if (ImGui::SliderFloat("damping b_h", &b, 0.0f, 3.0f, "%.2f Ns/m")) {
+        c.couplingDamping_Ns_per_m = b;
+        session.loop().commands().push({haptics::LoopCommand::Kind::SetCouplingDamping, b});
+    }
+    static float maxForceScale = 1;
+    if (ImGui::SliderFloat("max force", &maxForceScale, 0.0f, 1.0f, "%.2f of the device's")) {
+        session.loop().commands().push({haptics::LoopCommand::Kind::SetMaxForceScale, maxForceScale});
+    }
+
+    section("Tissue (x the scene's values)");
+    materialSlider(session, "mass", MaterialKnob::Mass);
+    materialSlider(session, "structural k", MaterialKnob::StructuralStiffness);
+    materialSlider(session, "structural d", MaterialKnob::StructuralDamping);
+    materialSlider(session, "positioning k", MaterialKnob::PositioningStiffness);
+    materialSlider(session, "positioning d", MaterialKnob::PositioningDamping);
+
+    section("View");
+    ImGui::Checkbox("wireframe (w)", &view.wireframe);
+    ImGui::SameLine();
+    ImGui::Checkbox("bump mapping (b)", &view.normalMapping);
+    int stereo = static_cast<int>(view.stereo);
+    const char* modes[] = {"off", "quad buffer", "anaglyph", "side by side"};
+    if (ImGui::Combo("stereo (s)", &stereo, modes, 4)) view.stereo = static_cast<render::StereoMode>(stereo);
+    float separation = static_cast<float>(view.eyeSeparation_m * 1e3), focal = static_cast<float>(view.focalLength_m * 1e3);
+    if (ImGui::SliderFloat("eye separation", &separation, 0.0f, 60.0f, "%.1f mm")) view.eyeSeparation_m = separation * 1e-3;
+    if (ImGui::SliderFloat("focal length", &focal, 20.0f, 2000.0f, "%.0f mm", ImGuiSliderFlags_Logarithmic)) view.focalLength_m = focal * 1e-3;
+
+    section("Files");
+    ImGui::InputText("##model", &state.modelPath);
+    ImGui::SameLine();
+    if (ImGui::Button("load model")) {
+        std::string error;
+        state.message = session.loadModel(state.modelPath, error) ? "loaded " + state.modelPath : error;
+    }
+    ImGui::InputText("##export", &state.exportPath);
+    ImGui::SameLine();
+    if (ImGui::Button("export mesh")) {
+        const auto error = session.exportMesh(state.exportPath, s);
+        state.message = error ? *error : "wrote " + state.exportPath;
+    }
+    ImGui::InputText("##record", &state.recordPath);
+    ImGui::SameLine();
+    if (!state.recording && ImGui::Button("record")) {
+        state.recorded.clear();
+        state.recording = true;
+        state.message = "recording the device path";
+    } else if (state.recording && ImGui::Button("stop")) {
+        state.recording = false;
+        const auto error = mesh::io::writeTextFileAtomically(state.recordPath, haptics::formatRecording(state.recorded));
+        state.message = error ? error->toString() : "wrote " + std::to_string(state.recorded.size()) + " samples to " + state.recordPath;
+    }
+    ImGui::InputText("##replay", &state.replayPath);
+    ImGui::SameLine();
+    if (ImGui::Button(session.replaying() ? "mouse" : "replay")) {
+        std::string error;
+        if (session.replaying())
+            session.useMouse();
+        else
+            state.message = session.replay(state.replayPath, error) ? "replaying " + state.replayPath : error;
+    }
+    if (ImGui::Button("reset model (r)")) session.resetModel();
+    if (!state.message.empty()) ImGui::TextWrapped("%s", state.message.c_str());
+    ImGui::End();
+}
+
+}  // namespace hapticut::viewer

@@ -1,0 +1,38 @@
+// The Dear ImGui panel (live tuning, rates, forces, files) and the help overlay listing every key.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "hapticut/haptics/haptic_loop.h"
+#include "render/renderer.h"
+#include "viewer/force_plot.h"
+#include "viewer/session.h"
+
+namespace hapticut::viewer {
+
+struct Rates {
+    double renderFps = 0;
+    double hapticRate_hz = 0;
+};
+
+/// What the panel keeps between frames: text fields, a recording, the last message.
+struct PanelState {
+    std::string modelPath, exportPath = "heart-cut.obj", replayPath, recordPath = "recording.csv";
+    std::string message;
+    bool recording = false;
+    std::vector<haptics::StepOutput> recorded;  // the device path at the display rate, while recording
+};
+
+void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snapshot& snapshot, const Rates& rates, const ForcePlot& plot,
+               PanelState& state);
+
+struct KeyHelp {
+    const char* key;
+    const char* what;
+};
+/// Every key and mouse action of the viewer, as the help overlay (h) shows them.
+extern const std::vector<KeyHelp> kKeyHelp;
+void drawHelp();
+
+}  // namespace hapticut::viewer

@@ -1,0 +1,351 @@
+// The viewer's window loop: events, the mouse device, one rendered frame, the panel, swap.
+#include "viewer/viewer.h"
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "hapticut/mesh/io/load_error.h"
+#include "render/gl_context.h"
+#include "render/offscreen.h"
+#include "render/renderer.h"
+#include "viewer/force_plot.h"
+#include "viewer/mouse_device.h"
+#include "viewer/panel.h"
+#include "viewer/session.h"
+
+namespace hapticut::viewer {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class Viewer {
+public:
+    Viewer(const ViewerOptions& options, std::unique_ptr<render::GlWindow> window, std::unique_ptr<render::Renderer> renderer, app::LoadedScene scene)
+        : options_(options), window_(std::move(window)), renderer_(std::move(renderer)), session_(std::move(scene)) {
+        view_.stereo = options.stereo;
+        view_.quadBufferAvailable = window_->hasQuadStereo();
+        view_.wireframe = options.wireframe || session_.scene().settings.wireframe;
+        showPanel_ = !options.hidePanel;
+        frameOrgan();
+        if (const auto tool = session_.scene().toolIndex(options.tool)) session_.setTool(*tool);
+    }
+
+    int run();
+    void frameOrgan();
+
+private:
+    void onKey(int key, int mods);
+    void onMouseButton(int button, int action, int mods);
+    void onScroll(double dy);
+    void onCursor(double x, double y);
+    void updateDevice(const haptics::Snapshot& snapshot);
+    render::Ray cursorRay() const;
+
+    static Viewer& of(GLFWwindow* w) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
+
+    ViewerOptions options_;
+    std::unique_ptr<render::GlWindow> window_;
+    std::unique_ptr<render::Renderer> renderer_;
+    Session session_;
+    render::ViewSettings view_;
+    MouseDriver mouse_;
+    ForcePlot plot_;
+    PanelState panel_;
+    bool showPanel_ = true, showHelp_ = false, paused_ = false;
+    bool orbiting_ = false, panning_ = false;
+    double cursorX_ = 0, cursorY_ = 0, lastX_ = 0, lastY_ = 0;
+};
+
+void Viewer::frameOrgan() {
+    Eigen::AlignedBox3d box;
+    for (const Vec3& p : session_.scene().source.mesh.positions) box.extend(p);
+    view_.camera.frame(box.center(), 0.5 * box.diagonal().norm());
+    view_.focalLength_m = view_.camera.distance_m;
+    view_.eyeSeparation_m = view_.camera.distance_m / 30;
+    view_.forceArrowLength_m_per_N = 0.1 * box.diagonal().norm() / std::max(session_.scene().settings.maxForce_N, 0.1);
+}
+
+render::Ray Viewer::cursorRay() const {
+    int w = 0, h = 0;
+    glfwGetWindowSize(window_->handle(), &w, &h);
+    double x = cursorX_, width = w;
+    // Side by side: each half is a view of its own; aim from the half the cursor is in.
+    if (view_.stereo == render::StereoMode::SideBySide) {
+        width = w / 2.0;
+        if (x > width) x -= width;
+    }
+    const double ndcX = 2 * x / std::max(width, 1.0) - 1, ndcY = 1 - 2 * cursorY_ / std::max(h, 1);
+    return render::rayThrough(view_.camera, ndcX, ndcY, width / std::max(h, 1));
+}
+
+void Viewer::onKey(int key, int mods) {
+    using render::StereoMode;
+    switch (key) {
+        case GLFW_KEY_1: session_.setTool(0); break;
+        case GLFW_KEY_2: session_.setTool(1); break;
+        case GLFW_KEY_W: view_.wireframe = !view_.wireframe; break;
+        case GLFW_KEY_B: view_.normalMapping = !view_.normalMapping; break;
+        case GLFW_KEY_S:
+            view_.stereo = view_.stereo == StereoMode::Off        ? StereoMode::Anaglyph
+                           : view_.stereo == StereoMode::Anaglyph ? StereoMode::SideBySide
+                           : view_.stereo == StereoMode::SideBySide ? StereoMode::QuadBuffer
+                                                                    : StereoMode::Off;
+            if (view_.stereo == StereoMode::QuadBuffer && !view_.quadBufferAvailable)
+                panel_.message = "no quad-buffer stereo on this display: showing anaglyph (start with --stereo quad on a stereo-capable GPU)";
+            break;
+        case GLFW_KEY_4: view_.eyeSeparation_m = std::max(0.0, view_.eyeSeparation_m * 0.9); break;
+        case GLFW_KEY_5: view_.eyeSeparation_m = std::max(1e-4, view_.eyeSeparation_m * 1.1); break;
+        case GLFW_KEY_6: view_.focalLength_m *= 0.9; break;
+        case GLFW_KEY_7: view_.focalLength_m *= 1.1; break;
+        case GLFW_KEY_R:
+            session_.resetModel();
+            renderer_->invalidateOrgan();
+            plot_.clear();
+            break;
+        case GLFW_KEY_SPACE:
+            paused_ = !paused_;
+            session_.loop().commands().push({paused_ ? haptics::LoopCommand::Kind::Pause : haptics::LoopCommand::Kind::Resume, 0});
+            break;
+        case GLFW_KEY_F: frameOrgan(); break;
+        case GLFW_KEY_H: showHelp_ = !showHelp_; break;
+        case GLFW_KEY_F1: showPanel_ = !showPanel_; break;
+        case GLFW_KEY_ESCAPE:
+        case GLFW_KEY_Q: glfwSetWindowShouldClose(window_->handle(), GLFW_TRUE); break;
+        default: break;
+    }
+    (void)mods;
+}
+
+void Viewer::onMouseButton(int button, int action, int mods) {
+    const bool down = action == GLFW_PRESS;
+    if (button == GLFW_MOUSE_BUTTON_LEFT) {
+        if (down && !session_.replaying()) {
+            const haptics::Snapshot& s = session_.loop().snapshots().readLatest();
+            const render::Ray ray = cursorRay();
+            mouse_.engage(view_.camera, ray, pickSurface(ray, s.positions, s.faces));
+        } else if (!down) {
+            mouse_.release();
+        }
+    } else if (button == GLFW_MOUSE_BUTTON_RIGHT) {
+        orbiting_ = down && !(mods & GLFW_MOD_SHIFT);
+        panning_ = down && (mods & GLFW_MOD_SHIFT);
+    } else if (button == GLFW_MOUSE_BUTTON_MIDDLE) {
+        panning_ = down;
+    }
+    lastX_ = cursorX_;
+    lastY_ = cursorY_;
+}
+
+void Viewer::onScroll(double dy) {
+    if (mouse_.engaged())
+        mouse_.push(dy);
+    else
+        view_.camera.zoom(dy);
+}
+
+void Viewer::onCursor(double x, double y) {
+    cursorX_ = x;
+    cursorY_ = y;
+    const double dx = x - lastX_, dy = y - lastY_;
+    if (orbiting_) view_.camera.orbit(-dx * 0.008, dy * 0.008);
+    if (panning_) {
+        const double perPixel = view_.camera.distance_m * 0.0015;
+        view_.camera.pan(-dx * perPixel, dy * perPixel);
+    }
+    lastX_ = x;
+    lastY_ = y;
+}
+
+void Viewer::updateDevice(const haptics::Snapshot& snapshot) {
+    if (session_.replaying()) return;
+    const render::Ray ray = cursorRay();
+    Vec3 position;
+    if (mouse_.engaged())
+        position = mouse_.drag(view_.camera, ray);
+    else
+        position = mouse_.hover(view_.camera, ray, pickSurface(ray, snapshot.positions, snapshot.faces));
+    session_.mouseDevice().setPosition(position, mouse_.engaged() ? 1u : 0u);
+}
+
+int Viewer::run() {
+    GLFWwindow* w = window_->handle();
+    glfwSetWindowUserPointer(w, this);
+    // Ours first; ImGui's backend chains to them, and we skip what ImGui wants for itself.
+    glfwSetKeyCallback(w, [](GLFWwindow* win, int key, int, int action, int mods) {
+        if (action == GLFW_PRESS && !ImGui::GetIO().WantCaptureKeyboard) of(win).onKey(key, mods);
+    });
+    glfwSetMouseButtonCallback(w, [](GLFWwindow* win, int button, int action, int mods) {
+        if (action == GLFW_PRESS && ImGui::GetIO().WantCaptureMouse) return;
+        of(win).onMouseButton(button, action, mods);
+    });
+    glfwSetScrollCallback(w, [](GLFWwindow* win, double, double dy) {
+        if (!ImGui::GetIO().WantCaptureMouse) of(win).onScroll(dy);
+    });
+    glfwSetCursorPosCallback(w, [](GLFWwindow* win, double x, double y) { of(win).onCursor(x, y); });
+
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the user's folder
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(w, true);
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+    glfwSwapInterval(options_.frames >= 0 ? 0 : 1);  // scripted runs measure the frame rate, unthrottled
+
+    if (!options_.trajectory.empty()) {
+        std::string error;
+        if (!session_.replay(options_.trajectory, error)) {
+            std::cerr << error << "\n";
+            return 1;
+        }
+    }
+    long frames = 0;
+    int fbw = 0, fbh = 0;
+    const auto start = Clock::now();
+    auto rateClock = start;
+    long rateFrames = 0, rateStep = session_.loop().snapshots().readLatest().step;
+    Rates rates;
+    while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames)) {
+        glfwPollEvents();
+        const haptics::Snapshot& s = session_.loop().snapshots().readLatest();
+        updateDevice(s);
+        const double t_s = std::chrono::duration<double>(Clock::now() - start).count();
+        plot_.add(t_s, s.force_N);
+        if (panel_.recording) {
+            haptics::StepOutput sample;
+            sample.t_s = t_s;
+            sample.device_m = s.device_m;
+            sample.proxy_m = s.proxy_m;
+            sample.force_N = s.force_N;
+            sample.buttons = mouse_.engaged() ? 1u : 0u;
+            panel_.recorded.push_back(sample);
+        }
+
+        render::SceneFrame frame;
+        frame.organPositions = s.positions;
+        frame.faces = s.faces;
+        frame.uvs = s.uvs;
+        frame.topologyVersion = s.topologyVersion + 1'000'000 * session_.resets();  // a reset is a new topology too
+        frame.tool = static_cast<int>(session_.tool());
+        frame.proxy_m = s.proxy_m;
+        frame.device_m = s.device_m;
+        frame.force_N = s.force_N;
+        frame.contact = s.contact;
+        frame.maxForce_N = session_.scene().settings.maxForce_N;
+        glfwGetFramebufferSize(w, &fbw, &fbh);
+        renderer_->draw(frame, view_, fbw, fbh);
+
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        if (showPanel_) drawPanel(session_, view_, s, rates, plot_, panel_);
+        if (showHelp_) drawHelp();
+        if (!showPanel_ && !showHelp_) {
+            ImGui::SetNextWindowPos(ImVec2(10, 10));
+            ImGui::SetNextWindowBgAlpha(0.5f);
+            ImGui::Begin("##rates", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize);
+            ImGui::Text("%.0f fps  %.0f Hz  |F| %.2f N   h: keys", rates.renderFps, rates.hapticRate_hz, s.force_N.norm());
+            ImGui::End();
+        }
+        ImGui::Render();
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+
+        ++frames;
+        ++rateFrames;
+        const double since = std::chrono::duration<double>(Clock::now() - rateClock).count();
+        if (since >= 0.5) {
+            rates.renderFps = static_cast<double>(rateFrames) / since;
+            rates.hapticRate_hz = static_cast<double>(s.step - rateStep) / since;
+            rateClock = Clock::now();
+            rateFrames = 0;
+            rateStep = s.step;
+        }
+        if (options_.frames >= 0 && frames == options_.frames && !options_.screenshot.empty()) {
+            glFinish();
+            if (const auto error = render::savePng(options_.screenshot, render::readWindow(fbw, fbh))) {
+                std::cerr << "hapticut view: " << *error << "\n";
+                return 1;
+            }
+            std::cout << "wrote the last frame to " << options_.screenshot << "\n";
+        }
+        glfwSwapBuffers(w);
+    }
+    glFinish();
+    const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+    const haptics::Snapshot& last = session_.loop().snapshots().readLatest();
+    const double fps = static_cast<double>(frames) / std::max(wall_s, 1e-9);
+    std::cout << "rendered " << frames << " frames in " << wall_s << " s: " << fps << " fps (" << window_->rendererDescription() << "); haptic loop "
+              << last.step << " steps, " << last.overruns << " overruns\n";
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    if (!options_.report.empty()) {
+        nlohmann::ordered_json j;
+        j["model"] = session_.scene().source.name;
+        j["faces"] = last.faces.size();
+        j["size"] = {fbw, fbh};
+        j["stereo"] = render::stereoModeName(view_.stereo);
+        j["frames"] = frames;
+        j["wall_time_s"] = wall_s;
+        j["fps"] = fps;
+        j["haptic_steps"] = last.step;
+        j["haptic_rate_hz"] = static_cast<double>(last.step) / std::max(wall_s, 1e-9);
+        j["overruns"] = last.overruns;
+        j["renderer"] = window_->rendererDescription();
+        if (const auto error = mesh::io::writeTextFileAtomically(options_.report, j.dump(2) + "\n")) {
+            std::cerr << error->toString() << "\n";
+            return 1;
+        }
+        std::cout << "wrote the report to " << options_.report << "\n";
+    }
+    return 0;
+}
+
+}  // namespace
+
+int runViewer(const ViewerOptions& options) {
+    auto scene = app::loadScene(options.choice);
+    if (!scene) return 1;
+    if (!scene->toolIndex(options.tool)) {
+        std::cerr << "hapticut view: unknown tool '" << options.tool << "': the scene has";
+        for (const app::LoadedTool& t : scene->tools) std::cerr << " " << t.name;
+        std::cerr << "\n";
+        return 2;
+    }
+    render::WindowOptions windowOptions;
+    windowOptions.width = options.width;
+    windowOptions.height = options.height;
+    windowOptions.fullscreen = options.fullscreen;
+    windowOptions.quadStereo = options.stereo == render::StereoMode::QuadBuffer;
+    windowOptions.title = "Hapticut: " + scene->source.name;
+    std::string error;
+    auto window = render::GlWindow::open(windowOptions, error);
+    if (!window) {
+        std::cerr << "hapticut view: " << error << "\n";
+        return 1;
+    }
+    if (windowOptions.quadStereo && !window->hasQuadStereo())
+        std::cerr << "hapticut view: this display offers no quad-buffer stereo; showing anaglyph (red-cyan) instead\n";
+    std::vector<mesh::SurfaceMesh> tools;
+    for (const app::LoadedTool& t : scene->tools) tools.push_back(t.mesh);
+    auto renderer = render::Renderer::create(tools, error);
+    if (!renderer) {
+        std::cerr << "hapticut view: " << error << " (" << window->rendererDescription() << ")\n";
+        return 1;
+    }
+    Viewer viewer(options, std::move(window), std::move(renderer), std::move(*scene));
+    return viewer.run();
+}
+
+}  // namespace hapticut::viewer

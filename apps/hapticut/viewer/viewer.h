@@ -1,0 +1,28 @@
+// `hapticut view`: the interactive window (SPEC R18-R20, appendix A).
+#pragma once
+
+#include <string>
+
+#include "render/stereo.h"
+#include "scene_setup.h"
+
+namespace hapticut::viewer {
+
+struct ViewerOptions {
+    app::SceneChoice choice;
+    render::StereoMode stereo = render::StereoMode::Off;
+    bool fullscreen = false;
+    int width = 1280, height = 1024;
+    long frames = -1;            // quit after this many frames (scripted runs, benchmarks); negative: until closed
+    std::string screenshot;      // with frames: the last frame, panel and all, as a PNG
+    std::string trajectory;      // replay this device path instead of following the mouse
+    std::string tool = "probe";
+    std::string report;          // JSON: frames, frame rate, haptic rate, renderer
+    bool wireframe = false;
+    bool hidePanel = false;
+};
+
+/// Runs the viewer until the window closes (or `frames` are drawn); the exit code.
+int runViewer(const ViewerOptions& options);
+
+}  // namespace hapticut::viewer
