@@ -59,6 +59,7 @@ Command addViewCommand(CLI::App& app) {
     cmd->add_option("--trajectory", o->viewer.trajectory, "Replay this device path instead of following the mouse");
     cmd->add_option("--frames", o->viewer.frames, "Quit after this many frames, unthrottled (scripted runs, frame-rate measurements)")
         ->check(CLI::Range(0L, 100'000'000L));
+    cmd->add_option("--quit-after", o->viewer.quitAfter_s, "Quit after this many seconds (scripted runs)")->check(CLI::Range(0.0, 1e7));
     cmd->add_option("--screenshot", o->viewer.screenshot, "With --frames: write the last frame (panel and all) as a PNG");
     cmd->add_option("--report", o->viewer.report, "Write a JSON report: frames, frame rate, haptic rate, renderer");
     cmd->callback([o, cmd] {

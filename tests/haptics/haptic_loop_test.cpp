@@ -188,5 +188,30 @@ TEST(HapticLoop, CommandsReachTheLoop) {
     EXPECT_EQ(after, 0.0);
 }
 
+TEST(HapticLoop, MaterialCommandsScaleTheModelLiveAndTheStableStepFollows) {
+    HeartScene h;
+    VirtualDevice device;
+    device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));
+    const double k0 = h.model.springs.stiffness[5], anchor0 = h.model.nodes.anchorStiffness[5], m0 = h.model.nodes.mass[5];
+    HapticLoop loop(h.model, h.mesh.faces, device);
+    loop.runSimulated(8);
+    const double stable0 = loop.snapshots().readLatest().stableStep_s;
+    ASSERT_GT(stable0, 0);
+    ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScalePositioningStiffness, 4.0}));
+    ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScaleStructuralStiffness, 2.0}));
+    ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScaleMass, 0.5}));
+    ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScaleMass, -1.0}));  // refused: not a scale
+    loop.runSimulated(8);
+    EXPECT_DOUBLE_EQ(h.model.springs.stiffness[5], 2 * k0);
+    EXPECT_DOUBLE_EQ(h.model.nodes.anchorStiffness[5], 4 * anchor0);
+    EXPECT_DOUBLE_EQ(h.model.nodes.mass[5], 0.5 * m0);
+    EXPECT_DOUBLE_EQ(h.model.nodes.inverseMass[5], 2 / m0);
+    // Stiffer and lighter: the anchors' omega grows by sqrt(4 / 0.5), so the stable step shrinks (by
+    // less than that factor: damping and the tool coupling, unchanged, also bound it).
+    const double stable1 = loop.snapshots().readLatest().stableStep_s;
+    EXPECT_LT(stable1, 0.75 * stable0);
+    EXPECT_FALSE(loop.snapshots().readLatest().watchdogTripped);
+}
+
 }  // namespace
 }  // namespace hapticut::haptics

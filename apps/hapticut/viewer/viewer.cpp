@@ -216,7 +216,8 @@ int Viewer::run() {
     auto rateClock = start;
     long rateFrames = 0, rateStep = session_.loop().snapshots().readLatest().step;
     Rates rates;
-    while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames)) {
+    const auto timeIsUp = [&] { return options_.quitAfter_s >= 0 && std::chrono::duration<double>(Clock::now() - start).count() >= options_.quitAfter_s; };
+    while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames) && !timeIsUp()) {
         glfwPollEvents();
         const haptics::Snapshot& s = session_.loop().snapshots().readLatest();
         updateDevice(s);
@@ -302,6 +303,7 @@ int Viewer::run() {
         j["haptic_steps"] = last.step;
         j["haptic_rate_hz"] = static_cast<double>(last.step) / std::max(wall_s, 1e-9);
         j["overruns"] = last.overruns;
+        j["cut_events"] = last.cutEvents;
         j["renderer"] = window_->rendererDescription();
         if (const auto error = mesh::io::writeTextFileAtomically(options_.report, j.dump(2) + "\n")) {
             std::cerr << error->toString() << "\n";

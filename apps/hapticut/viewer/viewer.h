@@ -14,6 +14,7 @@ struct ViewerOptions {
     bool fullscreen = false;
     int width = 1280, height = 1024;
     long frames = -1;            // quit after this many frames (scripted runs, benchmarks); negative: until closed
+    double quitAfter_s = -1;     // quit after this long on the wall clock; negative: until closed
     std::string screenshot;      // with frames: the last frame, panel and all, as a PNG
     std::string trajectory;      // replay this device path instead of following the mouse
     std::string tool = "probe";
