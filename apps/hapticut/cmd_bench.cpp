@@ -15,6 +15,9 @@
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/material.h"
 #include "terminal.h"
+#ifdef HAPTICUT_WITH_VIEWER
+#include "render/frame_rate.h"
+#endif
 
 namespace hapticut::app {
 
@@ -26,7 +29,50 @@ struct BenchOptions {
     double seconds = 0.5;
     std::string json;
     bool haptics = false;
+    bool render = false;
+    std::vector<std::string> sizes = {"1280x1024", "1600x1200"};
 };
+
+#ifdef HAPTICUT_WITH_VIEWER
+/// Frames per second, mono and side-by-side stereo, at each size and heart, with the loop running.
+bool benchRender(const BenchOptions& o, nlohmann::ordered_json& out) {
+    std::vector<render::FrameRateCase> cases;
+    for (int triangles : o.triangles)
+        for (const std::string& size : o.sizes) {
+            const auto x = size.find('x');
+            int w = 0, h = 0;
+            if (x == std::string::npos || std::sscanf(size.c_str(), "%dx%d", &w, &h) != 2 || w < 16 || h < 16) {
+                std::cerr << "hapticut bench: --sizes takes WIDTHxHEIGHT, found '" << size << "'\n";
+                return false;
+            }
+            for (render::StereoMode mode : {render::StereoMode::Off, render::StereoMode::SideBySide}) cases.push_back({triangles, w, h, mode});
+        }
+    std::printf("\n%10s %11s %13s %10s %12s\n", "triangles", "size", "stereo", "fps", "haptic Hz");
+    std::vector<render::FrameRateResult> results;
+    std::string renderer, error;
+    const bool ok = render::measureFrameRates(cases, o.seconds, results, renderer, error, [](const render::FrameRateResult& r) {
+        std::printf("%10d %5dx%-5d %13s %10.1f %12.0f\n", r.faces, r.what.width, r.what.height, std::string(render::stereoModeName(r.what.stereo)).c_str(),
+                    r.fps, r.hapticRate_hz);
+        std::fflush(stdout);
+    });
+    if (!ok) {
+        std::cerr << "hapticut bench --render: " << error << "\n";
+        return false;
+    }
+    std::printf("renderer: %s\n", renderer.c_str());
+    out["renderer"] = renderer;
+    out["results"] = nlohmann::ordered_json::array();
+    for (const render::FrameRateResult& r : results)
+        out["results"].push_back({{"triangles", r.faces},
+                                  {"width", r.what.width},
+                                  {"height", r.what.height},
+                                  {"stereo", render::stereoModeName(r.what.stereo)},
+                                  {"frames", r.frames},
+                                  {"fps", r.fps},
+                                  {"haptic_rate_hz", r.hapticRate_hz}});
+    return true;
+}
+#endif
 
 /// BVH build and refit, and the proxy update while it slides in contact over the front of the heart
 /// (0.2 mm per update, as at 0.2 m/s and 1 kHz): mean and p99 of each update, timed one by one.
@@ -152,11 +198,16 @@ int bench(const BenchOptions& o) {
             haptics.push_back(benchHaptics(mesh::procedural::makeHeart(heart), o.seconds));
         }
     }
+    nlohmann::ordered_json frameRates;
+#ifdef HAPTICUT_WITH_VIEWER
+    if (o.render && !benchRender(o, frameRates)) return 1;
+#endif
     if (!o.json.empty()) {
         nlohmann::ordered_json j;
         j["benchmark"] = "integrator step on the procedural heart, one thread";
         j["results"] = results;
         if (o.haptics) j["haptics"] = haptics;
+        if (o.render) j["render"] = frameRates;
         if (!writeJson(o.json, j)) return 1;
         std::cout << "wrote " << o.json << "\n";
     }
@@ -173,6 +224,10 @@ Command addBenchCommand(CLI::App& app) {
     cmd->add_option("--seconds", o->seconds, "Minimum timing per case (s)")->capture_default_str()->check(CLI::Range(0.01, 600.0));
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->add_flag("--haptics", o->haptics, "Also measure BVH build and refit and the proxy update (mean and p99)");
+#ifdef HAPTICUT_WITH_VIEWER
+    cmd->add_flag("--render", o->render, "Also measure frames per second, mono and side by side, with the haptic loop running (needs a display or Xvfb)");
+    cmd->add_option("--sizes", o->sizes, "Image sizes for --render (comma separated)")->delimiter(',')->capture_default_str();
+#endif
     return [o] { return bench(*o); };
 }
 
