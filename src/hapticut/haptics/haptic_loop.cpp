@@ -187,6 +187,10 @@ StepOutput HapticLoop::step() noexcept {
         out.proxy_m = proxy_.position();
     }
 
+    // The press that decides whether the next step cuts: the force the contact made, before an overrun
+    // below withholds it from the device. A late step must not end a cut the hand is still pressing.
+    lastForce_N_ = force.norm();
+
     // Watchdog: a step that overran its period sends no force, rather than a stale one late.
     const double elapsed_us = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
     if (realtime_ && elapsed_us > 1e6 / config_.rate_hz) {
@@ -196,7 +200,6 @@ StepOutput HapticLoop::step() noexcept {
 
     // 7. Send the force; publish a snapshot now and then.
     device_.commandForce(force);
-    lastForce_N_ = force.norm();
     out.force_N = force;
     out.contact = constrained;
     out.face = contact.face;
