@@ -188,6 +188,25 @@ TEST(HapticLoop, CommandsReachTheLoop) {
     EXPECT_EQ(after, 0.0);
 }
 
+TEST(VirtualDevice, FollowsAJumpingInputWithAFirstOrderLag) {
+    VirtualDevice device;
+    device.setFollowTime(0.01);
+    device.setPosition(Vec3::Zero());
+    device.read(0);
+    device.setPosition(Vec3(0.01, 0, 0));  // a cursor's jump between two frames
+    const DeviceSample first = device.read(0.001);
+    EXPECT_NEAR(first.position_m.x(), 0.001, 1e-12);        // a tenth of the way after a tenth of the time constant
+    EXPECT_NEAR(first.velocity_m_per_s.x(), 1.0, 1e-9);      // not the 10 m/s of the jump itself
+    double x = first.position_m.x();
+    for (int i = 2; i <= 100; ++i) x = device.read(i * 0.001).position_m.x();
+    EXPECT_NEAR(x, 0.01, 0.01 * std::pow(0.9, 100) + 1e-12);  // 0.9 per step: there within a few time constants
+    VirtualDevice jumping;
+    jumping.setPosition(Vec3::Zero());
+    jumping.read(0);
+    jumping.setPosition(Vec3(0.01, 0, 0));
+    EXPECT_EQ(jumping.read(0.001).position_m.x(), 0.01);     // without a follow time it goes straight there
+}
+
 TEST(HapticLoop, MaterialCommandsScaleTheModelLiveAndTheStableStepFollows) {
     HeartScene h;
     VirtualDevice device;

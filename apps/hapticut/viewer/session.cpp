@@ -25,6 +25,7 @@ haptics::LoopCommand::Kind commandFor(MaterialKnob knob) {
 }  // namespace
 
 Session::Session(app::LoadedScene scene) : scene_(std::move(scene)), mouse_(scene_.settings.maxForce_N) {
+    mouse_.setFollowTime(0.015);  // about a frame: the cursor's jumps reach the hand as motion
     config_.scheme = scene_.settings.scheme;
     config_.rate_hz = scene_.settings.rate_hz;
     config_.couplingStiffness_N_per_m = scene_.settings.couplingStiffness_N_per_m;

@@ -1,6 +1,8 @@
 // A device set programmatically.
 #include "hapticut/haptics/virtual_device.h"
 
+#include <algorithm>
+
 namespace hapticut::haptics {
 
 void VirtualDevice::setPosition(const Vec3& position, std::uint32_t buttons) {
@@ -16,6 +18,10 @@ DeviceSample VirtualDevice::read(double time_s) {
     const Input& in = input_.readLatest();
     DeviceSample s;
     s.position_m = workspace_.toScene(in.position);
+    // A hand moves smoothly; a cursor jumps once a frame. Following it with a first-order lag spreads
+    // each jump over the haptic steps, so the coupling's damping sees a hand's speed, not a spike.
+    if (followTime_s_ > 0 && lastTime_ >= 0 && time_s > lastTime_)
+        s.position_m = lastPosition_ + (s.position_m - lastPosition_) * std::min(1.0, (time_s - lastTime_) / followTime_s_);
     s.buttons = in.buttons;
     // Velocity by finite difference over the haptic step; the first sample has none.
     if (lastTime_ >= 0 && time_s > lastTime_) s.velocity_m_per_s = (s.position_m - lastPosition_) / (time_s - lastTime_);

@@ -18,6 +18,10 @@ public:
     void setPosition(const Vec3& position, std::uint32_t buttons = 0);
     /// The last force commanded, for display; safe from any thread.
     Vec3 lastForce() const;
+    /// Follow new positions with a first-order lag of this time constant (0, the default: jump to them).
+    /// For inputs that update far slower than the loop, such as a mouse at the display's frame rate.
+    /// Set before the loop starts.
+    void setFollowTime(double seconds) { followTime_s_ = seconds; }
 
     std::string_view name() const override { return "virtual"; }
     DeviceSample read(double time_s) override;
@@ -36,6 +40,7 @@ private:
     std::atomic<double> fx_{0}, fy_{0}, fz_{0};
     Vec3 lastPosition_ = Vec3::Zero();
     double lastTime_ = -1;
+    double followTime_s_ = 0;
 };
 
 }  // namespace hapticut::haptics
