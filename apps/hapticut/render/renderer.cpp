@@ -230,6 +230,10 @@ Renderer::~Renderer() {
 
 void Renderer::invalidateOrgan() { impl_->topologyVersion = LONG_MIN; }
 
+void Renderer::addTool(const mesh::SurfaceMesh& tool) { impl_->tools.push_back(uploadStatic(tool, 0.6)); }
+
+std::size_t Renderer::toolCount() const { return impl_->tools.size(); }
+
 void Renderer::draw(const SceneFrame& frame, const ViewSettings& view, int width, int height) {
     Impl& m = *impl_;
     if (frame.topologyVersion != m.topologyVersion) {

@@ -50,6 +50,9 @@ public:
     void draw(const SceneFrame& frame, const ViewSettings& view, int width, int height);
     /// Forget the organ's topology, e.g. after the model was reset to a different mesh.
     void invalidateOrgan();
+    /// Adds a tool (tip at the origin, handle along +z); SceneFrame::tool indexes the tools in order.
+    void addTool(const mesh::SurfaceMesh& tool);
+    std::size_t toolCount() const;
 
 private:
     struct Impl;

@@ -150,6 +150,12 @@ void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snap
         std::string error;
         state.message = session.loadModel(state.modelPath, error) ? "loaded " + state.modelPath : error;
     }
+    ImGui::InputText("##tool", &state.toolPath);
+    ImGui::SameLine();
+    if (ImGui::Button("load tool")) {
+        std::string error;
+        state.message = session.loadTool(state.toolPath, error) ? "holding " + state.toolPath : error;
+    }
     ImGui::InputText("##export", &state.exportPath);
     ImGui::SameLine();
     if (ImGui::Button("export mesh")) {

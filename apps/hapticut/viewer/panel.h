@@ -18,7 +18,7 @@ struct Rates {
 
 /// What the panel keeps between frames: text fields, a recording, the last message.
 struct PanelState {
-    std::string modelPath, exportPath = "heart-cut.obj", replayPath, recordPath = "recording.csv";
+    std::string modelPath, toolPath, exportPath = "heart-cut.obj", replayPath, recordPath = "recording.csv";
     std::string message;
     bool recording = false;
     std::vector<haptics::StepOutput> recorded;  // the device path at the display rate, while recording

@@ -2,8 +2,10 @@
 #include "viewer/session.h"
 
 #include <algorithm>
+#include <filesystem>
 
 #include "hapticut/mesh/io/mesh_file.h"
+#include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/physics/material.h"
 
 namespace hapticut::viewer {
@@ -98,6 +100,17 @@ bool Session::loadModel(const std::string& model, std::string& error) {
     }
     scene_.source = std::move(loaded->source);
     resetModel();
+    return true;
+}
+
+bool Session::loadTool(const std::string& file, std::string& error) {
+    auto tool = mesh::io::readToolFile(file);
+    if (!tool) {
+        error = tool.error().toString();
+        return false;
+    }
+    scene_.tools.push_back({std::filesystem::path(file).stem().string(), std::move(tool->mesh), tool->threshold_N});
+    setTool(scene_.tools.size() - 1);
     return true;
 }
 

@@ -33,6 +33,9 @@ public:
     void useMouse();
     /// Loads another model into the same scene; false (message printed) when it does not load.
     bool loadModel(const std::string& model, std::string& error);
+    /// Adds a tool from a tool file (thesis format: its mesh and cut threshold), named after the file,
+    /// and takes it in hand; false with `error` when it does not load.
+    bool loadTool(const std::string& file, std::string& error);
     /// Sets a material knob to `scale` times the scene's value, live through the loop's queue.
     void setMaterialScale(MaterialKnob knob, double scale);
     /// Writes the organ as the snapshot shows it (deformed, with every cut).

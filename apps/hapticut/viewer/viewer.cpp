@@ -65,10 +65,12 @@ private:
     PanelState panel_;
     bool showPanel_ = true, showHelp_ = false, paused_ = false;
     bool orbiting_ = false, panning_ = false;
+    std::string framedModel_;
     double cursorX_ = 0, cursorY_ = 0, lastX_ = 0, lastY_ = 0;
 };
 
 void Viewer::frameOrgan() {
+    framedModel_ = session_.scene().source.name;
     Eigen::AlignedBox3d box;
     for (const Vec3& p : session_.scene().source.mesh.positions) box.extend(p);
     view_.camera.frame(box.center(), 0.5 * box.diagonal().norm());
@@ -219,6 +221,8 @@ int Viewer::run() {
     const auto timeIsUp = [&] { return options_.quitAfter_s >= 0 && std::chrono::duration<double>(Clock::now() - start).count() >= options_.quitAfter_s; };
     while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames) && !timeIsUp()) {
         glfwPollEvents();
+        if (session_.scene().source.name != framedModel_) frameOrgan();  // a model loaded from the panel
+        while (renderer_->toolCount() < session_.scene().tools.size()) renderer_->addTool(session_.scene().tools[renderer_->toolCount()].mesh);
         const haptics::Snapshot& s = session_.loop().snapshots().readLatest();
         updateDevice(s);
         const double t_s = std::chrono::duration<double>(Clock::now() - start).count();
