@@ -39,13 +39,13 @@ bool benchRender(const BenchOptions& o, nlohmann::ordered_json& out) {
     std::vector<render::FrameRateCase> cases;
     for (int triangles : o.triangles)
         for (const std::string& size : o.sizes) {
-            const auto x = size.find('x');
-            int w = 0, h = 0;
-            if (x == std::string::npos || std::sscanf(size.c_str(), "%dx%d", &w, &h) != 2 || w < 16 || h < 16) {
-                std::cerr << "hapticut bench: --sizes takes WIDTHxHEIGHT, found '" << size << "'\n";
+            const auto wh = parseSize(size, 16, 16384);
+            if (!wh) {
+                std::cerr << "hapticut bench: --sizes takes WIDTHxHEIGHT, each 16 to 16384, found '" << size << "'\n";
                 return false;
             }
-            for (render::StereoMode mode : {render::StereoMode::Off, render::StereoMode::SideBySide}) cases.push_back({triangles, w, h, mode});
+            for (render::StereoMode mode : {render::StereoMode::Off, render::StereoMode::SideBySide})
+                cases.push_back({triangles, wh->first, wh->second, mode});
         }
     std::printf("\n%10s %11s %13s %10s %12s\n", "triangles", "size", "stereo", "fps", "haptic Hz");
     std::vector<render::FrameRateResult> results;

@@ -12,6 +12,7 @@
 #include "render/offscreen.h"
 #include "render/renderer.h"
 #include "scene_setup.h"
+#include "terminal.h"
 
 namespace hapticut::app {
 
@@ -26,28 +27,13 @@ struct ScreenshotOptions {
     double yaw_deg = 0, pitch_deg = 12, zoom = 1;
 };
 
-/// "WxH" with both between 16 and 16384; false otherwise.
-bool parseSize(const std::string& text, int& width, int& height) {
-    const auto x = text.find('x');
-    if (x == std::string::npos) return false;
-    try {
-        std::size_t used = 0;
-        width = std::stoi(text.substr(0, x), &used);
-        if (used != x) return false;
-        height = std::stoi(text.substr(x + 1), &used);
-        if (used != text.size() - x - 1) return false;
-    } catch (const std::exception&) {
-        return false;
-    }
-    return width >= 16 && height >= 16 && width <= 16384 && height <= 16384;
-}
-
 int screenshot(ScreenshotOptions& o) {
-    int width = 0, height = 0;
-    if (!parseSize(o.size, width, height)) {
+    const auto size = parseSize(o.size, 16, 16384);
+    if (!size) {
         std::cerr << "hapticut screenshot: --size takes WIDTHxHEIGHT, each 16 to 16384, found '" << o.size << "'\n";
         return 2;
     }
+    const auto [width, height] = *size;
     const auto stereo = render::parseStereoMode(o.stereo);
     if (!stereo) {
         std::cerr << "hapticut screenshot: unknown --stereo '" << o.stereo << "': expected off, quad, anaglyph or side-by-side\n";

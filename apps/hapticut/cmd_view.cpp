@@ -2,8 +2,10 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <tuple>
 
 #include "commands.h"
+#include "terminal.h"
 #include "viewer/viewer.h"
 
 namespace hapticut::app {
@@ -23,18 +25,12 @@ int view(ViewCommandOptions& o) {
         return 2;
     }
     o.viewer.stereo = *stereo;
-    const auto x = o.size.find('x');
-    try {
-        if (x == std::string::npos) throw std::invalid_argument("no x");
-        o.viewer.width = std::stoi(o.size.substr(0, x));
-        o.viewer.height = std::stoi(o.size.substr(x + 1));
-    } catch (const std::exception&) {
-        o.viewer.width = 0;
-    }
-    if (o.viewer.width < 64 || o.viewer.height < 64 || o.viewer.width > 16384 || o.viewer.height > 16384) {
+    const auto size = parseSize(o.size, 64, 16384);
+    if (!size) {
         std::cerr << "hapticut view: --size takes WIDTHxHEIGHT, each 64 to 16384, found '" << o.size << "'\n";
         return 2;
     }
+    std::tie(o.viewer.width, o.viewer.height) = *size;
     if (!o.viewer.screenshot.empty() && o.viewer.frames < 0) {
         std::cerr << "hapticut view: --screenshot needs --frames: it captures the last frame\n";
         return 2;

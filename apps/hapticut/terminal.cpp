@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <charconv>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -35,6 +36,19 @@ std::optional<Vec3> parseVec3(const std::string& text) {
         start = comma + 1;
     }
     return v;
+}
+
+std::optional<std::pair<int, int>> parseSize(const std::string& text, int min, int max) {
+    const auto x = text.find('x');
+    if (x == std::string::npos) return std::nullopt;
+    int width = 0, height = 0;
+    const auto parse = [](const std::string& part, int& value) {
+        const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
+        return ec == std::errc() && end == part.data() + part.size();
+    };
+    if (!parse(text.substr(0, x), width) || !parse(text.substr(x + 1), height)) return std::nullopt;
+    if (width < min || height < min || width > max || height > max) return std::nullopt;
+    return std::pair{width, height};
 }
 
 nlohmann::ordered_json toJson(const Summary& s) {

@@ -1,9 +1,10 @@
-// Terminal helpers: a progress line for long runs, vector arguments, JSON files.
+// Terminal helpers: a progress line for long runs, vector and size arguments, JSON files.
 #pragma once
 
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -26,6 +27,9 @@ private:
 
 /// Parses "X,Y,Z" (locale-independent); empty on anything else.
 std::optional<Vec3> parseVec3(const std::string& text);
+
+/// Parses "WIDTHxHEIGHT" with both within [min, max]; empty on anything else.
+std::optional<std::pair<int, int>> parseSize(const std::string& text, int min, int max);
 
 nlohmann::ordered_json toJson(const Summary& s);
 nlohmann::ordered_json toJson(const Vec3& v);
