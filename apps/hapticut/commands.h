@@ -17,6 +17,7 @@ Command addInfoCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);
 Command addAssetsCommand(CLI::App& app);
+Command addSoakCommand(CLI::App& app);
 #ifdef HAPTICUT_WITH_VIEWER
 Command addViewCommand(CLI::App& app);
 Command addScreenshotCommand(CLI::App& app);

@@ -206,3 +206,25 @@ TEST_F(Cli, ExportsTheDeformedMesh) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(Cli, SoakCutsWithRandomStrokesAndReportsTheInvariants) {
+    const CliResult r = run("soak --strokes 60 --per-organ 30 --seed 9 --report " + path("soak.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(path("soak.json")));
+    EXPECT_EQ(j["strokes"], 60);
+    EXPECT_EQ(j["organs"], 2);
+    EXPECT_EQ(j["seed"], 9);
+    EXPECT_EQ(j["invariants_ok"], true);
+    EXPECT_GT(j["cut_points"].get<long>(), 60);
+    EXPECT_GT(j["invariant_checks"].get<long>(), 60);
+    EXPECT_NE(r.out.find("all held"), std::string::npos) << r.out;
+    // A model that cannot load: a clear message and a failure, no report.
+    const CliResult bad = run("soak --model " + path("missing.obj") + " --report " + path("bad.json"));
+    EXPECT_EQ(bad.exitCode, 1);
+    EXPECT_NE(bad.err.find("missing.obj"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(path("bad.json")));
+}
+
+}  // namespace

@@ -1,0 +1,99 @@
+// The stroke fuzzer: random strokes, invariants after every operation, a simulation at the end.
+#include "hapticut/cutting/stroke_fuzzer.h"
+
+#include <chrono>
+#include <random>
+
+#include "hapticut/cutting/invariants.h"
+#include "hapticut/cutting/progressive_cutter.h"
+#include "hapticut/geometry/triangle_queries.h"
+#include "hapticut/physics/integrators.h"
+#include "hapticut/physics/material.h"
+
+namespace hapticut::cutting {
+
+namespace {
+
+struct Touch {
+    std::uint32_t face = 0;
+    Vec3 bary = Vec3::Zero();
+    Vec3 point = Vec3::Zero();
+};
+
+/// The rest surface's closest point to p (brute force: the fuzzer checks the cutter, not the tree).
+Touch touch(const CutModel& cut, const Vec3& p) {
+    const mesh::SurfaceMesh& m = cut.mesh();
+    Touch best;
+    double bestD = 1e300;
+    for (std::uint32_t f = 0; f < m.faces.size(); ++f) {
+        const auto c = geometry::closestPointOnTriangle(p, m.positions[m.faces[f][0]], m.positions[m.faces[f][1]], m.positions[m.faces[f][2]]);
+        const double d = (c.point - p).squaredNorm();
+        if (d < bestD) bestD = d, best = {f, c.bary, c.point};
+    }
+    return best;
+}
+
+}  // namespace
+
+StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzConfig& config, const std::function<void(long, long)>& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    StrokeFuzzResult r;
+    std::mt19937_64 rng(config.seed);
+    std::uniform_real_distribution<double> unit(-1, 1), length(0.005, 0.04);
+    Eigen::AlignedBox3d box;
+    for (const Vec3& p : organ.positions) box.extend(p);
+    const double reach = box.diagonal().norm();
+
+    for (long organIndex = 0; r.strokes < config.strokes; ++organIndex) {
+        CutModel cut(organ, physics::buildModel(organ, physics::Material{}));
+        const double mass = physics::totalMass(cut.model());
+        ProgressiveCutter cutter(cut);
+        ++r.organs;
+        const auto fail = [&](long stroke, long operation, const std::string& what) {
+            r.problems.push_back("seed " + std::to_string(config.seed) + ", organ " + std::to_string(organIndex) + ", stroke " + std::to_string(stroke) +
+                                 (operation >= 0 ? ", operation " + std::to_string(operation) : std::string()) + ": " + what);
+        };
+        for (long s = 0; s < config.strokesPerOrgan && r.strokes < config.strokes; ++s, ++r.strokes) {
+            const Vec3 from = touch(cut, box.center() + Vec3(unit(rng), unit(rng), unit(rng)).normalized() * reach).point;
+            const Vec3 to = touch(cut, from + length(rng) * Vec3(unit(rng), unit(rng), unit(rng)).normalized()).point;
+            const int samples = 1 + static_cast<int>(rng() % 40);
+            for (int i = 0; i <= samples; ++i) {
+                const Touch t = touch(cut, from + (to - from) * (static_cast<double>(i) / samples));
+                const bool changed = cutter.cutAt(t.face, t.bary);
+                r.meshChanges += changed;
+                ++r.operations;
+                if ((config.checkEveryOperation && changed) || i == samples) {
+                    ++r.invariantChecks;
+                    const InvariantReport report = checkInvariants(cut, mass);
+                    if (!report.ok()) {
+                        fail(s, i, report.problems.front());
+                        r.wallTime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                        return r;
+                    }
+                }
+            }
+            cutter.endCut();
+            if (progress) progress(r.strokes + 1, config.strokes);
+        }
+        const CutStats& st = cutter.stats();
+        r.cutPoints += st.cutPoints;
+        r.verticesAdded += st.verticesAdded;
+        r.facesAdded += st.facesAdded;
+        r.opened |= st.opened;
+        r.largestFaces = std::max(r.largestFaces, static_cast<long>(cut.mesh().faces.size()));
+        // The cut organ must still simulate: no NaN, at the stable step the cuts left it.
+        physics::Stepper stepper(physics::Scheme::RungeKutta4);
+        stepper.setAutoSubstep(false);
+        stepper.prepare(cut.model());
+        for (int i = 0; i < config.simulateSteps; ++i)
+            if (!stepper.step(cut.model(), stepper.stableStep_s()).finite) {
+                fail(config.strokesPerOrgan, -1, "the cut organ's simulation produced a non-finite value");
+                break;
+            }
+        if (!r.problems.empty()) break;
+    }
+    r.wallTime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+}
+
+}  // namespace hapticut::cutting

@@ -1,0 +1,45 @@
+// Random scalpel strokes on an organ, with every cutting invariant checked after every operation:
+// the fuzz the test suite runs (seeded, 10,000 strokes) and `hapticut soak` runs for as long as asked.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hapticut/mesh/surface_mesh.h"
+
+namespace hapticut::cutting {
+
+struct StrokeFuzzConfig {
+    std::uint64_t seed = 1;
+    long strokes = 1000;
+    /// A fresh organ after this many strokes: a real organ is not cut ten thousand times, and the checks
+    /// cost grows with the mesh.
+    long strokesPerOrgan = 200;
+    /// Check the invariants after every cutAt that changed the mesh (one that changed nothing cannot
+    /// break anything), and at the end of every stroke; else at the end of every stroke only.
+    bool checkEveryOperation = true;
+    /// Simulate the cut organ (RK4 at its stable step) for this many steps after each organ's strokes.
+    int simulateSteps = 20;
+};
+
+struct StrokeFuzzResult {
+    long strokes = 0, operations = 0, meshChanges = 0, organs = 0, invariantChecks = 0;
+    long cutPoints = 0, verticesAdded = 0, facesAdded = 0;
+    long largestFaces = 0;      // the largest a cut organ grew
+    bool opened = false;        // some cut opened
+    /// Empty when everything held. Otherwise the first failure: which organ, stroke and operation, and
+    /// the seed that replays it.
+    std::vector<std::string> problems;
+    double wallTime_s = 0;
+    bool ok() const { return problems.empty(); }
+};
+
+/// Strokes start at random points of the rest surface, run in random tangent-ish directions for 0.5 to
+/// 4 cm, sampled 1 to 40 times (so some are fast strokes crossing many faces in one call), and cross
+/// earlier cuts as they come. `progress(done, total)` is called after every stroke.
+StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzConfig& config,
+                             const std::function<void(long, long)>& progress = {});
+
+}  // namespace hapticut::cutting
