@@ -9,11 +9,15 @@
 #include "commands.h"
 #include "hapticut/collision/bvh.h"
 #include "hapticut/common/latency_histogram.h"
+#include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/proxy.h"
+#include "hapticut/haptics/replay_device.h"
+#include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/vertex_faces.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/material.h"
+#include "sample_trajectories.h"
 #include "terminal.h"
 #ifdef HAPTICUT_WITH_VIEWER
 #include "render/frame_rate.h"
@@ -30,8 +34,29 @@ struct BenchOptions {
     std::string json;
     bool haptics = false;
     bool render = false;
+    bool cutting = false;
     std::vector<std::string> sizes = {"1280x1024", "1600x1200"};
 };
+
+/// Cut events through the haptic loop: the scalpel's 12 mm stroke across the front (the shipped
+/// cut-front path, generated for this heart) with the physics paused, so the finest hearts' substeps do
+/// not make the run take minutes; a cut event (the cut, the tree, the stepper and the proxy) costs the same.
+nlohmann::ordered_json benchCutting(const mesh::SurfaceMesh& heart) {
+    collision::Bvh bvh;
+    bvh.build({heart.positions, heart.faces});
+    const haptics::Trajectory path = strokeTrajectory(heart, bvh, 0.012);
+    cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
+    haptics::ReplayDevice device(path);
+    haptics::LoopConfig config;
+    config.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
+    haptics::HapticLoop loop(organ, device, config);
+    loop.commands().push({haptics::LoopCommand::Kind::Pause, 0});
+    loop.runSimulated(std::lround(path.duration_s() * config.rate_hz) + 1);
+    const Summary s = loop.stats().cutTime_us.summary();
+    const cutting::CutStats& c = loop.cutter()->stats();
+    std::printf("%10zu %10ld %10ld %10.0f %10.0f %10.0f %10.0f\n", heart.faces.size(), loop.stats().cutEvents, c.cutPoints, s.mean, s.p50, s.p99, s.max);
+    return {{"triangles", heart.faces.size()}, {"cut_events", loop.stats().cutEvents}, {"cut_points", c.cutPoints}, {"cut_event_us", toJson(s)}};
+}
 
 #ifdef HAPTICUT_WITH_VIEWER
 /// Frames per second, mono and side-by-side stereo, at each size and heart, with the loop running.
@@ -198,6 +223,15 @@ int bench(const BenchOptions& o) {
             haptics.push_back(benchHaptics(mesh::procedural::makeHeart(heart), o.seconds));
         }
     }
+    nlohmann::ordered_json cuts = nlohmann::ordered_json::array();
+    if (o.cutting) {
+        std::printf("\n%10s %10s %10s %10s %10s %10s %10s\n", "triangles", "events", "points", "mean us", "p50 us", "p99 us", "max us");
+        for (int triangles : o.triangles) {
+            mesh::procedural::HeartOptions heart;
+            heart.triangles = triangles;
+            cuts.push_back(benchCutting(mesh::procedural::makeHeart(heart)));
+        }
+    }
     nlohmann::ordered_json frameRates;
 #ifdef HAPTICUT_WITH_VIEWER
     if (o.render && !benchRender(o, frameRates)) return 1;
@@ -207,6 +241,7 @@ int bench(const BenchOptions& o) {
         j["benchmark"] = "integrator step on the procedural heart, one thread";
         j["results"] = results;
         if (o.haptics) j["haptics"] = haptics;
+        if (o.cutting) j["cutting"] = cuts;
         if (o.render) j["render"] = frameRates;
         if (!writeJson(o.json, j)) return 1;
         std::cout << "wrote " << o.json << "\n";
@@ -224,6 +259,7 @@ Command addBenchCommand(CLI::App& app) {
     cmd->add_option("--seconds", o->seconds, "Minimum timing per case (s)")->capture_default_str()->check(CLI::Range(0.01, 600.0));
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->add_flag("--haptics", o->haptics, "Also measure BVH build and refit and the proxy update (mean and p99)");
+    cmd->add_flag("--cutting", o->cutting, "Also measure the scalpel's cut events through the haptic loop (mean, p50, p99, max)");
 #ifdef HAPTICUT_WITH_VIEWER
     cmd->add_flag("--render", o->render, "Also measure frames per second, mono and side by side, with the haptic loop running (needs a display or Xvfb)");
     cmd->add_option("--sizes", o->sizes, "Image sizes for --render (comma separated)")->delimiter(',')->capture_default_str();
