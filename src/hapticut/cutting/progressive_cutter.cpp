@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
+#include "hapticut/common/assert.h"
+#include "hapticut/cutting/invariants.h"
 #include "hapticut/geometry/triangle_queries.h"
 
 namespace hapticut::cutting {
@@ -132,7 +135,24 @@ std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlad
     return best;
 }
 
+ProgressiveCutter::ProgressiveCutter(CutModel& model, CutterParams params)
+    : model_(model), params_(params), expectedMass_kg_(physics::totalMass(model.model())) {}
+
 bool ProgressiveCutter::cutAt(std::uint32_t face, const Vec3& bary) {
+    const bool changed = cutAtUnchecked(face, bary);
+#if !defined(NDEBUG) || defined(HAPTICUT_ENABLE_ASSERTS)
+    if (changed) {
+        const InvariantReport report = checkInvariants(model_, expectedMass_kg_);
+        if (!report.ok()) {
+            std::fprintf(stderr, "hapticut: a cut broke the organ: %s\n", report.problems.front().c_str());
+            HAPTICUT_ASSERT(report.ok());
+        }
+    }
+#endif
+    return changed;
+}
+
+bool ProgressiveCutter::cutAtUnchecked(std::uint32_t face, const Vec3& bary) {
     const mesh::SurfaceMesh& m = model_.mesh();
     const Vec3 q = restPoint(m, face, bary);
     if (points_.empty()) {

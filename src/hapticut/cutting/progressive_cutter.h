@@ -33,10 +33,11 @@ struct CutStats {
 
 class ProgressiveCutter {
 public:
-    explicit ProgressiveCutter(CutModel& model, CutterParams params = {}) : model_(model), params_(params) {}
+    ProgressiveCutter(CutModel& model, CutterParams params = {});
 
     /// The scalpel presses past its threshold at `bary` on `face`: starts a cut there, or continues the
-    /// current one up to that point. Returns true when the mesh changed.
+    /// current one up to that point. Returns true when the mesh changed. Debug builds (and builds with
+    /// HAPTICUT_ASSERTS) check every cutting invariant after each change and stop at the first broken one.
     bool cutAt(std::uint32_t face, const Vec3& bary);
     /// Where the blade is, seen from the cut: the point of the rest surface nearest to `device_m` among
     /// the faces a few rings round the last cut point, and how deep the device is under it (negative:
@@ -56,6 +57,7 @@ public:
     const CutStats& stats() const { return stats_; }
 
 private:
+    bool cutAtUnchecked(std::uint32_t face, const Vec3& bary);
     /// The face around `vertex` that contains the rest point q, if any.
     bool fanContains(std::uint32_t vertex, const Vec3& q) const;
     /// Adds the next cut point toward q across the fan of the last one; false when there is none.
@@ -68,6 +70,7 @@ private:
     CutterParams params_;
     std::vector<std::uint32_t> points_;
     CutStats stats_;
+    double expectedMass_kg_ = 0;  // cutting conserves the organ's mass exactly
     std::vector<std::uint32_t> nearbyFaces_, ring_;  // scratch for projectBlade
 };
 
