@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <string>
 #include <string_view>
 
 #include "hapticut/geometry/vec.h"
@@ -27,6 +29,19 @@ struct WorkspaceTransform {
     Vec3 forceToDevice(const Vec3& scene_force_N) const { return rotation.conjugate() * scene_force_N; }
 };
 
+/// A device whose driver owns the servo loop (OpenHaptics' scheduler): the driver calls `tick` at its
+/// own rate on its own thread, and the haptic loop steps inside it instead of running a thread of its own.
+class ServoClock {
+public:
+    virtual ~ServoClock() = default;
+    /// Starts calling `tick` at the servo rate until it returns false or stopServo(); false with `error`
+    /// when the servo cannot start.
+    virtual bool startServo(std::function<bool()> tick, std::string& error) = 0;
+    /// Stops calling `tick` and returns once the last call has finished. Safe to call twice.
+    virtual void stopServo() = 0;
+    virtual double servoRate_hz() const = 0;
+};
+
 class Device {
 public:
     virtual ~Device() = default;
@@ -38,6 +53,8 @@ public:
     virtual double maxForce_N() const = 0;
     /// How device units map to the scene (identity for devices that already speak scene metres).
     virtual WorkspaceTransform workspace() const { return {}; }
+    /// The device's own servo loop, if it has one (see ServoClock).
+    virtual ServoClock* servoClock() { return nullptr; }
 };
 
 /// Force a Phantom Omni / Touch can exert continuously-ish; the default clamp.

@@ -288,15 +288,58 @@ void HapticLoop::runSimulated(long steps, const std::function<void(const StepOut
     device_.commandForce(Vec3::Zero());
 }
 
-void HapticLoop::start(long max_steps, std::function<void(const StepOutput&)> observer) {
+bool HapticLoop::start(long max_steps, std::function<void(const StepOutput&)> observer) {
+    std::string error;
+    return start(max_steps, std::move(observer), error);
+}
+
+bool HapticLoop::start(long max_steps, std::function<void(const StepOutput&)> observer, std::string& error) {
     stop();
     stopRequested_ = false;
     running_ = true;
+    if (ServoClock* servo = device_.servoClock()) {
+        // The device's servo thread calls the step at its own rate: no thread of ours, no sleeping.
+        realtime_ = true;
+        servoSteps_ = 0;
+        servoMaxSteps_ = max_steps;
+        servoObserver_ = std::move(observer);
+        servoBegin_ = servoLast_ = Clock::now();
+        const double period_us = 1e6 / servo->servoRate_hz();
+        const bool started = servo->startServo(
+            [this, period_us] {
+                if (stopRequested_.load(std::memory_order_relaxed) || (servoMaxSteps_ >= 0 && servoSteps_ >= servoMaxSteps_)) {
+                    running_.store(false, std::memory_order_release);
+                    return false;
+                }
+                const auto now = Clock::now();
+                if (servoSteps_ > 0) stats_.periodError_us.record(std::max(0.0, std::chrono::duration<double, std::micro>(now - servoLast_).count() - period_us));
+                servoLast_ = now;
+                const StepOutput out = step();
+                if (servoObserver_) servoObserver_(out);
+                ++servoSteps_;
+                return true;
+            },
+            error);
+        if (!started) {
+            running_ = false;
+            return false;
+        }
+        servo_ = servo;
+        return true;
+    }
     thread_ = std::thread([this, max_steps, observer = std::move(observer)] { threadMain(max_steps, observer); });
+    return true;
 }
 
 void HapticLoop::stop() {
     stopRequested_ = true;
+    if (servo_) {
+        servo_->stopServo();
+        servo_ = nullptr;
+        stats_.wallTime_s += std::chrono::duration<double>(servoLast_ - servoBegin_).count();
+        device_.commandForce(Vec3::Zero());
+        running_.store(false, std::memory_order_release);
+    }
     if (thread_.joinable()) thread_.join();
 }
 

@@ -3,11 +3,13 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <limits>
 #include <optional>
 #include <span>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -105,8 +107,11 @@ public:
     /// Steps as fast as it can on simulated time; `observer` sees every step.
     void runSimulated(long steps, const std::function<void(const StepOutput&)>& observer = {});
     /// Starts a thread that steps at rate_hz on the wall clock, until stop() or max_steps (negative: no limit).
-    /// `observer` runs on that thread: it must not block or allocate.
-    void start(long max_steps = -1, std::function<void(const StepOutput&)> observer = {});
+    /// `observer` runs on that thread: it must not block or allocate. A device with its own servo loop
+    /// (Device::servoClock) steps the loop from its servo thread instead, at its own rate; false (with
+    /// `error`) when that servo cannot start.
+    bool start(long max_steps = -1, std::function<void(const StepOutput&)> observer = {});
+    bool start(long max_steps, std::function<void(const StepOutput&)> observer, std::string& error);
     void stop();
     bool running() const { return running_.load(std::memory_order_acquire); }
 
@@ -156,6 +161,11 @@ private:
     double preparedCouplingStiffness_ = 0;  // the stable step allows for a coupling up to this stiff
     std::atomic<bool> running_{false}, stopRequested_{false};
     std::thread thread_;
+    ServoClock* servo_ = nullptr;  // set while a device's servo drives the loop
+    // The driven loop's own bookkeeping (what threadMain keeps on its stack).
+    long servoSteps_ = 0, servoMaxSteps_ = -1;
+    std::chrono::steady_clock::time_point servoBegin_{}, servoLast_{};
+    std::function<void(const StepOutput&)> servoObserver_;
 };
 
 }  // namespace hapticut::haptics

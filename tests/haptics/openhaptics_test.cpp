@@ -1,0 +1,183 @@
+// The OpenHaptics backend against an emulation of the HD API (tests/haptics/hd_emulation), loaded
+// through the same dlopen path as the vendor's library: loading errors, calibration, the servo loop
+// driving the haptic loop at its rate, force clamping, a device lost mid-run, a clean shutdown.
+#include <gtest/gtest.h>
+
+#include <dlfcn.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/openhaptics_device.h"
+#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/physics/material.h"
+
+namespace hapticut::haptics {
+namespace {
+
+/// The emulation's test controls, resolved from the same library the backend opens.
+struct Emulator {
+    void* handle = dlopen(HD_EMULATION_LIBRARY, RTLD_NOW);
+    template <class F>
+    F get(const char* name) const {
+        return reinterpret_cast<F>(dlsym(handle, name));
+    }
+    void reset() const { get<void (*)()>("hdEmu_reset")(); }
+    void setPosition(double x, double y, double z) const { get<void (*)(double, double, double)>("hdEmu_setPosition")(x, y, z); }
+    void setCalibration(unsigned s) const { get<void (*)(unsigned)>("hdEmu_setCalibration")(s); }
+    void failInit(unsigned code) const { get<void (*)(unsigned)>("hdEmu_failInit")(code); }
+    void failAfterTicks(long ticks, unsigned code) const { get<void (*)(long, unsigned)>("hdEmu_failAfterTicks")(ticks, code); }
+    Vec3 lastForce() const {
+        double f[3];
+        get<void (*)(double*)>("hdEmu_lastForce")(f);
+        return {f[0], f[1], f[2]};
+    }
+    double maxForceSent() const { return get<double (*)()>("hdEmu_maxForceSent")(); }
+    long ticks() const { return get<long (*)()>("hdEmu_ticks")(); }
+    long calibrationUpdates() const { return get<long (*)()>("hdEmu_calibrationUpdates")(); }
+    long frameErrors() const { return get<long (*)()>("hdEmu_frameErrors")(); }
+    bool deviceOpen() const { return get<int (*)()>("hdEmu_deviceOpen")(); }
+    bool forceOutput() const { return get<int (*)()>("hdEmu_forceOutput")(); }
+    bool schedulerRunning() const { return get<int (*)()>("hdEmu_schedulerRunning")(); }
+};
+
+class OpenHaptics : public ::testing::Test {
+protected:
+    void SetUp() override {
+        ASSERT_NE(emu.handle, nullptr) << dlerror();
+        emu.reset();
+    }
+    void TearDown() override { emu.reset(); }
+
+    static OpenHapticsOptions emulated() {
+        OpenHapticsOptions o;
+        o.libraryNames = {std::filesystem::path(HD_EMULATION_LIBRARY).filename().string()};
+        o.searchFolders = {std::filesystem::path(HD_EMULATION_LIBRARY).parent_path().string()};
+        return o;
+    }
+
+    Emulator emu;
+};
+
+TEST_F(OpenHaptics, AMissingLibrarySaysWhereItLookedAndWhatToInstall) {
+    OpenHapticsOptions o;
+    o.libraryNames = {"libHD-not-here.so"};
+    o.searchFolders = {"/nonexistent/openhaptics/lib", ""};
+    std::string error;
+    EXPECT_FALSE(OpenHapticsDevice::open(o, error));
+    EXPECT_NE(error.find("/nonexistent/openhaptics/lib/libHD-not-here.so"), std::string::npos) << error;
+    EXPECT_NE(error.find("libHD-not-here.so (system search path)"), std::string::npos) << error;
+    EXPECT_NE(error.find("Install the OpenHaptics runtime"), std::string::npos) << error;
+    EXPECT_NE(error.find("HAPTICUT_HD_LIBRARY"), std::string::npos) << error;
+}
+
+TEST_F(OpenHaptics, ALibraryWithoutAFunctionNamesIt) {
+    OpenHapticsOptions o;
+    o.libraryNames = {std::filesystem::path(HD_EMULATION_INCOMPLETE_LIBRARY).filename().string()};
+    o.searchFolders = {std::filesystem::path(HD_EMULATION_INCOMPLETE_LIBRARY).parent_path().string()};
+    std::string error;
+    EXPECT_FALSE(OpenHapticsDevice::open(o, error));
+    EXPECT_NE(error.find("lacks hdUpdateCalibration"), std::string::npos) << error;
+}
+
+TEST_F(OpenHaptics, ADeviceThatWillNotOpenSaysWhyInPlainWords) {
+    emu.failInit(hd::kCommError);
+    std::string error;
+    EXPECT_FALSE(OpenHapticsDevice::open(emulated(), error));
+    EXPECT_NE(error.find("plugged in and powered"), std::string::npos) << error;
+    EXPECT_NE(error.find("0x0302"), std::string::npos) << error;
+    EXPECT_NE(error.find("emulated communication error"), std::string::npos) << error;
+}
+
+TEST_F(OpenHaptics, CalibrationIsUpdatedWhenItCanBeAndRefusedWhenItNeedsTheInkwell) {
+    std::string error;
+    emu.setCalibration(hd::kCalibrationNeedsUpdate);
+    {
+        auto device = OpenHapticsDevice::open(emulated(), error);
+        ASSERT_TRUE(device) << error;
+        EXPECT_EQ(emu.calibrationUpdates(), 1);
+        EXPECT_EQ(device->model(), "Emulated Touch");
+        EXPECT_EQ(device->serial(), "EMU-0001");
+        EXPECT_DOUBLE_EQ(device->maxForce_N(), 0.9);             // the nominal continuous force
+        EXPECT_DOUBLE_EQ(device->maxStiffness_N_per_m(), 800);   // 0.8 N/mm
+        EXPECT_TRUE(emu.forceOutput());
+    }
+    EXPECT_FALSE(emu.deviceOpen()) << "the device was not released";
+    EXPECT_FALSE(emu.schedulerRunning());
+    emu.setCalibration(hd::kCalibrationNeedsManualInput);
+    EXPECT_FALSE(OpenHapticsDevice::open(emulated(), error));
+    EXPECT_NE(error.find("inkwell"), std::string::npos) << error;
+    EXPECT_FALSE(emu.deviceOpen());
+    OpenHapticsOptions anyway = emulated();
+    anyway.allowUncalibrated = true;
+    EXPECT_TRUE(OpenHapticsDevice::open(anyway, error)) << error;
+}
+
+struct Heart {
+    mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
+    physics::MassSpringModel model = physics::buildModel(mesh, physics::Material{});
+    Vec3 front() const {
+        Vec3 best = mesh.positions[0];
+        for (const Vec3& p : mesh.positions)
+            if (std::abs(p.x()) < 0.01 && std::abs(p.y()) < 0.01 && p.z() > best.z()) best = p;
+        return best;
+    }
+};
+
+TEST_F(OpenHaptics, TheServoLoopDrivesTheHapticLoopAtItsRateAndTheForceIsClamped) {
+    Heart h;
+    const Vec3 front = h.front();
+    // The stylus 8 mm inside the front of the heart (device millimetres, scene metres at 1:1000).
+    emu.setPosition(front.x() * 1e3, front.y() * 1e3, front.z() * 1e3 - 8);
+    std::string error;
+    auto device = OpenHapticsDevice::open(emulated(), error);
+    ASSERT_TRUE(device) << error;
+    LoopConfig config;
+    config.rampTime_s = 0.05;
+    {
+        HapticLoop loop(h.model, h.mesh.faces, *device, config);
+        const long ticks0 = emu.ticks();
+        ASSERT_TRUE(loop.start(-1, {}, error)) << error;
+        std::this_thread::sleep_for(std::chrono::milliseconds(400));
+        const Snapshot& s = loop.snapshots().readLatest();
+        EXPECT_TRUE(s.device_m.isApprox(Vec3(front.x(), front.y(), front.z() - 0.008), 1e-9)) << s.device_m.transpose();
+        loop.stop();
+        const long ticks = emu.ticks() - ticks0;
+        // One loop step per servo tick: the servo's clock is the loop's.
+        EXPECT_NEAR(static_cast<double>(loop.stats().steps), static_cast<double>(ticks), 3);
+        EXPECT_GT(loop.stats().steps, 250);
+        EXPECT_LT(loop.stats().steps, 450);
+        // 8 mm through a 400 N/m coupling is 3.2 N: clamped to the device's 0.9 N.
+        EXPECT_GT(emu.maxForceSent(), 0.8);
+        EXPECT_LE(emu.maxForceSent(), 0.9 + 1e-9);
+        EXPECT_EQ(emu.lastForce(), Vec3::Zero()) << "stopping must leave the device at zero force";
+    }
+    EXPECT_EQ(emu.frameErrors(), 0) << "every force must be set inside a begin/end frame";
+}
+
+TEST_F(OpenHaptics, ADeviceLostMidRunTripsTheWatchdogAndSendsNoForce) {
+    Heart h;
+    const Vec3 front = h.front();
+    emu.setPosition(front.x() * 1e3, front.y() * 1e3, front.z() * 1e3 - 3);
+    std::string error;
+    auto device = OpenHapticsDevice::open(emulated(), error);
+    ASSERT_TRUE(device) << error;
+    LoopConfig config;
+    config.rampTime_s = 0.02;
+    HapticLoop loop(h.model, h.mesh.faces, *device, config);
+    ASSERT_TRUE(loop.start(-1, {}, error)) << error;
+    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    EXPECT_GT(emu.lastForce().norm(), 0.1) << "pressing 3 mm in before the loss";
+    emu.failAfterTicks(10, hd::kCommError);
+    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    EXPECT_TRUE(device->faulted());
+    EXPECT_NE(device->faultMessage().find("communication with the device failed"), std::string::npos) << device->faultMessage();
+    EXPECT_TRUE(loop.snapshots().readLatest().watchdogTripped);
+    EXPECT_EQ(emu.lastForce(), Vec3::Zero());
+    loop.stop();
+}
+
+}  // namespace
+}  // namespace hapticut::haptics
