@@ -18,6 +18,7 @@ Command addConvertCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);
 Command addAssetsCommand(CLI::App& app);
 Command addSoakCommand(CLI::App& app);
+Command addDevicesCommand(CLI::App& app);
 #ifdef HAPTICUT_WITH_VIEWER
 Command addViewCommand(CLI::App& app);
 Command addScreenshotCommand(CLI::App& app);

@@ -1,4 +1,4 @@
-// hapticut: one executable with git-style subcommands (view, screenshot, run, info, convert, bench, assets, soak).
+// hapticut: one executable with git-style subcommands (view, screenshot, run, info, convert, bench, assets, soak, devices).
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
              hapticut::app::addViewCommand, hapticut::app::addScreenshotCommand,
 #endif
              hapticut::app::addRunCommand, hapticut::app::addInfoCommand, hapticut::app::addConvertCommand, hapticut::app::addBenchCommand,
-             hapticut::app::addAssetsCommand, hapticut::app::addSoakCommand}) {
+             hapticut::app::addAssetsCommand, hapticut::app::addSoakCommand, hapticut::app::addDevicesCommand}) {
         Command run = add(app);
         commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
     }

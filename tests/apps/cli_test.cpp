@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <sys/wait.h>
 
@@ -225,6 +226,32 @@ TEST_F(Cli, SoakCutsWithRandomStrokesAndReportsTheInvariants) {
     EXPECT_EQ(bad.exitCode, 1);
     EXPECT_NE(bad.err.find("missing.obj"), std::string::npos) << bad.err;
     EXPECT_FALSE(fs::exists(path("bad.json")));
+}
+
+}  // namespace
+
+namespace {
+
+TEST_F(Cli, DevicesListsEveryBackendAndWhyOneIsMissing) {
+    const CliResult r = run("devices --json --hd-library libHD-not-installed.so");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j.size(), 4u);
+    std::map<std::string, nlohmann::json> byName;
+    for (const auto& b : j) byName[b["backend"]] = b;
+    EXPECT_EQ(byName["virtual"]["available"], true);
+    EXPECT_EQ(byName["replay"]["available"], true);
+    EXPECT_EQ(byName["openhaptics"]["available"], false);
+    EXPECT_NE(byName["openhaptics"]["detail"].get<std::string>().find("libHD-not-installed.so"), std::string::npos);
+    EXPECT_EQ(byName["sdl"]["available"], false);
+    // With the HD API's emulation in its place, OpenHaptics is available through that library.
+    const CliResult found = run("devices --json --hd-library " + std::string(HD_EMULATION_LIBRARY));
+    ASSERT_EQ(found.exitCode, 0) << found.err;
+    for (const auto& b : nlohmann::json::parse(found.out)) {
+        if (b["backend"] == "openhaptics") {
+            EXPECT_EQ(b["available"], true) << b.dump();
+        }
+    }
 }
 
 }  // namespace

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <dlfcn.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "hapticut/haptics/haptic_loop.h"
@@ -67,10 +69,25 @@ TEST_F(OpenHaptics, AMissingLibrarySaysWhereItLookedAndWhatToInstall) {
     o.searchFolders = {"/nonexistent/openhaptics/lib", ""};
     std::string error;
     EXPECT_FALSE(OpenHapticsDevice::open(o, error));
-    EXPECT_NE(error.find("/nonexistent/openhaptics/lib/libHD-not-here.so"), std::string::npos) << error;
-    EXPECT_NE(error.find("libHD-not-here.so (system search path)"), std::string::npos) << error;
+    EXPECT_NE(error.find("could not open libHD-not-here.so"), std::string::npos) << error;
+    EXPECT_NE(error.find("\n  /nonexistent/openhaptics/lib"), std::string::npos) << error;
+    EXPECT_NE(error.find("\n  the system search path"), std::string::npos) << error;
     EXPECT_NE(error.find("Install the OpenHaptics runtime"), std::string::npos) << error;
     EXPECT_NE(error.find("HAPTICUT_HD_LIBRARY"), std::string::npos) << error;
+}
+
+TEST_F(OpenHaptics, AFileThatIsNotALibrarySaysWhyItWouldNotLoad) {
+    const auto folder = std::filesystem::temp_directory_path() / ("hapticut-hd-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(folder);
+    { std::ofstream(folder / "libHD.so") << "not an ELF file"; }
+    OpenHapticsOptions o;
+    o.libraryNames = {"libHD.so"};
+    o.searchFolders = {folder.string()};
+    std::string error;
+    EXPECT_FALSE(OpenHapticsDevice::open(o, error));
+    std::filesystem::remove_all(folder);
+    EXPECT_NE(error.find("found but could not load"), std::string::npos) << error;
+    EXPECT_NE(error.find((folder / "libHD.so").string()), std::string::npos) << error;
 }
 
 TEST_F(OpenHaptics, ALibraryWithoutAFunctionNamesIt) {

@@ -74,21 +74,19 @@ std::string OpenHapticsDevice::takeError() {
     return text + code;
 }
 
-std::unique_ptr<OpenHapticsDevice> OpenHapticsDevice::open(const OpenHapticsOptions& options, std::string& error) {
-    auto d = std::unique_ptr<OpenHapticsDevice>(new OpenHapticsDevice);
-    d->options_ = options;
-    const std::vector<std::string> names = options.libraryNames.empty() ? defaultHdLibraryNames() : options.libraryNames;
-    const std::vector<std::string> folders = options.searchFolders.empty() ? defaultHdSearchFolders() : options.searchFolders;
+bool OpenHapticsDevice::load(std::string& error) {
+    const std::vector<std::string> names = options_.libraryNames.empty() ? defaultHdLibraryNames() : options_.libraryNames;
+    const std::vector<std::string> folders = options_.searchFolders.empty() ? defaultHdSearchFolders() : options_.searchFolders;
     std::string why;
-    d->library_ = SharedLibrary::open(names, folders, why);
-    if (!d->library_) {
+    library_ = SharedLibrary::open(names, folders, why);
+    if (!library_) {
         error = "OpenHaptics: the HD runtime library is not installed here, " + why +
                 "\nInstall the OpenHaptics runtime (and the Touch/Phantom device driver) from the vendor, or point HAPTICUT_HD_LIBRARY at libHD.so.";
-        return nullptr;
+        return false;
     }
-    d->api_ = std::make_unique<Api>();
-    Api& a = *d->api_;
-    const SharedLibrary& lib = *d->library_;
+    api_ = std::make_unique<Api>();
+    Api& a = *api_;
+    const SharedLibrary& lib = *library_;
     std::vector<std::string> missing;
     const auto need = [&](const char* symbol, auto& function) {
         if (!lib.resolve(symbol, function)) missing.push_back(symbol);
@@ -115,9 +113,23 @@ std::unique_ptr<OpenHapticsDevice> OpenHapticsDevice::open(const OpenHapticsOpti
         error = "OpenHaptics: " + lib.path() + " lacks";
         for (const std::string& m : missing) error += " " + m;
         error += ": it is not the HD API library, or a version Hapticut does not support (install OpenHaptics 3.4 or later)";
-        return nullptr;
+        return false;
     }
+    return true;
+}
 
+std::optional<std::string> OpenHapticsDevice::probeLibrary(const OpenHapticsOptions& options, std::string& error) {
+    OpenHapticsDevice d;
+    d.options_ = options;
+    if (!d.load(error)) return std::nullopt;
+    return d.library_->path();
+}
+
+std::unique_ptr<OpenHapticsDevice> OpenHapticsDevice::open(const OpenHapticsOptions& options, std::string& error) {
+    auto d = std::unique_ptr<OpenHapticsDevice>(new OpenHapticsDevice);
+    d->options_ = options;
+    if (!d->load(error)) return nullptr;
+    Api& a = *d->api_;
     d->device_ = a.initDevice(options.deviceName.empty() ? nullptr : options.deviceName.c_str());
     if (const std::string e = d->takeError(); !e.empty() || d->device_ == hd::kInvalidHandle) {
         error = "OpenHaptics: cannot open the device " + (options.deviceName.empty() ? std::string("(the default)") : "'" + options.deviceName + "'") +

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ public:
     /// Opens the library, resolves the functions, initialises and calibrates the device, enables force
     /// output. Nothing on failure, with `error` saying what is missing and what to do.
     static std::unique_ptr<OpenHapticsDevice> open(const OpenHapticsOptions& options, std::string& error);
+    /// Whether the HD library can be opened and has every function, without touching a device: its
+    /// path, or nothing with `error` saying why not.
+    static std::optional<std::string> probeLibrary(const OpenHapticsOptions& options, std::string& error);
     ~OpenHapticsDevice() override;
 
     std::string_view name() const override { return "openhaptics"; }
@@ -64,6 +68,8 @@ private:
     struct Api;
     OpenHapticsDevice() = default;
     static hd::HDCallbackCode servoCallback(void* self);
+    /// Opens the library and resolves every function; false with `error` naming what is missing.
+    bool load(std::string& error);
     /// The first pending HD error as "what happened (code 0x0302, internal 5)", or empty.
     std::string takeError();
 

@@ -8,7 +8,7 @@
 namespace hapticut::haptics {
 
 std::unique_ptr<SharedLibrary> SharedLibrary::open(const std::vector<std::string>& names, const std::vector<std::string>& folders, std::string& error) {
-    std::vector<std::string> attempts;
+    std::vector<std::string> failures;  // files that exist but would not load: the reasons that matter
     std::vector<std::string> places = folders;
     if (places.empty()) places.push_back("");
     for (const std::string& folder : places)
@@ -22,10 +22,17 @@ std::unique_ptr<SharedLibrary> SharedLibrary::open(const std::vector<std::string
                 return library;
             }
             const char* why = dlerror();
-            attempts.push_back(candidate + (folder.empty() ? " (system search path)" : "") + ": " + (why ? why : "not found"));
+            const std::string reason = why ? why : "not found";
+            if (reason.find("No such file") == std::string::npos) failures.push_back(candidate + ": " + reason);
         }
-    error = "could not open any of:";
-    for (const std::string& a : attempts) error += "\n  " + a;
+    error = "could not open ";
+    for (std::size_t i = 0; i < names.size(); ++i) error += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    error += "; looked in:";
+    for (const std::string& folder : places) error += "\n  " + (folder.empty() ? std::string("the system search path (LD_LIBRARY_PATH, the loader cache)") : folder);
+    if (!failures.empty()) {
+        error += "\nfound but could not load:";
+        for (const std::string& f : failures) error += "\n  " + f;
+    }
     return nullptr;
 }
 

@@ -11,7 +11,8 @@ namespace hapticut::haptics {
 class SharedLibrary {
 public:
     /// Tries each name in each folder (an empty folder: the system's own search, LD_LIBRARY_PATH and the
-    /// loader cache), then each name as given. On failure nothing, and `error` lists every attempt.
+    /// loader cache). On failure nothing, and `error` names the files, every folder searched, and why any
+    /// file that was found would not load (a missing dependency, the wrong architecture).
     static std::unique_ptr<SharedLibrary> open(const std::vector<std::string>& names, const std::vector<std::string>& folders, std::string& error);
     ~SharedLibrary();
     SharedLibrary(const SharedLibrary&) = delete;
