@@ -31,6 +31,10 @@ int view(ViewCommandOptions& o) {
         return 2;
     }
     std::tie(o.viewer.width, o.viewer.height) = *size;
+    if (o.viewer.device != "virtual" && o.viewer.device != "openhaptics" && o.viewer.device.rfind("openhaptics:", 0) != 0) {
+        std::cerr << "hapticut view: unknown --device '" << o.viewer.device << "': expected virtual (the mouse) or openhaptics[:NAME] (hapticut devices lists what works here)\n";
+        return 2;
+    }
     if (!o.viewer.screenshot.empty() && o.viewer.frames < 0) {
         std::cerr << "hapticut view: --screenshot needs --frames: it captures the last frame\n";
         return 2;
@@ -46,6 +50,7 @@ Command addViewCommand(CLI::App& app) {
     cmd->add_option("--scene", o->viewer.choice.scene, "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
     cmd->add_option("--model", o->model, "'heart' or a model file; overrides the scene's model");
     cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->check(CLI::Range(12, 20'000'000));
+    cmd->add_option("--device", o->viewer.device, "virtual (the mouse) or openhaptics[:NAME] (a Phantom / Touch)")->capture_default_str();
     cmd->add_option("--tool", o->viewer.tool, "The tool in hand at the start")->capture_default_str();
     cmd->add_option("--stereo", o->stereo, "off, quad, anaglyph or side-by-side")->capture_default_str();
     cmd->add_flag("--fullscreen", o->viewer.fullscreen, "Fill the primary monitor");

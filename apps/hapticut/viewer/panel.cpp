@@ -4,6 +4,7 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/mesh/io/load_error.h"
 
 namespace hapticut::viewer {
@@ -109,6 +110,10 @@ void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snap
 
     section("Device");
     if (session.replaying()) ImGui::Text("replaying %s", session.replayFile().c_str());
+    if (const auto* hd = dynamic_cast<const haptics::OpenHapticsDevice*>(session.hardwareDevice())) {
+        ImGui::Text("%s (%s), servo %.0f Hz, max %.1f N", hd->model().c_str(), hd->serial().c_str(), hd->servoRate_hz(), hd->maxForce_N());
+        if (hd->faulted()) ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "device fault: %s", hd->faultMessage().c_str());
+    }
     float k = static_cast<float>(c.couplingStiffness_N_per_m);
     if (ImGui::SliderFloat("stiffness k_h", &k, 10.0f, 2000.0f, "%.0f N/m", ImGuiSliderFlags_Logarithmic)) {
         c.couplingStiffness_N_per_m = k;

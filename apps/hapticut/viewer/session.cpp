@@ -42,9 +42,17 @@ Session::Session(app::LoadedScene scene) : scene_(std::move(scene)), mouse_(scen
 Session::~Session() { loop_.reset(); }
 
 void Session::startLoop() {
-    haptics::Device& device = replay_ ? static_cast<haptics::Device&>(*replay_) : mouse_;
+    haptics::Device& device = hardware_ ? *hardware_ : replay_ ? static_cast<haptics::Device&>(*replay_) : mouse_;
     loop_ = std::make_unique<haptics::HapticLoop>(*organ_, device, config_);
-    loop_->start();
+    loopError_.clear();
+    loop_->start(-1, {}, loopError_);
+}
+
+void Session::useDevice(std::unique_ptr<haptics::Device> device) {
+    loop_.reset();
+    replay_.reset();
+    hardware_ = std::move(device);
+    startLoop();
 }
 
 void Session::resetModel() {
@@ -83,9 +91,10 @@ bool Session::replay(const std::string& file, std::string& error) {
 }
 
 void Session::useMouse() {
-    if (!replay_) return;
+    if (!replay_ && !hardware_) return;
     loop_.reset();
     replay_.reset();
+    hardware_.reset();
     replayFile_.clear();
     startLoop();
 }

@@ -28,6 +28,10 @@ public:
     /// Restarts the loop with `config()` on the same organ (integrator or rate changed).
     void restartLoop();
     void setTool(std::size_t index);
+    /// Drives the loop with a hardware device instead of the mouse (its servo loop steps the loop).
+    void useDevice(std::unique_ptr<haptics::Device> device);
+    bool hardware() const { return hardware_ != nullptr; }
+    const haptics::Device* hardwareDevice() const { return hardware_.get(); }
     /// Replays a trajectory file instead of the mouse; false with `error` when it does not load.
     bool replay(const std::string& file, std::string& error);
     void useMouse();
@@ -53,11 +57,16 @@ public:
 
 private:
     void startLoop();
+    std::string loopError_;
+public:
+    /// Why the loop could not start (a device's servo refused), or empty.
+    const std::string& loopError() const { return loopError_; }
 
     app::LoadedScene scene_;
     haptics::LoopConfig config_;
     haptics::VirtualDevice mouse_;
     std::unique_ptr<haptics::ReplayDevice> replay_;
+    std::unique_ptr<haptics::Device> hardware_;
     std::string replayFile_;
     std::unique_ptr<cutting::CutModel> organ_;
     std::unique_ptr<haptics::HapticLoop> loop_;

@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/mesh/io/load_error.h"
 #include "render/gl_context.h"
 #include "render/offscreen.h"
@@ -171,7 +172,7 @@ void Viewer::onCursor(double x, double y) {
 }
 
 void Viewer::updateDevice(const haptics::Snapshot& snapshot) {
-    if (session_.replaying()) return;
+    if (session_.replaying() || session_.hardware()) return;
     const render::Ray ray = cursorRay();
     Vec3 position;
     if (mouse_.engaged())
@@ -183,6 +184,34 @@ void Viewer::updateDevice(const haptics::Snapshot& snapshot) {
 
 int Viewer::run() {
     GLFWwindow* w = window_->handle();
+    // The device first: a missing one ends the run before the UI starts.
+    if (options_.device.rfind("openhaptics", 0) == 0) {
+        haptics::OpenHapticsOptions hd;
+        if (options_.device.size() > 12) hd.deviceName = options_.device.substr(12);
+        // Device millimetres round the organ's centre: the Touch's workspace holds a heart at 1:1.
+        Eigen::AlignedBox3d box;
+        for (const Vec3& p : session_.scene().source.mesh.positions) box.extend(p);
+        hd.workspace.offset_m = box.center();
+        std::string error;
+        auto device = haptics::OpenHapticsDevice::open(hd, error);
+        if (!device) {
+            std::cerr << "hapticut view: " << error << "\n";
+            return 1;
+        }
+        std::cerr << "hapticut view: " << device->model() << " (" << device->serial() << ") through " << device->libraryPath() << "\n";
+        session_.useDevice(std::move(device));
+        if (!session_.loopError().empty()) {
+            std::cerr << "hapticut view: " << session_.loopError() << "\n";
+            return 1;
+        }
+    }
+    if (!options_.trajectory.empty()) {
+        std::string error;
+        if (!session_.replay(options_.trajectory, error)) {
+            std::cerr << error << "\n";
+            return 1;
+        }
+    }
     glfwSetWindowUserPointer(w, this);
     // Ours first; ImGui's backend chains to them, and we skip what ImGui wants for itself.
     glfwSetKeyCallback(w, [](GLFWwindow* win, int key, int, int action, int mods) {
@@ -205,13 +234,6 @@ int Viewer::run() {
     ImGui_ImplOpenGL3_Init("#version 330 core");
     glfwSwapInterval(options_.frames >= 0 ? 0 : 1);  // scripted runs measure the frame rate, unthrottled
 
-    if (!options_.trajectory.empty()) {
-        std::string error;
-        if (!session_.replay(options_.trajectory, error)) {
-            std::cerr << error << "\n";
-            return 1;
-        }
-    }
     long frames = 0;
     int fbw = 0, fbh = 0;
     const auto start = Clock::now();

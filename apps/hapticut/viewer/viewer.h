@@ -18,6 +18,7 @@ struct ViewerOptions {
     std::string screenshot;      // with frames: the last frame, panel and all, as a PNG
     std::string trajectory;      // replay this device path instead of following the mouse
     std::string tool = "probe";
+    std::string device = "virtual";  // virtual (the mouse), openhaptics[:NAME]
     std::string report;          // JSON: frames, frame rate, haptic rate, renderer
     bool wireframe = false;
     bool hidePanel = false;
