@@ -122,14 +122,9 @@ int screenshot(ScreenshotOptions& o) {
     if (*stereo == render::StereoMode::QuadBuffer) std::cerr << "hapticut screenshot: a PNG has no quad buffer; drawing anaglyph instead\n";
     view.wireframe = o.wireframe || loaded->settings.wireframe;
     view.normalMapping = !o.noBump;
-    Eigen::AlignedBox3d box;
-    for (const Vec3& p : loaded->source.mesh.positions) box.extend(p);
-    view.camera.frame(box.center(), 0.5 * box.diagonal().norm());
-    view.camera.distance_m /= o.zoom;
     view.camera.yaw_rad = o.yaw_deg * M_PI / 180;
     view.camera.pitch_rad = o.pitch_deg * M_PI / 180;
-    view.focalLength_m = view.camera.distance_m;
-    view.eyeSeparation_m = view.camera.distance_m / 30;
+    view.frameOrgan(loaded->source.mesh.positions, o.zoom);
 
     target->bind();
     renderer->draw(frame, view, width, height);

@@ -6,7 +6,7 @@
 
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/cutting/progressive_cutter.h"
-#include "hapticut/geometry/triangle_queries.h"
+#include "hapticut/cutting/stroke_fuzzer.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"
@@ -18,26 +18,14 @@ namespace {
 
 CutModel cuttable(const mesh::SurfaceMesh& mesh) { return CutModel(mesh, physics::buildModel(mesh, physics::Material{})); }
 
-/// Where the scalpel touches: the rest surface's closest face and barycentrics (brute force).
+/// Where the scalpel touches: the rest surface's closest face and barycentrics.
 std::pair<std::uint32_t, Vec3> touch(const CutModel& cut, const Vec3& p) {
-    const mesh::SurfaceMesh& m = cut.mesh();
-    std::uint32_t best = 0;
-    Vec3 bary = Vec3::Zero();
-    double bestD = 1e300;
-    for (std::uint32_t f = 0; f < m.faces.size(); ++f) {
-        const auto c = geometry::closestPointOnTriangle(p, m.positions[m.faces[f][0]], m.positions[m.faces[f][1]], m.positions[m.faces[f][2]]);
-        const double d = (c.point - p).norm();
-        if (d < bestD) bestD = d, best = f, bary = c.bary;
-    }
-    return {best, bary};
+    const RestTouch t = touchRestSurface(cut, p);
+    return {t.face, t.bary};
 }
 
 /// The closest point of the rest surface to p.
-Vec3 touchPoint(const CutModel& cut, const Vec3& p) {
-    const auto [face, bary] = touch(cut, p);
-    const mesh::Face& f = cut.mesh().faces[face];
-    return bary.x() * cut.mesh().positions[f[0]] + bary.y() * cut.mesh().positions[f[1]] + bary.z() * cut.mesh().positions[f[2]];
-}
+Vec3 touchPoint(const CutModel& cut, const Vec3& p) { return touchRestSurface(cut, p).point; }
 
 void stroke(CutModel& cut, ProgressiveCutter& cutter, const Vec3& from, const Vec3& to, int samples) {
     for (int i = 0; i <= samples; ++i) {

@@ -60,6 +60,16 @@ protected:
         return o;
     }
 
+    /// The emulated stylus `depth_mm` inside the front of the heart (device millimetres, scene metres at
+    /// 1:1000), and the device opened on it.
+    std::unique_ptr<OpenHapticsDevice> pressing(const Vec3& front, double depth_mm) const {
+        emu.setPosition(front.x() * 1e3, front.y() * 1e3, front.z() * 1e3 - depth_mm);
+        std::string error;
+        auto device = OpenHapticsDevice::open(emulated(), error);
+        EXPECT_TRUE(device) << error;
+        return device;
+    }
+
     Emulator emu;
 };
 
@@ -146,11 +156,9 @@ struct Heart {
 TEST_F(OpenHaptics, TheServoLoopDrivesTheHapticLoopAtItsRateAndTheForceIsClamped) {
     Heart h;
     const Vec3 front = h.front();
-    // The stylus 8 mm inside the front of the heart (device millimetres, scene metres at 1:1000).
-    emu.setPosition(front.x() * 1e3, front.y() * 1e3, front.z() * 1e3 - 8);
+    auto device = pressing(front, 8);
+    ASSERT_TRUE(device);
     std::string error;
-    auto device = OpenHapticsDevice::open(emulated(), error);
-    ASSERT_TRUE(device) << error;
     LoopConfig config;
     config.rampTime_s = 0.05;
     {
@@ -176,11 +184,9 @@ TEST_F(OpenHaptics, TheServoLoopDrivesTheHapticLoopAtItsRateAndTheForceIsClamped
 
 TEST_F(OpenHaptics, ADeviceLostMidRunTripsTheWatchdogAndSendsNoForce) {
     Heart h;
-    const Vec3 front = h.front();
-    emu.setPosition(front.x() * 1e3, front.y() * 1e3, front.z() * 1e3 - 3);
+    auto device = pressing(h.front(), 3);
+    ASSERT_TRUE(device);
     std::string error;
-    auto device = OpenHapticsDevice::open(emulated(), error);
-    ASSERT_TRUE(device) << error;
     LoopConfig config;
     config.rampTime_s = 0.02;
     HapticLoop loop(h.model, h.mesh.faces, *device, config);

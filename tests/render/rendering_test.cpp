@@ -51,11 +51,7 @@ protected:
 
     static ViewSettings frontView(const mesh::SurfaceMesh& organ) {
         ViewSettings view;
-        Eigen::AlignedBox3d box;
-        for (const Vec3& p : organ.positions) box.extend(p);
-        view.camera.frame(box.center(), 0.5 * box.diagonal().norm());
-        view.focalLength_m = view.camera.distance_m;
-        view.eyeSeparation_m = view.camera.distance_m / 30;
+        view.frameOrgan(organ.positions);
         return view;
     }
 

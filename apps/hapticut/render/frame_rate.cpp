@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "hapticut/cutting/cut_model.h"
+#include "hapticut/geometry/aabb.h"
 #include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/virtual_device.h"
 #include "hapticut/mesh/procedural/heart.h"
@@ -17,6 +18,7 @@
 #include "render/gl_context.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
+#include "render/snapshot_frame.h"
 
 namespace hapticut::render {
 
@@ -29,16 +31,14 @@ struct PressedHeart {
     std::unique_ptr<cutting::CutModel> organ;
     haptics::VirtualDevice device;
     std::unique_ptr<haptics::HapticLoop> loop;
-    Eigen::AlignedBox3d box;
 
     explicit PressedHeart(int triangles) {
         mesh::procedural::HeartOptions options;
         options.triangles = triangles;
         mesh::SurfaceMesh heart = mesh::procedural::makeHeart(options);
-        for (const Vec3& p : heart.positions) box.extend(p);
         organ = std::make_unique<cutting::CutModel>(heart, physics::buildModel(heart, physics::Material{}));
         // The front: the vertex furthest out along +z near (0, -1 cm).
-        Vec3 front = box.center();
+        Vec3 front = geometry::boundsOf(heart.positions).center();
         for (const Vec3& p : heart.positions)
             if (std::abs(p.x()) < 0.01 && std::abs(p.y() + 0.01) < 0.01 && p.z() > front.z()) front = p;
         device.setPosition(front - Vec3(0, 0, 0.003), 1);
@@ -63,7 +63,6 @@ bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, 
     if (!draw) return false;
 
     std::map<int, std::unique_ptr<PressedHeart>> hearts;
-    long version = 0;
     for (const FrameRateCase& c : cases) {
         if (!hearts.count(c.triangles)) {
             hearts.clear();  // one loop at a time: the benchmark measures the renderer beside one loop
@@ -73,12 +72,9 @@ bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, 
         auto target = OffscreenTarget::create(c.width, c.height, 4, error);
         if (!target) return false;
         ViewSettings view;
-        view.camera.frame(heart->box.center(), 0.5 * heart->box.diagonal().norm());
-        view.focalLength_m = view.camera.distance_m;
-        view.eyeSeparation_m = view.camera.distance_m / 30;
+        view.frameOrgan(heart->organ->mesh().positions);
         view.stereo = c.stereo;
-        draw->invalidateOrgan();
-        ++version;
+        draw->invalidateOrgan();  // a new heart, or the same one at another size: upload it afresh
         target->bind();
         FrameRateResult r{c};
         const long step0 = heart->loop->snapshots().readLatest().step;
@@ -86,16 +82,7 @@ bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, 
         auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
         while (elapsed() < seconds || r.frames < 3) {
             const haptics::Snapshot& s = heart->loop->snapshots().readLatest();
-            SceneFrame frame;
-            frame.organPositions = s.positions;
-            frame.faces = s.faces;
-            frame.uvs = s.uvs;
-            frame.topologyVersion = version * 1'000'000 + s.topologyVersion;
-            frame.tool = 0;
-            frame.proxy_m = s.proxy_m;
-            frame.device_m = s.device_m;
-            frame.force_N = s.force_N;
-            draw->draw(frame, view, c.width, c.height);
+            draw->draw(frameOf(s, 0, heart->device.maxForce_N()), view, c.width, c.height);
             glFinish();
             ++r.frames;
             r.faces = static_cast<int>(s.faces.size());

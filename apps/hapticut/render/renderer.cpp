@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "hapticut/geometry/aabb.h"
 #include "hapticut/mesh/procedural/primitives.h"
 #include "render/gpu_mesh.h"
 #include "render/organ_surface.h"
@@ -179,6 +180,14 @@ struct Renderer::Impl {
         glEnable(GL_DEPTH_TEST);
     }
 };
+
+void ViewSettings::frameOrgan(std::span<const Vec3> positions, double zoom) {
+    const geometry::Aabb box = geometry::boundsOf(positions);
+    camera.frame(box.center(), 0.5 * box.extent().norm());
+    camera.distance_m /= zoom;
+    focalLength_m = camera.distance_m;
+    eyeSeparation_m = camera.distance_m / 30;
+}
 
 std::unique_ptr<Renderer> Renderer::create(std::span<const mesh::SurfaceMesh> tools, std::string& error, int textureSize) {
     const std::string header = std::string("#version 330 core\n") + shaders::kLightingCommon;

@@ -37,6 +37,10 @@ struct ViewSettings {
     bool normalMapping = true;
     bool quadBufferAvailable = false;      // the bound framebuffer has left and right back buffers
     double forceArrowLength_m_per_N = 0.01;
+
+    /// Looks at the whole organ from the current direction (`zoom` times closer), with the stereo focal
+    /// plane at the organ's centre.
+    void frameOrgan(std::span<const Vec3> positions, double zoom = 1);
 };
 
 class Renderer {

@@ -125,10 +125,8 @@ void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snap
         c.couplingDamping_Ns_per_m = b;
         session.loop().commands().push({haptics::LoopCommand::Kind::SetCouplingDamping, b});
     }
-    static float maxForceScale = 1;
-    if (ImGui::SliderFloat("max force", &maxForceScale, 0.0f, 1.0f, "%.2f of the device's")) {
-        session.loop().commands().push({haptics::LoopCommand::Kind::SetMaxForceScale, maxForceScale});
-    }
+    if (ImGui::SliderFloat("max force", &state.maxForceScale, 0.0f, 1.0f, "%.2f of the device's"))
+        session.loop().commands().push({haptics::LoopCommand::Kind::SetMaxForceScale, state.maxForceScale});
 
     section("Tissue (x the scene's values)");
     materialSlider(session, "mass", MaterialKnob::Mass);

@@ -21,6 +21,7 @@ struct PanelState {
     std::string modelPath, toolPath, exportPath = "heart-cut.obj", replayPath, recordPath = "recording.csv";
     std::string message;
     bool recording = false;
+    float maxForceScale = 1;  // of the device's maximum force
     std::vector<haptics::StepOutput> recorded;  // the device path at the display rate, while recording
 };
 

@@ -15,11 +15,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hapticut/geometry/aabb.h"
 #include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/mesh/io/load_error.h"
 #include "render/gl_context.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
+#include "render/snapshot_frame.h"
 #include "viewer/force_plot.h"
 #include "viewer/mouse_device.h"
 #include "viewer/panel.h"
@@ -67,17 +69,15 @@ private:
     bool showPanel_ = true, showHelp_ = false, paused_ = false;
     bool orbiting_ = false, panning_ = false;
     std::string framedModel_;
+    long drawnResets_ = -1;
     double cursorX_ = 0, cursorY_ = 0, lastX_ = 0, lastY_ = 0;
 };
 
 void Viewer::frameOrgan() {
     framedModel_ = session_.scene().source.name;
-    Eigen::AlignedBox3d box;
-    for (const Vec3& p : session_.scene().source.mesh.positions) box.extend(p);
-    view_.camera.frame(box.center(), 0.5 * box.diagonal().norm());
-    view_.focalLength_m = view_.camera.distance_m;
-    view_.eyeSeparation_m = view_.camera.distance_m / 30;
-    view_.forceArrowLength_m_per_N = 0.1 * box.diagonal().norm() / std::max(session_.scene().settings.maxForce_N, 0.1);
+    const auto& positions = session_.scene().source.mesh.positions;
+    view_.frameOrgan(positions);
+    view_.forceArrowLength_m_per_N = 0.1 * geometry::boundsOf(positions).extent().norm() / std::max(session_.scene().settings.maxForce_N, 0.1);
 }
 
 render::Ray Viewer::cursorRay() const {
@@ -114,7 +114,6 @@ void Viewer::onKey(int key, int mods) {
         case GLFW_KEY_7: view_.focalLength_m *= 1.1; break;
         case GLFW_KEY_R:
             session_.resetModel();
-            renderer_->invalidateOrgan();
             plot_.clear();
             break;
         case GLFW_KEY_SPACE:
@@ -189,9 +188,7 @@ int Viewer::run() {
         haptics::OpenHapticsOptions hd;
         if (options_.device.size() > 12) hd.deviceName = options_.device.substr(12);
         // Device millimetres round the organ's centre: the Touch's workspace holds a heart at 1:1.
-        Eigen::AlignedBox3d box;
-        for (const Vec3& p : session_.scene().source.mesh.positions) box.extend(p);
-        hd.workspace.offset_m = box.center();
+        hd.workspace.offset_m = geometry::boundsOf(session_.scene().source.mesh.positions).center();
         std::string error;
         auto device = haptics::OpenHapticsDevice::open(hd, error);
         if (!device) {
@@ -259,17 +256,12 @@ int Viewer::run() {
             panel_.recorded.push_back(sample);
         }
 
-        render::SceneFrame frame;
-        frame.organPositions = s.positions;
-        frame.faces = s.faces;
-        frame.uvs = s.uvs;
-        frame.topologyVersion = s.topologyVersion + 1'000'000 * session_.resets();  // a reset is a new topology too
-        frame.tool = static_cast<int>(session_.tool());
-        frame.proxy_m = s.proxy_m;
-        frame.device_m = s.device_m;
-        frame.force_N = s.force_N;
-        frame.contact = s.contact;
-        frame.maxForce_N = session_.scene().settings.maxForce_N;
+        // A reset (from a key or the panel) starts a new organ whose topology versions count from zero again.
+        if (session_.resets() != drawnResets_) {
+            renderer_->invalidateOrgan();
+            drawnResets_ = session_.resets();
+        }
+        const render::SceneFrame frame = render::frameOf(s, static_cast<int>(session_.tool()), session_.scene().settings.maxForce_N);
         glfwGetFramebufferSize(w, &fbw, &fbh);
         renderer_->draw(frame, view_, fbw, fbh);
 

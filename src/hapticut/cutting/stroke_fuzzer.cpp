@@ -6,24 +6,16 @@
 
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/cutting/progressive_cutter.h"
+#include "hapticut/geometry/aabb.h"
 #include "hapticut/geometry/triangle_queries.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/material.h"
 
 namespace hapticut::cutting {
 
-namespace {
-
-struct Touch {
-    std::uint32_t face = 0;
-    Vec3 bary = Vec3::Zero();
-    Vec3 point = Vec3::Zero();
-};
-
-/// The rest surface's closest point to p (brute force: the fuzzer checks the cutter, not the tree).
-Touch touch(const CutModel& cut, const Vec3& p) {
+RestTouch touchRestSurface(const CutModel& cut, const Vec3& p) {
     const mesh::SurfaceMesh& m = cut.mesh();
-    Touch best;
+    RestTouch best;
     double bestD = 1e300;
     for (std::uint32_t f = 0; f < m.faces.size(); ++f) {
         const auto c = geometry::closestPointOnTriangle(p, m.positions[m.faces[f][0]], m.positions[m.faces[f][1]], m.positions[m.faces[f][2]]);
@@ -33,16 +25,13 @@ Touch touch(const CutModel& cut, const Vec3& p) {
     return best;
 }
 
-}  // namespace
-
 StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzConfig& config, const std::function<void(long, long)>& progress) {
     const auto start = std::chrono::steady_clock::now();
     StrokeFuzzResult r;
     std::mt19937_64 rng(config.seed);
     std::uniform_real_distribution<double> unit(-1, 1), length(0.005, 0.04);
-    Eigen::AlignedBox3d box;
-    for (const Vec3& p : organ.positions) box.extend(p);
-    const double reach = box.diagonal().norm();
+    const geometry::Aabb box = geometry::boundsOf(organ.positions);
+    const double reach = box.extent().norm();
 
     for (long organIndex = 0; r.strokes < config.strokes; ++organIndex) {
         CutModel cut(organ, physics::buildModel(organ, physics::Material{}));
@@ -54,11 +43,11 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
                                  (operation >= 0 ? ", operation " + std::to_string(operation) : std::string()) + ": " + what);
         };
         for (long s = 0; s < config.strokesPerOrgan && r.strokes < config.strokes; ++s, ++r.strokes) {
-            const Vec3 from = touch(cut, box.center() + Vec3(unit(rng), unit(rng), unit(rng)).normalized() * reach).point;
-            const Vec3 to = touch(cut, from + length(rng) * Vec3(unit(rng), unit(rng), unit(rng)).normalized()).point;
+            const Vec3 from = touchRestSurface(cut, box.center() + Vec3(unit(rng), unit(rng), unit(rng)).normalized() * reach).point;
+            const Vec3 to = touchRestSurface(cut, from + length(rng) * Vec3(unit(rng), unit(rng), unit(rng)).normalized()).point;
             const int samples = 1 + static_cast<int>(rng() % 40);
             for (int i = 0; i <= samples; ++i) {
-                const Touch t = touch(cut, from + (to - from) * (static_cast<double>(i) / samples));
+                const RestTouch t = touchRestSurface(cut, from + (to - from) * (static_cast<double>(i) / samples));
                 const bool changed = cutter.cutAt(t.face, t.bary);
                 r.meshChanges += changed;
                 ++r.operations;

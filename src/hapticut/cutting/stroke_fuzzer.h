@@ -11,6 +11,19 @@
 
 namespace hapticut::cutting {
 
+class CutModel;
+
+/// A point of the organ's rest surface: its face, barycentric coordinates and position.
+struct RestTouch {
+    std::uint32_t face = 0;
+    Vec3 bary = Vec3::Zero();
+    Vec3 point = Vec3::Zero();
+};
+
+/// Where a scalpel at `p` touches the rest surface: the closest point over every face (brute force, so
+/// a check of the cutter does not lean on the collision tree).
+RestTouch touchRestSurface(const CutModel& cut, const Vec3& p);
+
 struct StrokeFuzzConfig {
     std::uint64_t seed = 1;
     long strokes = 1000;
