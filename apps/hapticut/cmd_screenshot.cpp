@@ -83,10 +83,10 @@ int screenshot(ScreenshotOptions& o) {
         const scene::HapticRunResult r = scene::runHaptic(organ, *trajectory, config);
         if (!r.log.empty()) {
             const haptics::StepOutput& last = r.log.back();
-            frame.proxy_m = last.proxy_m;
-            frame.device_m = last.device_m;
-            frame.force_N = last.force_N;
-            frame.contact = last.contact;
+            frame.hands[0].proxy_m = last.hand().proxy_m;
+            frame.hands[0].device_m = last.hand().device_m;
+            frame.hands[0].force_N = last.hand().force_N;
+            frame.hands[0].contact = last.hand().contact;
         }
         frame.showDevice = true;
         std::cerr << "hapticut screenshot: ran " << r.steps << " steps (" << r.simTime_s << " s) of " << o.trajectory << " with the "
@@ -95,7 +95,7 @@ int screenshot(ScreenshotOptions& o) {
     frame.organPositions = organ.model().nodes.position;
     frame.faces = organ.mesh().faces;
     frame.uvs = organ.mesh().uvs;
-    frame.tool = tool ? static_cast<int>(*tool) : -1;
+    frame.hands[0].tool = tool ? static_cast<int>(*tool) : -1;
     frame.maxForce_N = loaded->settings.maxForce_N;
 
     std::string error;

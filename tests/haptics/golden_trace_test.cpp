@@ -29,7 +29,7 @@ std::string traceOf(const std::string& trajectory_name) {
     for (std::size_t i = 0; i < r.log.size(); i += kEvery) {
         const haptics::StepOutput& s = r.log[i];
         char line[160];
-        std::snprintf(line, sizeof line, "%.3f,%.9f,%.9f,%.9f,%d\n", s.t_s, s.force_N.x(), s.force_N.y(), s.force_N.z(), s.contact ? 1 : 0);
+        std::snprintf(line, sizeof line, "%.3f,%.9f,%.9f,%.9f,%d\n", s.t_s, s.hand().force_N.x(), s.hand().force_N.y(), s.hand().force_N.z(), s.hand().contact ? 1 : 0);
         out += line;
     }
     return out;

@@ -54,17 +54,17 @@ TEST(HapticLoop, PressingTheHeartIndentsItNearTheContactAndItRecovers) {
     double maxForce = 0, forceAtHold = 0;
     loop.runSimulated(3000, [&](const StepOutput& s) {
         // The proxy is never inside the deforming heart (independent ray-parity test).
-        EXPECT_FALSE(collision::insideClosedSurface(loop.bvh(), loop.surface(), s.proxy_m)) << "t = " << s.t_s;
+        EXPECT_FALSE(collision::insideClosedSurface(loop.bvh(), loop.surface(), s.hand().proxy_m)) << "t = " << s.t_s;
         if (s.t_s < 0.55) {
-            EXPECT_EQ(s.force_N, Vec3::Zero()) << "free space, t = " << s.t_s;
+            EXPECT_EQ(s.hand().force_N, Vec3::Zero()) << "free space, t = " << s.t_s;
         }
-        maxForce = std::max(maxForce, s.force_N.norm());
+        maxForce = std::max(maxForce, s.hand().force_N.norm());
         if (std::abs(s.t_s - 1.2) < 1e-9) {
-            forceAtHold = s.force_N.norm();
-            EXPECT_GT(s.force_N.z(), 0.9 * s.force_N.norm()) << "pushes back along the outward normal";
+            forceAtHold = s.hand().force_N.norm();
+            EXPECT_GT(s.hand().force_N.z(), 0.9 * s.hand().force_N.norm()) << "pushes back along the outward normal";
             // Indented near the contact, not far away.
             double indent = 0;
-            for (std::uint32_t n : h.mesh.faces[s.face]) indent = std::max(indent, (h.model.nodes.restPosition[n] - h.model.nodes.position[n]).z());
+            for (std::uint32_t n : h.mesh.faces[s.hand().face]) indent = std::max(indent, (h.model.nodes.restPosition[n] - h.model.nodes.position[n]).z());
             EXPECT_GT(indent, 1e-3);
             double far = 0;
             for (std::size_t i = 0; i < h.model.nodes.size(); ++i)
@@ -89,7 +89,7 @@ TEST(HapticLoop, ForceGrowsWithDepthUpToTheClamp) {
         HapticLoop loop(h.model, h.mesh.faces, device);
         double atHold = 0;
         loop.runSimulated(1250, [&](const StepOutput& s) {
-            if (std::abs(s.t_s - 1.2) < 1e-9) atHold = s.force_N.norm();
+            if (std::abs(s.t_s - 1.2) < 1e-9) atHold = s.hand().force_N.norm();
         });
         EXPECT_GE(atHold, previous - 1e-9) << "depth " << depth;
         EXPECT_LE(atHold, kDefaultMaxForce_N + 1e-12);
@@ -107,7 +107,7 @@ TEST(HapticLoop, ForceRampsInOverHalfASecond) {
     HapticLoop loop(h.model, h.mesh.faces, device);
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::Pause, 0}));
     std::vector<double> force;
-    loop.runSimulated(700, [&](const StepOutput& s) { force.push_back(s.force_N.norm()); });
+    loop.runSimulated(700, [&](const StepOutput& s) { force.push_back(s.hand().force_N.norm()); });
     EXPECT_EQ(force[0], 0.0);
     EXPECT_NEAR(force[100], 0.2 * force[600], 1e-9);
     EXPECT_NEAR(force[250], 0.5 * force[600], 1e-9);
@@ -138,10 +138,10 @@ TEST(HapticLoop, WatchdogZeroesTheForceOnANonFiniteValue) {
     FaultyDevice device(frontPoint(h) - Vec3(0, 0, 0.003));
     HapticLoop loop(h.model, h.mesh.faces, device);
     double before = 0, after = 0;
-    loop.runSimulated(690, [&](const StepOutput& s) { before = s.force_N.norm(); });
+    loop.runSimulated(690, [&](const StepOutput& s) { before = s.hand().force_N.norm(); });
     EXPECT_GT(before, 0.3) << "pressing before the fault";
     loop.runSimulated(50, [&](const StepOutput& s) {
-        if (s.t_s > 0.7) after = std::max(after, s.force_N.norm());
+        if (s.t_s > 0.7) after = std::max(after, s.hand().force_N.norm());
     });
     EXPECT_EQ(after, 0.0);
     EXPECT_TRUE(loop.stats().watchdogTripped);
@@ -181,9 +181,9 @@ TEST(HapticLoop, CommandsReachTheLoop) {
     device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));
     HapticLoop loop(h.model, h.mesh.faces, device);
     double before = 0, after = 1;
-    loop.runSimulated(600, [&](const StepOutput& s) { before = s.force_N.norm(); });
+    loop.runSimulated(600, [&](const StepOutput& s) { before = s.hand().force_N.norm(); });
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::SetMaxForceScale, 0.0}));
-    loop.runSimulated(1, [&](const StepOutput& s) { after = s.force_N.norm(); });
+    loop.runSimulated(1, [&](const StepOutput& s) { after = s.hand().force_N.norm(); });
     EXPECT_GT(before, 0.1);
     EXPECT_EQ(after, 0.0);
 }

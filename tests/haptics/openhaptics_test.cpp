@@ -167,7 +167,7 @@ TEST_F(OpenHaptics, TheServoLoopDrivesTheHapticLoopAtItsRateAndTheForceIsClamped
         ASSERT_TRUE(loop.start(-1, {}, error)) << error;
         std::this_thread::sleep_for(std::chrono::milliseconds(400));
         const Snapshot& s = loop.snapshots().readLatest();
-        EXPECT_TRUE(s.device_m.isApprox(Vec3(front.x(), front.y(), front.z() - 0.008), 1e-9)) << s.device_m.transpose();
+        EXPECT_TRUE(s.hands[0].device_m.isApprox(Vec3(front.x(), front.y(), front.z() - 0.008), 1e-9)) << s.hands[0].device_m.transpose();
         loop.stop();
         const long ticks = emu.ticks() - ticks0;
         // One loop step per servo tick: the servo's clock is the loop's.

@@ -25,9 +25,9 @@ TEST(Trajectory, ARecordingReplaysAsATrajectory) {
     std::vector<StepOutput> log(3);
     for (int i = 0; i < 3; ++i) {
         log[i].t_s = 0.001 * i;
-        log[i].device_m = Vec3(0, 0, 0.01 * i);
-        log[i].force_N = Vec3(0, 0, 0.5 * i);
-        log[i].buttons = 1;
+        log[i].hands[0].device_m = Vec3(0, 0, 0.01 * i);
+        log[i].hands[0].force_N = Vec3(0, 0, 0.5 * i);
+        log[i].hands[0].buttons = 1;
     }
     const std::string text = formatRecording(log);
     EXPECT_EQ(text.substr(0, text.find('\n')), "t,x,y,z,button,fx,fy,fz");

@@ -17,7 +17,7 @@ void pressWithTool(MassSpringModel& model, const mesh::SurfaceMesh& mesh, int st
     std::uint32_t front = 0;
     for (std::uint32_t f = 0; f < mesh.faces.size(); ++f)
         if (mesh.normals[f].z() > mesh.normals[front].z()) front = f;
-    PointSpring& tool = model.tool;
+    PointSpring& tool = model.tools[0];
     tool.active = step < 300;
     tool.nodes = mesh.faces[front];
     tool.bary = Vec3(0.5, 0.3, 0.2);

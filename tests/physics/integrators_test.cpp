@@ -223,20 +223,20 @@ namespace {
 TEST(PointSpring, TissueFeelsExactlyTheToolForceReversed) {
     MassSpringModel model = buildModel(mesh::procedural::makeHeart({}), Material{});
     for (Vec3& f : model.nodes.externalForce) f = Vec3::Zero();
-    model.tool.active = true;
-    model.tool.nodes = {3, 17, 40};
-    model.tool.bary = Vec3(0.2, 0.5, 0.3);
-    const Vec3 w = model.tool.bary.cwiseAbs2();
-    model.tool.weights = w / w.sum();
-    model.tool.anchor_m = Vec3(0, 0, 0.02);
-    model.tool.stiffness_N_per_m = 500;
-    model.tool.maxForce_N = 3.3;
+    model.tools[0].active = true;
+    model.tools[0].nodes = {3, 17, 40};
+    model.tools[0].bary = Vec3(0.2, 0.5, 0.3);
+    const Vec3 w = model.tools[0].bary.cwiseAbs2();
+    model.tools[0].weights = w / w.sum();
+    model.tools[0].anchor_m = Vec3(0, 0, 0.02);
+    model.tools[0].stiffness_N_per_m = 500;
+    model.tools[0].maxForce_N = 3.3;
     // Accelerations times masses at rest (springs and anchors exert nothing) are the tool's reaction.
     std::vector<Vec3> a(model.nodes.size());
     computeAccelerations(model, model.nodes.position, model.nodes.velocity, a);
     Vec3 sum = Vec3::Zero();
     for (std::size_t i = 0; i < a.size(); ++i) sum += model.nodes.mass[i] * a[i];
-    const Vec3 f = model.tool.forceOnTool(model.nodes.position);
+    const Vec3 f = model.tools[0].forceOnTool(model.nodes.position);
     EXPECT_LT((sum + f).norm(), 1e-12);
     EXPECT_NEAR(f.norm(), 3.3, 1e-12) << "clamped";
     EXPECT_NEAR((model.nodes.mass[17] * a[17]).norm() / (model.nodes.mass[3] * a[3]).norm(), 0.25 / 0.04, 1e-9) << "squared weights (R9)";

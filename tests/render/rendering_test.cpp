@@ -218,10 +218,10 @@ TEST_F(Rendering, TheToolAndTheForceArrowAppearAtTheProxy) {
     SceneFrame frame = restFrame(organ, 1);
     const Image bare = draw(frame, view);
     frame.showDevice = true;
-    frame.tool = 1;
-    frame.proxy_m = Vec3(0.06, 0.0, 0.03);
-    frame.device_m = Vec3(0.055, 0.0, 0.025);
-    frame.force_N = Vec3(2, 0, 1);
+    frame.hands[0].tool = 1;
+    frame.hands[0].proxy_m = Vec3(0.06, 0.0, 0.03);
+    frame.hands[0].device_m = Vec3(0.055, 0.0, 0.025);
+    frame.hands[0].force_N = Vec3(2, 0, 1);
     const Image withTool = draw(frame, view);
     long grey = 0;
     for (int y = 0; y < kHeight; ++y)

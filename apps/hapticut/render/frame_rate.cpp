@@ -1,6 +1,7 @@
 // The frame-rate benchmark: a pressed heart, its loop at 1 kHz, frames drawn as fast as they go.
 #include "render/frame_rate.h"
 
+#include <array>
 #include <epoxy/gl.h>
 
 #include <chrono>
@@ -82,7 +83,7 @@ bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, 
         auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
         while (elapsed() < seconds || r.frames < 3) {
             const haptics::Snapshot& s = heart->loop->snapshots().readLatest();
-            draw->draw(frameOf(s, 0, heart->device.maxForce_N()), view, c.width, c.height);
+            draw->draw(frameOf(s, std::array{0}, heart->device.maxForce_N()), view, c.width, c.height);
             glFinish();
             ++r.frames;
             r.faces = static_cast<int>(s.faces.size());

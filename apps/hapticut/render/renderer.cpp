@@ -146,36 +146,42 @@ struct Renderer::Impl {
         }
         if (!frame.showDevice) return;
 
-        // The tool stands on the proxy, its handle up and towards the viewer, as a hand would hold it.
+        // Each tool stands on its proxy, its handle up and towards the viewer, as a hand would hold it.
         const Vec3 handle = (0.8 * camera.up() - 0.6 * camera.forward()).normalized();
         const Eigen::Quaterniond toolRotation = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), handle);
-        if (frame.tool >= 0 && frame.tool < static_cast<int>(tools.size())) {
-            metal.use();
-            metal.set("uModel", toFloat(placement(frame.proxy_m, toolRotation, Vec3::Ones())));
-            metal.set("uCameraPosition", toFloat(Vec3(camera.eye())));
-            glActiveTexture(GL_TEXTURE2);
-            glBindTexture(GL_TEXTURE_CUBE_MAP, environment);
-            tools[static_cast<std::size_t>(frame.tool)]->draw();
-        }
         const double r = std::max(camera.distance_m * 0.004, 2e-4);
-        drawFlat(*sphere, placement(frame.proxy_m, Eigen::Quaterniond::Identity(), Vec3::Constant(r)), Eigen::Vector4f(1.0f, 0.85f, 0.2f, 1.0f));
-        // The force on the hand: an arrow from the proxy, green to red as it nears the device's maximum.
-        const double magnitude = frame.force_N.norm();
-        if (magnitude > 1e-3) {
-            const double length = magnitude * settings.forceArrowLength_m_per_N;
-            const Eigen::Quaterniond along = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), frame.force_N / magnitude);
-            const float t = static_cast<float>(std::clamp(magnitude / frame.maxForce_N, 0.0, 1.0));
-            const Eigen::Vector4f colour(0.2f + 0.8f * t, 0.9f - 0.7f * t, 0.2f, 1.0f);
-            const double headLength = std::min(length * 0.35, r * 4);
-            drawFlat(*shaft, placement(frame.proxy_m, along, Vec3(r * 0.45, r * 0.45, length - headLength)), colour);
-            drawFlat(*head, placement(frame.proxy_m + frame.force_N / magnitude * (length - headLength), along, Vec3(r * 1.3, r * 1.3, headLength)),
-                     colour);
+        const int handCount = std::clamp(frame.handCount, 0, static_cast<int>(frame.hands.size()));
+        for (int h = 0; h < handCount; ++h) {
+            const SceneFrame::Hand& hand = frame.hands[static_cast<std::size_t>(h)];
+            if (hand.tool >= 0 && hand.tool < static_cast<int>(tools.size())) {
+                metal.use();
+                metal.set("uModel", toFloat(placement(hand.proxy_m, toolRotation, Vec3::Ones())));
+                metal.set("uCameraPosition", toFloat(Vec3(camera.eye())));
+                glActiveTexture(GL_TEXTURE2);
+                glBindTexture(GL_TEXTURE_CUBE_MAP, environment);
+                tools[static_cast<std::size_t>(hand.tool)]->draw();
+            }
+            drawFlat(*sphere, placement(hand.proxy_m, Eigen::Quaterniond::Identity(), Vec3::Constant(r)), Eigen::Vector4f(1.0f, 0.85f, 0.2f, 1.0f));
+            // The force on the hand: an arrow from the proxy, green to red as it nears the device's maximum.
+            const double magnitude = hand.force_N.norm();
+            if (magnitude > 1e-3) {
+                const double length = magnitude * settings.forceArrowLength_m_per_N;
+                const Eigen::Quaterniond along = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), hand.force_N / magnitude);
+                const float t = static_cast<float>(std::clamp(magnitude / frame.maxForce_N, 0.0, 1.0));
+                const Eigen::Vector4f colour(0.2f + 0.8f * t, 0.9f - 0.7f * t, 0.2f, 1.0f);
+                const double headLength = std::min(length * 0.35, r * 4);
+                drawFlat(*shaft, placement(hand.proxy_m, along, Vec3(r * 0.45, r * 0.45, length - headLength)), colour);
+                drawFlat(*head, placement(hand.proxy_m + hand.force_N / magnitude * (length - headLength), along, Vec3(r * 1.3, r * 1.3, headLength)),
+                         colour);
+            }
         }
-        // Where the hand really is, seen through the tissue.
+        // Where the hands really are, seen through the tissue.
         glDisable(GL_DEPTH_TEST);
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        drawFlat(*sphere, placement(frame.device_m, Eigen::Quaterniond::Identity(), Vec3::Constant(r * 0.8)), Eigen::Vector4f(0.3f, 0.8f, 1.0f, 0.55f));
+        for (int h = 0; h < handCount; ++h)
+            drawFlat(*sphere, placement(frame.hands[static_cast<std::size_t>(h)].device_m, Eigen::Quaterniond::Identity(), Vec3::Constant(r * 0.8)),
+                     Eigen::Vector4f(0.3f, 0.8f, 1.0f, 0.55f));
         glDisable(GL_BLEND);
         glEnable(GL_DEPTH_TEST);
     }

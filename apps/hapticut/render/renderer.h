@@ -2,6 +2,8 @@
 // arrow, in mono or stereo, into whatever framebuffer is bound.
 #pragma once
 
+#include <array>
+
 #include <memory>
 #include <optional>
 #include <span>
@@ -22,10 +24,15 @@ struct SceneFrame {
     std::span<const mesh::Face> faces;     // read when topologyVersion differs from the last frame's
     std::span<const mesh::FaceUvs> uvs;
     long topologyVersion = 0;
-    int tool = 0;                          // index into the tools given to the renderer; -1: none
-    Vec3 proxy_m = Vec3::Zero(), device_m = Vec3::Zero(), force_N = Vec3::Zero();
-    bool contact = false;
-    bool showDevice = true;                // the tool, markers and force arrow
+    /// Each hand's tool: drawn at its proxy, with the device's marker and the force arrow.
+    struct Hand {
+        int tool = 0;                      // index into the tools given to the renderer; -1: none
+        Vec3 proxy_m = Vec3::Zero(), device_m = Vec3::Zero(), force_N = Vec3::Zero();
+        bool contact = false;
+    };
+    std::array<Hand, 2> hands{};
+    int handCount = 1;
+    bool showDevice = true;                // the tools, markers and force arrows
     double maxForce_N = 3.3;               // the arrow turns red at this force
 };
 

@@ -92,21 +92,37 @@ void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snap
     loopSection(session, s, rates);
 
     section("Force");
-    ImGui::Text("|F| %.2f N  (%.2f, %.2f, %.2f)  %s", s.force_N.norm(), s.force_N.x(), s.force_N.y(), s.force_N.z(), s.contact ? "contact" : "free");
+    for (int h = 0; h < s.handCount; ++h) {
+        const haptics::HandStep& hand = s.hands[static_cast<std::size_t>(h)];
+        ImGui::Text("%s|F| %.2f N  (%.2f, %.2f, %.2f)  %s", s.handCount > 1 ? (h == 0 ? "right  " : "left   ") : "", hand.force_N.norm(),
+                    hand.force_N.x(), hand.force_N.y(), hand.force_N.z(), hand.contact ? "contact" : "free");
+    }
     plot.draw(session.scene().settings.maxForce_N, ImGui::GetContentRegionAvail().x, 110);
 
-    section("Tool");
+    section("Hands");
+    bool two = session.handCount() == 2;
+    if (ImGui::Checkbox("two hands", &two)) session.setHandCount(two ? 2 : 1);
+    if (session.handCount() == 2) {
+        ImGui::SameLine();
+        int active = session.activeHand();
+        ImGui::RadioButton("right", &active, 0);
+        ImGui::SameLine();
+        ImGui::RadioButton("left", &active, 1);
+        ImGui::SameLine();
+        ImGui::TextDisabled("(Tab)");
+        session.setActiveHand(active);
+    }
+
+    section(session.handCount() == 2 ? (session.activeHand() == 0 ? "Tool in the right hand" : "Tool in the left hand") : "Tool");
     const auto& tools = session.scene().tools;
     for (std::size_t i = 0; i < tools.size(); ++i) {
         if (i) ImGui::SameLine();
         if (ImGui::RadioButton(tools[i].name.c_str(), session.tool() == i)) session.setTool(i);
     }
     haptics::LoopConfig& c = session.config();
-    float threshold = static_cast<float>(std::min(c.cutThreshold_N, 100.0));
-    if (ImGui::SliderFloat("cut threshold", &threshold, 0.2f, 100.0f, threshold >= 100 ? "never cuts" : "%.2f N", ImGuiSliderFlags_Logarithmic)) {
-        c.cutThreshold_N = threshold >= 100 ? 1e9 : threshold;
-        session.loop().commands().push({haptics::LoopCommand::Kind::SetCutThreshold, c.cutThreshold_N});
-    }
+    float threshold = static_cast<float>(std::min(session.cutThreshold(), 100.0));
+    if (ImGui::SliderFloat("cut threshold", &threshold, 0.2f, 100.0f, threshold >= 100 ? "never cuts" : "%.2f N", ImGuiSliderFlags_Logarithmic))
+        session.setCutThreshold(threshold >= 100 ? 1e9 : threshold);
 
     section("Device");
     if (session.replaying()) ImGui::Text("replaying %s", session.replayFile().c_str());

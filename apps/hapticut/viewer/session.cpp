@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <span>
 
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/io/thesis_format.h"
@@ -26,8 +27,11 @@ haptics::LoopCommand::Kind commandFor(MaterialKnob knob) {
 
 }  // namespace
 
-Session::Session(app::LoadedScene scene) : scene_(std::move(scene)), mouse_(scene_.settings.maxForce_N) {
-    mouse_.setFollowTime(0.015);  // about a frame: the cursor's jumps reach the hand as motion
+Session::Session(app::LoadedScene scene) : scene_(std::move(scene)) {
+    for (auto& mouse : mice_) {
+        mouse = std::make_unique<haptics::VirtualDevice>(scene_.settings.maxForce_N);
+        mouse->setFollowTime(0.015);  // about a frame: the cursor's jumps reach the hand as motion
+    }
     config_.scheme = scene_.settings.scheme;
     config_.rate_hz = scene_.settings.rate_hz;
     config_.couplingStiffness_N_per_m = scene_.settings.couplingStiffness_N_per_m;
@@ -36,22 +40,64 @@ Session::Session(app::LoadedScene scene) : scene_(std::move(scene)), mouse_(scen
     config_.proxy.staticFriction = scene_.settings.staticFriction;
     config_.proxy.dynamicFriction = scene_.settings.dynamicFriction;
     if (!scene_.tools.empty()) config_.cutThreshold_N = scene_.tools[0].threshold_N;
+    threshold_.fill(config_.cutThreshold_N);
     resetModel();
 }
 
 Session::~Session() { loop_.reset(); }
 
+haptics::Device& Session::deviceOf(int hand) {
+    const auto h = static_cast<std::size_t>(hand);
+    if (hardware_[h]) return *hardware_[h];
+    if (hand == 0 && replay_) return *replay_;
+    return *mice_[h];
+}
+
 void Session::startLoop() {
-    haptics::Device& device = hardware_ ? *hardware_ : replay_ ? static_cast<haptics::Device&>(*replay_) : mouse_;
-    loop_ = std::make_unique<haptics::HapticLoop>(*organ_, device, config_);
+    std::array<haptics::Hand, haptics::kMaxHands> hands{};
+    for (int h = 0; h < handCount_; ++h) {
+        haptics::Hand& hand = hands[static_cast<std::size_t>(h)];
+        hand.device = &deviceOf(h);
+        hand.cutThreshold_N = threshold_[static_cast<std::size_t>(h)];
+    }
+    loop_ = std::make_unique<haptics::HapticLoop>(*organ_, std::span<const haptics::Hand>(hands.data(), static_cast<std::size_t>(handCount_)), config_);
     loopError_.clear();
     loop_->start(-1, {}, loopError_);
 }
 
-void Session::useDevice(std::unique_ptr<haptics::Device> device) {
+void Session::setHandCount(int hands) {
+    hands = std::clamp(hands, 1, haptics::kMaxHands);
+    if (hands == handCount_) return;
     loop_.reset();
-    replay_.reset();
-    hardware_ = std::move(device);
+    if (hands == 2 && !scene_.tools.empty()) {
+        // The second hand takes the next tool, and starts where the first hand is, a little to its side.
+        tool_[1] = (tool_[0] + 1) % scene_.tools.size();
+        threshold_[1] = scene_.tools[tool_[1]].threshold_N;
+        mice_[1]->setPosition(mice_[0]->read(loop_ ? loop_->time_s() : 0).position_m + Vec3(-0.02, 0, 0));
+    }
+    handCount_ = hands;
+    activeHand_ = std::min(activeHand_, handCount_ - 1);
+    startLoop();
+}
+
+void Session::setActiveHand(int hand) { activeHand_ = std::clamp(hand, 0, handCount_ - 1); }
+
+std::array<int, haptics::kMaxHands> Session::toolsInHands() const {
+    std::array<int, haptics::kMaxHands> tools{};
+    for (std::size_t h = 0; h < tools.size(); ++h) tools[h] = static_cast<int>(tool_[h]);
+    return tools;
+}
+
+const haptics::Device* Session::hardwareDevice() const { return hardware_[static_cast<std::size_t>(activeHand_)].get(); }
+
+bool Session::mouseDrives() const { return !hardware_[static_cast<std::size_t>(activeHand_)] && !(activeHand_ == 0 && replay_); }
+
+void Session::useDevice(std::unique_ptr<haptics::Device> device, int hand) {
+    hand = std::clamp(hand, 0, haptics::kMaxHands - 1);
+    loop_.reset();
+    if (hand == 0) replay_.reset();
+    hardware_[static_cast<std::size_t>(hand)] = std::move(device);
+    handCount_ = std::max(handCount_, hand + 1);
     startLoop();
 }
 
@@ -72,9 +118,14 @@ void Session::restartLoop() {
 
 void Session::setTool(std::size_t index) {
     if (index >= scene_.tools.size()) return;
-    tool_ = index;
-    config_.cutThreshold_N = scene_.tools[index].threshold_N;
-    loop_->commands().push({haptics::LoopCommand::Kind::SetCutThreshold, config_.cutThreshold_N});
+    tool_[static_cast<std::size_t>(activeHand_)] = index;
+    setCutThreshold(scene_.tools[index].threshold_N);
+}
+
+void Session::setCutThreshold(double threshold_N) {
+    threshold_[static_cast<std::size_t>(activeHand_)] = threshold_N;
+    if (activeHand_ == 0) config_.cutThreshold_N = threshold_N;
+    loop_->commands().push({haptics::LoopCommand::Kind::SetCutThreshold, threshold_N, activeHand_});
 }
 
 bool Session::replay(const std::string& file, std::string& error) {
@@ -85,17 +136,21 @@ bool Session::replay(const std::string& file, std::string& error) {
     }
     loop_.reset();
     replay_ = std::make_unique<haptics::ReplayDevice>(std::move(*trajectory), scene_.settings.maxForce_N);
+    hardware_[0].reset();
     replayFile_ = file;
     startLoop();
     return true;
 }
 
 void Session::useMouse() {
-    if (!replay_ && !hardware_) return;
+    const auto h = static_cast<std::size_t>(activeHand_);
+    if (!(activeHand_ == 0 && replay_) && !hardware_[h]) return;
     loop_.reset();
-    replay_.reset();
-    hardware_.reset();
-    replayFile_.clear();
+    if (activeHand_ == 0) {
+        replay_.reset();
+        replayFile_.clear();
+    }
+    hardware_[h].reset();
     startLoop();
 }
 

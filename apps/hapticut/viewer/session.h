@@ -27,14 +27,34 @@ public:
     void resetModel();
     /// Restarts the loop with `config()` on the same organ (integrator or rate changed).
     void restartLoop();
+
+    /// One hand or two on the organ (the loop restarts on the same organ). A second hand starts with
+    /// the next tool, beside the first; the mouse drives the active hand, the other holds still.
+    void setHandCount(int hands);
+    int handCount() const { return handCount_; }
+    void setActiveHand(int hand);
+    int activeHand() const { return activeHand_; }
+
+    /// The tool in the active hand.
     void setTool(std::size_t index);
-    /// Drives the loop with a hardware device instead of the mouse (its servo loop steps the loop).
-    void useDevice(std::unique_ptr<haptics::Device> device);
-    bool hardware() const { return hardware_ != nullptr; }
-    const haptics::Device* hardwareDevice() const { return hardware_.get(); }
-    /// Replays a trajectory file instead of the mouse; false with `error` when it does not load.
+    std::size_t tool(int hand) const { return tool_[static_cast<std::size_t>(hand)]; }
+    std::size_t tool() const { return tool(activeHand_); }
+    std::array<int, haptics::kMaxHands> toolsInHands() const;
+    /// The active hand's cut threshold: its tool's until the user changes it.
+    double cutThreshold() const { return threshold_[static_cast<std::size_t>(activeHand_)]; }
+    void setCutThreshold(double threshold_N);
+
+    /// Drives a hand with a hardware device instead of the mouse (a servo device steps the loop).
+    void useDevice(std::unique_ptr<haptics::Device> device, int hand = 0);
+    bool hardware() const { return hardwareDevice() != nullptr; }
+    /// The active hand's hardware device, if it has one.
+    const haptics::Device* hardwareDevice() const;
+    /// Replays a trajectory file in the first hand instead of the mouse; false with `error` when it does not load.
     bool replay(const std::string& file, std::string& error);
     void useMouse();
+    /// Whether the mouse drives the active hand (no replay, no hardware there).
+    bool mouseDrives() const;
+
     /// Loads another model into the same scene; false (message printed) when it does not load.
     bool loadModel(const std::string& model, std::string& error);
     /// Adds a tool from a tool file (thesis format: its mesh and cut threshold), named after the file,
@@ -47,30 +67,32 @@ public:
 
     haptics::HapticLoop& loop() { return *loop_; }
     haptics::LoopConfig& config() { return config_; }
-    haptics::VirtualDevice& mouseDevice() { return mouse_; }
+    /// The active hand's mouse device.
+    haptics::VirtualDevice& mouseDevice() { return *mice_[static_cast<std::size_t>(activeHand_)]; }
     bool replaying() const { return replay_ != nullptr; }
     const std::string& replayFile() const { return replayFile_; }
     const app::LoadedScene& scene() const { return scene_; }
-    std::size_t tool() const { return tool_; }
     double materialScale(MaterialKnob knob) const { return materialScale_[static_cast<int>(knob)]; }
     long resets() const { return resets_; }
-
-private:
-    void startLoop();
-    std::string loopError_;
-public:
     /// Why the loop could not start (a device's servo refused), or empty.
     const std::string& loopError() const { return loopError_; }
 
+private:
+    void startLoop();
+    haptics::Device& deviceOf(int hand);
+
     app::LoadedScene scene_;
     haptics::LoopConfig config_;
-    haptics::VirtualDevice mouse_;
-    std::unique_ptr<haptics::ReplayDevice> replay_;
-    std::unique_ptr<haptics::Device> hardware_;
+    std::array<std::unique_ptr<haptics::VirtualDevice>, haptics::kMaxHands> mice_;
+    std::unique_ptr<haptics::ReplayDevice> replay_;  // in the first hand
+    std::array<std::unique_ptr<haptics::Device>, haptics::kMaxHands> hardware_;
     std::string replayFile_;
     std::unique_ptr<cutting::CutModel> organ_;
     std::unique_ptr<haptics::HapticLoop> loop_;
-    std::size_t tool_ = 0;
+    std::string loopError_;
+    int handCount_ = 1, activeHand_ = 0;
+    std::array<std::size_t, haptics::kMaxHands> tool_{0, 0};
+    std::array<double, haptics::kMaxHands> threshold_{1e9, 1e9};
     std::array<double, kMaterialKnobs> materialScale_{1, 1, 1, 1, 1};
     long resets_ = 0;
 };

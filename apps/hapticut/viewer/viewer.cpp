@@ -96,6 +96,13 @@ render::Ray Viewer::cursorRay() const {
 void Viewer::onKey(int key, int mods) {
     using render::StereoMode;
     switch (key) {
+        case GLFW_KEY_TAB:
+            // The mouse lets go of this hand, which stays where it is, and takes the other.
+            if (session_.handCount() == 2) {
+                mouse_.release();
+                session_.setActiveHand(1 - session_.activeHand());
+            }
+            break;
         case GLFW_KEY_1: session_.setTool(0); break;
         case GLFW_KEY_2: session_.setTool(1); break;
         case GLFW_KEY_W: view_.wireframe = !view_.wireframe; break;
@@ -133,7 +140,7 @@ void Viewer::onKey(int key, int mods) {
 void Viewer::onMouseButton(int button, int action, int mods) {
     const bool down = action == GLFW_PRESS;
     if (button == GLFW_MOUSE_BUTTON_LEFT) {
-        if (down && !session_.replaying()) {
+        if (down && session_.mouseDrives()) {
             const haptics::Snapshot& s = session_.loop().snapshots().readLatest();
             const render::Ray ray = cursorRay();
             mouse_.engage(view_.camera, ray, pickSurface(ray, s.positions, s.faces));
@@ -171,7 +178,7 @@ void Viewer::onCursor(double x, double y) {
 }
 
 void Viewer::updateDevice(const haptics::Snapshot& snapshot) {
-    if (session_.replaying() || session_.hardware()) return;
+    if (!session_.mouseDrives()) return;
     const render::Ray ray = cursorRay();
     Vec3 position;
     if (mouse_.engaged())
@@ -245,14 +252,13 @@ int Viewer::run() {
         const haptics::Snapshot& s = session_.loop().snapshots().readLatest();
         updateDevice(s);
         const double t_s = std::chrono::duration<double>(Clock::now() - start).count();
-        plot_.add(t_s, s.force_N);
+        const haptics::HandStep& hand = s.hands[static_cast<std::size_t>(std::min(session_.activeHand(), s.handCount - 1))];
+        plot_.add(t_s, hand.force_N);
         if (panel_.recording) {
             haptics::StepOutput sample;
             sample.t_s = t_s;
-            sample.device_m = s.device_m;
-            sample.proxy_m = s.proxy_m;
-            sample.force_N = s.force_N;
-            sample.buttons = mouse_.engaged() ? 1u : 0u;
+            sample.hands[0] = hand;
+            sample.hands[0].buttons = mouse_.engaged() ? 1u : 0u;
             panel_.recorded.push_back(sample);
         }
 
@@ -261,7 +267,8 @@ int Viewer::run() {
             renderer_->invalidateOrgan();
             drawnResets_ = session_.resets();
         }
-        const render::SceneFrame frame = render::frameOf(s, static_cast<int>(session_.tool()), session_.scene().settings.maxForce_N);
+        const auto tools = session_.toolsInHands();
+        const render::SceneFrame frame = render::frameOf(s, tools, session_.scene().settings.maxForce_N);
         glfwGetFramebufferSize(w, &fbw, &fbh);
         renderer_->draw(frame, view_, fbw, fbh);
 
@@ -274,7 +281,7 @@ int Viewer::run() {
             ImGui::SetNextWindowPos(ImVec2(10, 10));
             ImGui::SetNextWindowBgAlpha(0.5f);
             ImGui::Begin("##rates", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize);
-            ImGui::Text("%.0f fps  %.0f Hz  |F| %.2f N   h: keys", rates.renderFps, rates.hapticRate_hz, s.force_N.norm());
+            ImGui::Text("%.0f fps  %.0f Hz  |F| %.2f N   h: keys", rates.renderFps, rates.hapticRate_hz, hand.force_N.norm());
             ImGui::End();
         }
         ImGui::Render();

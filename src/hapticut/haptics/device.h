@@ -3,9 +3,12 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 
+#include "hapticut/geometry/aabb.h"
 #include "hapticut/geometry/vec.h"
 
 namespace hapticut::haptics {
@@ -51,8 +54,15 @@ public:
     /// The force to render, in the scene frame. Called from the haptic thread only.
     virtual void commandForce(const Vec3& force_N) = 0;
     virtual double maxForce_N() const = 0;
+    /// The stiffest coupling the device renders stably at a 1 kHz servo rate (OpenHaptics' nominal
+    /// maximum stiffness); infinite for devices without such a limit.
+    virtual double maxStiffness_N_per_m() const { return std::numeric_limits<double>::infinity(); }
     /// How device units map to the scene (identity for devices that already speak scene metres).
     virtual WorkspaceTransform workspace() const { return {}; }
+    /// The box the device reaches, in device units, for devices that map a workspace of their own.
+    virtual std::optional<geometry::Aabb> workspaceBox() const { return std::nullopt; }
+    /// Changes the mapping; false for devices without one. Before the loop starts only.
+    virtual bool setWorkspace(const WorkspaceTransform&) { return false; }
     /// The device's own servo loop, if it has one (see ServoClock).
     virtual ServoClock* servoClock() { return nullptr; }
 };

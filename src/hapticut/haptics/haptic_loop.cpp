@@ -1,10 +1,12 @@
 // The haptic loop.
 #include "hapticut/haptics/haptic_loop.h"
 
+#include "hapticut/haptics/force_safety.h"
 #include "hapticut/mesh/adjacency.h"
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 
 namespace hapticut::haptics {
@@ -19,45 +21,78 @@ ProxyParams withClosedFlag(ProxyParams params, std::span<const mesh::Face> faces
     for (std::size_t e = 0; e < adj.edges.size() && params.closedSurface; ++e) params.closedSurface = adj.facesOfEdge(e).size() == 2;
     return params;
 }
+
+std::vector<Hand> oneHand(Device& device, const LoopConfig& config) {
+    Hand hand;
+    hand.device = &device;
+    hand.cutThreshold_N = config.cutThreshold_N;
+    return {hand};
+}
 }  // namespace
 
 HapticLoop::HapticLoop(physics::MassSpringModel& model, std::span<const mesh::Face> faces, Device& device, LoopConfig config)
-    : model_(model), faces_(faces), device_(device), config_(config), stepper_(config.scheme), proxy_(withClosedFlag(config.proxy, faces)) {
+    : model_(model), faces_(faces), config_(config), stepper_(config.scheme) {
     ownTopology_ = mesh::buildVertexFaces(faces_, model_.nodes.size());
     topology_ = &ownTopology_;
-    initialise();
+    initialise(oneHand(device, config_));
 }
 
 HapticLoop::HapticLoop(cutting::CutModel& organ, Device& device, LoopConfig config)
-    : model_(organ.model()), faces_(organ.mesh().faces), organ_(&organ), device_(device), config_(config), stepper_(config.scheme),
-      proxy_(withClosedFlag(config.proxy, organ.mesh().faces)) {
+    : HapticLoop(organ, oneHand(device, config), config) {}
+
+HapticLoop::HapticLoop(cutting::CutModel& organ, std::span<const Hand> hands, LoopConfig config)
+    : model_(organ.model()), faces_(organ.mesh().faces), organ_(&organ), config_(config), stepper_(config.scheme) {
     topology_ = &organ.vertexFaces();
     cutter_.emplace(organ, config_.cutter);
-    initialise();
+    initialise(hands);
 }
 
-void HapticLoop::initialise() {
+void HapticLoop::initialise(std::span<const Hand> hands) {
+    if (hands.empty() || hands.size() > static_cast<std::size_t>(kMaxHands))
+        throw std::invalid_argument("a haptic loop takes 1 to " + std::to_string(kMaxHands) + " hands, not " + std::to_string(hands.size()));
+    const ProxyParams proxyParams = withClosedFlag(config_.proxy, faces_);
+    hands_.reserve(hands.size());
+    for (const Hand& h : hands) {
+        if (!h.device) throw std::invalid_argument("a hand without a device");
+        HandState& state = hands_.emplace_back(HandState{h, GodObjectProxy(proxyParams)});
+        state.stiffnessCap_N_per_m = stiffnessCapAt(h.device->maxStiffness_N_per_m(), config_.rate_hz);
+    }
+    // The stable step allows for every hand pressing the same node at its full coupling.
     preparedCouplingStiffness_ = config_.couplingStiffness_N_per_m;
-    stepper_.setToolStiffness(preparedCouplingStiffness_);
+    stepper_.setToolStiffness(preparedCouplingStiffness_ * static_cast<double>(hands_.size()));
     stepper_.setActiveRegion(config_.activeRegion);
     stepper_.prepare(model_);
     bvh_.build(surface());
-    proxy_.setTopology(topology_);
-    // Start the proxy where the device is, or just outside the surface if the device begins inside.
-    const Vec3 start = device_.read(0).position_m;
-    proxy_.reset(start + Vec3(0, 0, 1.0));
-    proxy_.update(start, surface(), bvh_);
+    for (HandState& hand : hands_) {
+        hand.proxy.setTopology(topology_);
+        // Start the proxy where the device is, or just outside the surface if the device begins inside.
+        const Vec3 start = hand.setup.device->read(0).position_m;
+        hand.proxy.reset(start + Vec3(0, 0, 1.0));
+        hand.proxy.update(start, surface(), bvh_);
+    }
     for (Snapshot& s : snapshots_.slots()) {
         s.positions.resize(model_.nodes.size());
         s.faces.assign(faces_.begin(), faces_.end());
         if (organ_) s.uvs = organ_->mesh().uvs;
         s.topologyVersion = topologyVersion_;
+        s.handCount = handCount();
     }
 }
 
 HapticLoop::~HapticLoop() {
     stop();
-    device_.commandForce(Vec3::Zero());  // a real device must never be left pushing
+    zeroAllForces();  // a real device must never be left pushing
+}
+
+double HapticLoop::couplingStiffness_N_per_m(int hand) const {
+    return std::min(config_.couplingStiffness_N_per_m, hands_[static_cast<std::size_t>(hand)].stiffnessCap_N_per_m);
+}
+
+void HapticLoop::zeroAllForces() noexcept {
+    for (HandState& hand : hands_) {
+        hand.setup.device->commandForce(Vec3::Zero());
+        hand.sentForce_N = Vec3::Zero();
+    }
 }
 
 void HapticLoop::applyPendingCommands() noexcept {
@@ -69,12 +104,19 @@ void HapticLoop::applyPendingCommands() noexcept {
                 break;
             case LoopCommand::Kind::SetCouplingDamping: config_.couplingDamping_Ns_per_m = c->value; break;
             case LoopCommand::Kind::SetMaxForceScale: maxForceScale_ = std::clamp(c->value, 0.0, 1.0); break;
-            case LoopCommand::Kind::SetCutThreshold: config_.cutThreshold_N = std::max(c->value, 0.0); break;
+            case LoopCommand::Kind::SetCutThreshold:
+                if (c->hand >= 0 && c->hand < handCount()) hands_[static_cast<std::size_t>(c->hand)].setup.cutThreshold_N = std::max(c->value, 0.0);
+                if (c->hand == 0) config_.cutThreshold_N = std::max(c->value, 0.0);
+                break;
             case LoopCommand::Kind::ResetModel:
                 std::copy(model_.nodes.restPosition.begin(), model_.nodes.restPosition.end(), model_.nodes.position.begin());
                 std::fill(model_.nodes.velocity.begin(), model_.nodes.velocity.end(), Vec3::Zero());
                 break;  // the awake nodes find themselves at rest and fall asleep
-            case LoopCommand::Kind::ResetWatchdog: stats_.watchdogTripped = false; break;
+            case LoopCommand::Kind::ResetWatchdog:
+                // Forces fade in again, as at the start: the hand may have moved while they were off.
+                if (stats_.watchdogTripped) rampStart_s_ = time_s();
+                stats_.watchdogTripped = false;
+                break;
             case LoopCommand::Kind::Pause: paused_ = true; break;
             case LoopCommand::Kind::Resume: paused_ = false; break;
             case LoopCommand::Kind::ScaleMass:
@@ -91,27 +133,33 @@ StepOutput HapticLoop::step() noexcept {
     applyPendingCommands();
     StepOutput out;
     out.t_s = time_s();
+    out.handCount = handCount();
     const double dt = 1 / config_.rate_hz;
+    const std::size_t handCount = hands_.size();
 
-    // 1. Read the device (already in scene metres).
-    const DeviceSample dev = device_.read(out.t_s);
-    out.device_m = dev.position_m;
-    out.buttons = dev.buttons;
-
-    // A device that reports NaN or infinity (a driver fault, a lost connection) trips the watchdog
-    // before its sample can reach the proxy or the tissue.
-    collision::SurfaceView view = surface();
-    const bool deviceOk = dev.position_m.allFinite() && dev.velocity_m_per_s.allFinite();
-    if (!deviceOk) {
-        ++stats_.nonFiniteEvents;
-        stats_.watchdogTripped = true;
+    // 1. Read the devices (already in scene metres). A device that reports NaN or infinity (a driver
+    // fault, a lost connection) trips the watchdog before its sample can reach a proxy or the tissue.
+    std::array<DeviceSample, kMaxHands> dev{};
+    std::array<bool, kMaxHands> deviceOk{};
+    for (std::size_t h = 0; h < handCount; ++h) {
+        dev[h] = hands_[h].setup.device->read(out.t_s);
+        out.hands[h].device_m = dev[h].position_m;
+        out.hands[h].buttons = dev[h].buttons;
+        deviceOk[h] = dev[h].position_m.allFinite() && dev[h].velocity_m_per_s.allFinite();
+        if (!deviceOk[h]) {
+            ++stats_.nonFiniteEvents;
+            stats_.watchdogTripped = true;
+        }
     }
 
-    // 2. Move the proxy: carried with the surface it touches, then toward the device.
-    if (deviceOk) proxy_.update(dev.position_m, view, bvh_);
-    out.proxy_m = proxy_.position();
-    const Contact& contact = proxy_.contact();
-    auto touching = [&] { return deviceOk && contact.active && (proxy_.position() - dev.position_m).squaredNorm() > 1e-18; };
+    // 2. Move each proxy: carried with the surface it touches, then toward its device.
+    collision::SurfaceView view = surface();
+    for (std::size_t h = 0; h < handCount; ++h)
+        if (deviceOk[h]) hands_[h].proxy.update(dev[h].position_m, view, bvh_);
+    auto touching = [&](std::size_t h) {
+        const GodObjectProxy& proxy = hands_[h].proxy;
+        return deviceOk[h] && proxy.contact().active && (proxy.position() - dev[h].position_m).squaredNorm() > 1e-18;
+    };
 
     // 5. The scalpel cuts (R14). A cut starts at the contact when the tool presses harder than its
     // threshold (the last step's force, so the cut comes before this step's force is spread over faces
@@ -119,37 +167,50 @@ StepOutput HapticLoop::step() noexcept {
     // undeformed surface near the cut, so the blade slices through the dimple it presses instead of
     // dragging it along. It goes on while the tool presses past the threshold, or while the blade is
     // down in its own wound with the proxy fallen in (no contact); it ends when the press eases or the
-    // blade lifts above the surface.
+    // blade lifts above the surface. One cut at a time: it belongs to the hand that started it.
     if (cutter_) {
         const auto cutStart = Clock::now();
         bool changed = false;
-        const bool pressing = touching() && lastForce_N_ > config_.cutThreshold_N && !stats_.watchdogTripped;
-        if (!cutter_->cutting()) {
-            if (pressing) changed = cutter_->cutAt(contact.face, contact.bary);
-        } else {
-            const auto blade = deviceOk && !stats_.watchdogTripped ? cutter_->projectBlade(dev.position_m) : std::nullopt;
-            const bool inWound = !touching() && blade && blade->depth_m > 0;
-            if (blade && (pressing || inWound)) changed = cutter_->cutAt(blade->face, blade->bary);
-            else cutter_->endCut();
+        for (std::size_t h = 0; h < handCount; ++h) {
+            HandState& hand = hands_[h];
+            const bool pressing = touching(h) && hand.lastForce_N > hand.setup.cutThreshold_N && !stats_.watchdogTripped;
+            bool changedHere = false;
+            if (!cutter_->cutting()) {
+                if (pressing) changedHere = cutter_->cutAt(hand.proxy.contact().face, hand.proxy.contact().bary);
+                if (cutter_->cutting()) cuttingHand_ = static_cast<int>(h);
+            } else if (cuttingHand_ == static_cast<int>(h)) {
+                const auto blade = deviceOk[h] && !stats_.watchdogTripped ? cutter_->projectBlade(dev[h].position_m) : std::nullopt;
+                const bool inWound = !touching(h) && blade && blade->depth_m > 0;
+                if (blade && (pressing || inWound)) changedHere = cutter_->cutAt(blade->face, blade->bary);
+                else cutter_->endCut();
+            }
+            if (changedHere) afterTopologyChange();  // before the next hand reads the faces
+            changed = changed || changedHere;
         }
+        if (!cutter_->cutting()) cuttingHand_ = -1;
         if (changed) {
-            afterTopologyChange();
             view = surface();
-            out.proxy_m = proxy_.position();
             out.cut = true;
             ++stats_.cutEvents;
             stats_.cutTime_us.record(std::chrono::duration<double, std::micro>(Clock::now() - cutStart).count());
         }
     }
-    const bool constrained = touching();
 
-    // 3-4. Force: the coupling spring from the device to the contact point, as a force term of the
-    // physics (model_.tool), so the tissue feels it reversed in every integrator stage and stiff contact
-    // stays stable. Clamped, ramped in, and kept finite by the watchdog.
-    physics::PointSpring& tool = model_.tool;
-    tool.active = false;
-    Vec3 force = Vec3::Zero();
-    if (constrained && !stats_.watchdogTripped) {
+    // 3-4. Forces: each hand's coupling spring from its device to its contact point, as a force term
+    // of the physics (model_.tools), so the tissue feels it reversed in every integrator stage and
+    // stiff contact stays stable. Clamped, ramped in, and kept finite by the watchdog.
+    std::array<Vec3, kMaxHands> force{};
+    std::array<bool, kMaxHands> constrained{};
+    const double ramp = std::clamp((out.t_s - rampStart_s_) / config_.rampTime_s, 0.0, 1.0);
+    for (std::size_t h = 0; h < static_cast<std::size_t>(kMaxHands); ++h) {
+        physics::PointSpring& tool = model_.tools[h];
+        tool.active = false;
+        force[h] = Vec3::Zero();
+        if (h >= handCount) continue;
+        HandState& hand = hands_[h];
+        constrained[h] = touching(h);
+        if (!constrained[h] || stats_.watchdogTripped) continue;
+        const Contact& contact = hand.proxy.contact();
         const mesh::Face& face = faces_[contact.face];
         const Vec3 w = contact.bary.cwiseMax(0.0).cwiseAbs2();
         tool.nodes = face;
@@ -157,61 +218,80 @@ StepOutput HapticLoop::step() noexcept {
         tool.weights = w.sum() > 0 ? Vec3(w / w.sum()) : Vec3::Constant(1.0 / 3);
         // Anchor so that at this instant the spring reads k (proxy - device): the proxy sits a small
         // offset off the contact point.
-        tool.anchor_m = dev.position_m - (proxy_.position() - pointOnFace(view, contact.face, contact.bary));
-        tool.bias_N = config_.couplingDamping_Ns_per_m * dev.velocity_m_per_s;
-        tool.stiffness_N_per_m = config_.couplingStiffness_N_per_m;
-        tool.maxForce_N = device_.maxForce_N() * maxForceScale_;
-        tool.scale = std::min(1.0, out.t_s / config_.rampTime_s);
+        tool.anchor_m = dev[h].position_m - (hand.proxy.position() - pointOnFace(view, contact.face, contact.bary));
+        tool.bias_N = config_.couplingDamping_Ns_per_m * dev[h].velocity_m_per_s;
+        tool.stiffness_N_per_m = couplingStiffness_N_per_m(static_cast<int>(h));
+        tool.maxForce_N = std::min(hand.setup.device->maxForce_N(), hand.setup.maxForce_N) * maxForceScale_;
+        tool.scale = ramp;
         tool.normal = contact.side * faceNormal(view, contact.face);
-        force = tool.forceOnTool(model_.nodes.position);
+        force[h] = tool.forceOnTool(model_.nodes.position);
         tool.active = true;
+        if (!force[h].allFinite()) {
+            ++stats_.nonFiniteEvents;
+            stats_.watchdogTripped = true;
+        }
     }
-    if (!force.allFinite()) {
-        ++stats_.nonFiniteEvents;
-        stats_.watchdogTripped = true;
-    }
-    if (stats_.watchdogTripped) {
-        force = Vec3::Zero();
-        tool.active = false;
-    }
+    if (stats_.watchdogTripped)
+        for (std::size_t h = 0; h < handCount; ++h) {
+            force[h] = Vec3::Zero();
+            model_.tools[h].active = false;
+        }
 
     // 6. Advance the tissue and refit the collision tree to it.
     if (!paused_) {
         if (!stepper_.step(model_, dt).finite) {
             ++stats_.nonFiniteEvents;
             stats_.watchdogTripped = true;
-            force = Vec3::Zero();
+            force.fill(Vec3::Zero());
         }
         bvh_.refit(view);
-        proxy_.followSurface(view, bvh_);
-        out.proxy_m = proxy_.position();
+        for (std::size_t h = 0; h < handCount; ++h) hands_[h].proxy.followSurface(view, bvh_);
     }
 
     // The press that decides whether the next step cuts: the force the contact made, before an overrun
     // below withholds it from the device. A late step must not end a cut the hand is still pressing.
-    lastForce_N_ = force.norm();
+    for (std::size_t h = 0; h < handCount; ++h) hands_[h].lastForce_N = force[h].norm();
 
     // Watchdog: a step that overran its period sends no force, rather than a stale one late.
     const double elapsed_us = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
     if (realtime_ && elapsed_us > 1e6 / config_.rate_hz) {
         ++stats_.overruns;
-        force = Vec3::Zero();
+        force.fill(Vec3::Zero());
     }
 
-    // 7. Send the force; publish a snapshot now and then.
-    device_.commandForce(force);
-    out.force_N = force;
-    out.contact = constrained;
-    out.face = contact.face;
+    // 7. Send the forces; publish a snapshot now and then.
+    bool anyContact = false;
+    for (std::size_t h = 0; h < handCount; ++h) {
+        HandStep& o = out.hands[h];
+        o.proxy_m = hands_[h].proxy.position();
+        o.contact = constrained[h];
+        o.face = hands_[h].proxy.contact().face;
+        anyContact = anyContact || constrained[h];
+    }
+    sendForces(force, out);
     out.stepTime_us = elapsed_us;
     stats_.stepTime_us.record(elapsed_us);
     maxStepSinceSnapshot_us_ = std::max(maxStepSinceSnapshot_us_, elapsed_us);
-    stats_.maxForce_N = std::max(stats_.maxForce_N, force.norm());
-    stats_.contactSteps += constrained;
+    stats_.contactSteps += anyContact;
     ++stats_.steps;
     if (stepIndex_ % config_.snapshotEvery == 0 || out.cut) publishSnapshot(out);
     ++stepIndex_;
     return out;
+}
+
+void HapticLoop::sendForces(std::array<Vec3, kMaxHands>& force, StepOutput& out) noexcept {
+    const double dt = 1 / config_.rate_hz;
+    bool limited = false;
+    for (std::size_t h = 0; h < hands_.size(); ++h) {
+        HandState& hand = hands_[h];
+        const Vec3 sent = limitForceRate(hand.sentForce_N, force[h], hand.setup.maxForceRate_N_per_s * dt);
+        limited = limited || (sent - force[h]).squaredNorm() > 1e-24;
+        hand.setup.device->commandForce(sent);
+        hand.sentForce_N = sent;
+        out.hands[h].force_N = sent;
+        stats_.maxForce_N = std::max(stats_.maxForce_N, sent.norm());
+    }
+    stats_.rateLimitedSteps += limited;
 }
 
 void HapticLoop::scaleMaterial(LoopCommand::Kind kind, double factor) noexcept {
@@ -246,7 +326,7 @@ void HapticLoop::afterTopologyChange() {
     bvh_.facesAdded(view);  // new faces are searched linearly until a rebuild pays
     stepper_.prepare(model_);  // new nodes and springs, springs moved to the opened copy, the stable step
     // Once a cut has opened, the surface has lips: no longer closed, so no ray-parity check.
-    proxy_.surfaceRemeshed(view, bvh_, proxy_.params().closedSurface && !cutter_->stats().opened);
+    for (HandState& hand : hands_) hand.proxy.surfaceRemeshed(view, bvh_, hand.proxy.params().closedSurface && !cutter_->stats().opened);
     ++topologyVersion_;
 }
 
@@ -259,10 +339,8 @@ void HapticLoop::publishSnapshot(const StepOutput& out) {
         if (organ_) s.uvs.assign(organ_->mesh().uvs.begin(), organ_->mesh().uvs.end());
         s.topologyVersion = topologyVersion_;
     }
-    s.device_m = out.device_m;
-    s.proxy_m = out.proxy_m;
-    s.force_N = out.force_N;
-    s.contact = out.contact;
+    s.hands = out.hands;
+    s.handCount = out.handCount;
     s.step = stepIndex_;
     s.stepTime_us = out.stepTime_us;
     s.maxStepTime_us = std::max(maxStepSinceSnapshot_us_, out.stepTime_us);
@@ -285,7 +363,7 @@ void HapticLoop::runSimulated(long steps, const std::function<void(const StepOut
         if (observer) observer(out);
     }
     stats_.wallTime_s += std::chrono::duration<double>(Clock::now() - start).count();
-    device_.commandForce(Vec3::Zero());
+    zeroAllForces();
 }
 
 bool HapticLoop::start(long max_steps, std::function<void(const StepOutput&)> observer) {
@@ -297,34 +375,44 @@ bool HapticLoop::start(long max_steps, std::function<void(const StepOutput&)> ob
     stop();
     stopRequested_ = false;
     running_ = true;
-    if (ServoClock* servo = device_.servoClock()) {
-        // The device's servo thread calls the step at its own rate: no thread of ours, no sleeping.
+    std::vector<ServoClock*> servos;
+    for (HandState& hand : hands_)
+        if (ServoClock* servo = hand.setup.device->servoClock()) servos.push_back(servo);
+    if (!servos.empty()) {
+        // The first device's servo thread calls the step at its own rate: no thread of ours, no sleeping.
         realtime_ = true;
         servoSteps_ = 0;
         servoMaxSteps_ = max_steps;
         servoObserver_ = std::move(observer);
         servoBegin_ = servoLast_ = Clock::now();
-        const double period_us = 1e6 / servo->servoRate_hz();
-        const bool started = servo->startServo(
-            [this, period_us] {
-                if (stopRequested_.load(std::memory_order_relaxed) || (servoMaxSteps_ >= 0 && servoSteps_ >= servoMaxSteps_)) {
-                    running_.store(false, std::memory_order_release);
-                    return false;
-                }
-                const auto now = Clock::now();
-                if (servoSteps_ > 0) stats_.periodError_us.record(std::max(0.0, std::chrono::duration<double, std::micro>(now - servoLast_).count() - period_us));
-                servoLast_ = now;
-                const StepOutput out = step();
-                if (servoObserver_) servoObserver_(out);
-                ++servoSteps_;
-                return true;
-            },
-            error);
-        if (!started) {
-            running_ = false;
-            return false;
+        const double period_us = 1e6 / servos.front()->servoRate_hz();
+        auto drive = [this, period_us] {
+            if (stopRequested_.load(std::memory_order_relaxed) || (servoMaxSteps_ >= 0 && servoSteps_ >= servoMaxSteps_)) {
+                running_.store(false, std::memory_order_release);
+                return false;
+            }
+            const auto now = Clock::now();
+            if (servoSteps_ > 0) stats_.periodError_us.record(std::max(0.0, std::chrono::duration<double, std::micro>(now - servoLast_).count() - period_us));
+            servoLast_ = now;
+            const StepOutput out = step();
+            if (servoObserver_) servoObserver_(out);
+            ++servoSteps_;
+            return true;
+        };
+        // The others only exchange their frames: the state the step reads, the force it wrote.
+        auto follow = [this] { return !stopRequested_.load(std::memory_order_relaxed) && running_.load(std::memory_order_relaxed); };
+        for (std::size_t i = 0; i < servos.size(); ++i) {
+            std::string servoError;
+            const bool started = i == 0 ? servos[i]->startServo(drive, servoError) : servos[i]->startServo(follow, servoError);
+            if (!started) {
+                error = servoError;
+                for (std::size_t k = 0; k < i; ++k) servos[k]->stopServo();
+                running_ = false;
+                zeroAllForces();
+                return false;
+            }
         }
-        servo_ = servo;
+        servos_ = std::move(servos);
         return true;
     }
     thread_ = std::thread([this, max_steps, observer = std::move(observer)] { threadMain(max_steps, observer); });
@@ -333,16 +421,15 @@ bool HapticLoop::start(long max_steps, std::function<void(const StepOutput&)> ob
 
 void HapticLoop::stop() {
     stopRequested_ = true;
-    if (servo_) {
-        servo_->stopServo();
-        servo_ = nullptr;
+    if (!servos_.empty()) {
+        for (ServoClock* servo : servos_) servo->stopServo();
+        servos_.clear();
         stats_.wallTime_s += std::chrono::duration<double>(servoLast_ - servoBegin_).count();
-        device_.commandForce(Vec3::Zero());
+        zeroAllForces();
         running_.store(false, std::memory_order_release);
     }
     if (thread_.joinable()) thread_.join();
 }
-
 void HapticLoop::threadMain(long max_steps, std::function<void(const StepOutput&)> observer) {
     realtime_ = true;
     const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1 / config_.rate_hz));
@@ -363,7 +450,7 @@ void HapticLoop::threadMain(long max_steps, std::function<void(const StepOutput&
         if (Clock::now() - deadline > 10 * period) deadline = Clock::now();
     }
     stats_.wallTime_s += std::chrono::duration<double>(Clock::now() - begin).count();
-    device_.commandForce(Vec3::Zero());
+    zeroAllForces();
     running_.store(false, std::memory_order_release);
 }
 

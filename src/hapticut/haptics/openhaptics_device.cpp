@@ -144,6 +144,11 @@ std::unique_ptr<OpenHapticsDevice> OpenHapticsDevice::open(const OpenHapticsOpti
     a.getDoublev(hd::kNominalMaxStiffness, &value);
     // The device reports N/mm: our coupling is in N/m.
     if (std::isfinite(value) && value > 0) d->maxStiffness_ = value * 1000;
+    double box[6] = {0, 0, 0, 0, 0, 0};  // min x, y, z, max x, y, z in millimetres
+    a.getDoublev(hd::kUsableWorkspaceDimensions, box);
+    const Vec3 lo(box[0], box[1], box[2]), hi(box[3], box[4], box[5]);
+    if (lo.allFinite() && hi.allFinite() && (hi.array() > lo.array()).all()) d->workspaceBox_ = geometry::Aabb{lo, hi};
+    d->takeError();  // a runtime without the query leaves the box unknown: no automatic fit, not a failure
     hd::HDint rate = 0;
     a.getIntegerv(hd::kUpdateRate, &rate);
     if (rate > 0) d->rate_hz_ = rate;

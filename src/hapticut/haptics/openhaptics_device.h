@@ -47,6 +47,11 @@ public:
     void commandForce(const Vec3& force_N) override;
     double maxForce_N() const override { return maxForce_N_; }
     WorkspaceTransform workspace() const override { return options_.workspace; }
+    std::optional<geometry::Aabb> workspaceBox() const override { return workspaceBox_; }
+    bool setWorkspace(const WorkspaceTransform& workspace) override {
+        options_.workspace = workspace;
+        return true;
+    }
     ServoClock* servoClock() override { return this; }
 
     bool startServo(std::function<bool()> tick, std::string& error) override;
@@ -57,8 +62,8 @@ public:
     const std::string& model() const { return model_; }
     const std::string& serial() const { return serial_; }
     const std::string& libraryPath() const { return library_->path(); }
-    /// The device's maximum stiffness (N/m): the coupling must stay below it at the loop's rate.
-    double maxStiffness_N_per_m() const { return maxStiffness_; }
+    /// The device's nominal maximum stiffness (N/m): the loop keeps the coupling below it.
+    double maxStiffness_N_per_m() const override { return maxStiffness_ > 0 ? maxStiffness_ : Device::maxStiffness_N_per_m(); }
     /// Set when the device reported an error in the servo loop (a lost connection, overheated motors):
     /// from then on it reads as non-finite, which trips the loop's watchdog, and sends no force.
     bool faulted() const { return faulted_.load(std::memory_order_acquire); }
@@ -81,6 +86,7 @@ private:
     bool scheduled_ = false, schedulerRunning_ = false;
     std::string model_, serial_;
     double maxForce_N_ = kDefaultMaxForce_N, maxStiffness_ = 0, rate_hz_ = 1000;
+    std::optional<geometry::Aabb> workspaceBox_;  // the usable workspace, device millimetres
     std::function<bool()> tick_;
     std::atomic<bool> stopping_{false}, faulted_{false}, servoDone_{true};
     hd::HDerror faultCode_ = 0;  // written by the servo thread before faulted_ is set

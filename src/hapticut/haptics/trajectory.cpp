@@ -83,9 +83,9 @@ std::string formatRecording(std::span<const StepOutput> log) {
     std::string out = "t,x,y,z,button,fx,fy,fz\n";
     for (const StepOutput& s : log) {
         out += formatDouble(s.t_s);
-        for (int k = 0; k < 3; ++k) out += "," + formatDouble(s.device_m[k]);
-        out += "," + std::to_string(s.buttons & 1u);
-        for (int k = 0; k < 3; ++k) out += "," + formatDouble(s.force_N[k]);
+        for (int k = 0; k < 3; ++k) out += "," + formatDouble(s.hand().device_m[k]);
+        out += "," + std::to_string(s.hand().buttons & 1u);
+        for (int k = 0; k < 3; ++k) out += "," + formatDouble(s.hand().force_N[k]);
         out += "\n";
     }
     return out;

@@ -210,8 +210,9 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
             }
             wakeNext_[i] = 0;
         };
-        if (model.tool.active)
-            for (std::uint32_t i : model.tool.nodes) {
+        for (const PointSpring& tool : model.tools) {
+            if (!tool.active) continue;
+            for (std::uint32_t i : tool.nodes) {
                 // The tool's nodes and their neighbours are always awake: within one step a push
                 // travels further than the one ring the region grows by per step.
                 wakeNext_[i] = 1;
@@ -223,6 +224,7 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
                     admit(j);
                 }
             }
+        }
         for (std::size_t k = 0; k < touchedNodes_.size(); ++k) admit(touchedNodes_[k]);
         for (std::uint32_t i : wakeList_) admit(i);
         wakeList_.clear();

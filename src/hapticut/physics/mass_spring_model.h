@@ -1,6 +1,7 @@
 // The mass-spring model (SPEC R2-R4): nodes and springs in flat parallel arrays.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -35,7 +36,8 @@ struct MassSpringModel {
     Nodes nodes;
     Springs springs;
     Vec3 gravity_m_per_s2 = Vec3::Zero();  // the thesis had none
-    PointSpring tool;                      // the haptic tool's contact, set by the haptic loop each step
+    /// The haptic tools' contacts, one per hand, set by the haptic loop each step (inactive when free).
+    std::array<PointSpring, kMaxTools> tools;
     // Thesis rule (R4): a node closer to its rest position than this and slower than the speed below
     // is put back at rest, which stops tiny residual motion.
     double snapDistance_m = 1e-7;

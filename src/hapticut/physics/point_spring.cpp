@@ -12,4 +12,10 @@ Vec3 PointSpring::forceOnTool(std::span<const Vec3> x) const {
     return scale * f;
 }
 
+void PointSpring::addReaction(std::span<const Vec3> x, std::span<Vec3> f) const {
+    if (!active) return;
+    const Vec3 force = forceOnTool(x);
+    for (int k = 0; k < 3; ++k) f[nodes[k]] -= weights[k] * force;
+}
+
 }  // namespace hapticut::physics

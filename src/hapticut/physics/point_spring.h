@@ -12,6 +12,9 @@
 
 namespace hapticut::physics {
 
+/// Tools pressing one model at once: one per hand.
+inline constexpr int kMaxTools = 2;
+
 struct PointSpring {
     bool active = false;
     std::array<std::uint32_t, 3> nodes{};  // the touched triangle
@@ -27,6 +30,8 @@ struct PointSpring {
     /// The force on the tool for node positions x: scale · clamp(k (p(x) - anchor) - bias), and zero
     /// when it would pull the tissue outward (the tissue has moved past the device: contact separates).
     Vec3 forceOnTool(std::span<const Vec3> x) const;
+    /// Adds the reaction to the tissue's forces: -force spread over the triangle by the weights (R9).
+    void addReaction(std::span<const Vec3> x, std::span<Vec3> f) const;
 };
 
 }  // namespace hapticut::physics

@@ -41,11 +41,8 @@ void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x,
     for (std::size_t i = 0; i < a.size(); ++i) a[i] = n.externalForce[i];
     accumulatePositioningForces(n, x, v, a);
     accumulateSpringForces(model.springs, x, v, a);
-    if (model.tool.active) {
-        // The tissue feels the tool's force reversed, spread by the thesis's squared weights (R9).
-        const Vec3 f = model.tool.forceOnTool(x);
-        for (int k = 0; k < 3; ++k) a[model.tool.nodes[k]] -= model.tool.weights[k] * f;
-    }
+    // The tissue feels each tool's force reversed, spread by the thesis's squared weights (R9).
+    for (const PointSpring& tool : model.tools) tool.addReaction(x, a);
     const Vec3 g = model.gravity_m_per_s2;
     for (std::size_t i = 0; i < a.size(); ++i) a[i] = n.inverseMass[i] * a[i] + (n.inverseMass[i] > 0 ? g : Vec3::Zero());
 }
@@ -74,10 +71,7 @@ void computeActiveAccelerations(const MassSpringModel& model, std::span<const Ve
         a[ia] += fa;
         a[ib] -= fa;
     }
-    if (model.tool.active) {
-        const Vec3 f = model.tool.forceOnTool(x);
-        for (int k = 0; k < 3; ++k) a[model.tool.nodes[k]] -= model.tool.weights[k] * f;
-    }
+    for (const PointSpring& tool : model.tools) tool.addReaction(x, a);
     const Vec3 g = model.gravity_m_per_s2;
     for (std::uint32_t i : nodes) a[i] = n.inverseMass[i] * a[i] + (n.inverseMass[i] > 0 ? g : Vec3::Zero());
 }

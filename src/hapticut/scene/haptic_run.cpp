@@ -27,7 +27,7 @@ HapticRunResult runHaptic(cutting::CutModel& organ, const haptics::Trajectory& t
         // The ray-parity test needs a closed surface: an opened cut leaves the proxy free to enter the
         // wound (a scalpel down in its own cut), which is no penetration.
         if (!loop.cutter()->stats().opened)
-            r.maxProxyPenetration_m = std::max(r.maxProxyPenetration_m, collision::penetrationDepth(loop.bvh(), loop.surface(), s.proxy_m));
+            r.maxProxyPenetration_m = std::max(r.maxProxyPenetration_m, collision::penetrationDepth(loop.bvh(), loop.surface(), s.hand().proxy_m));
         r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model));
     };
     if (config.realtime) {
@@ -67,10 +67,10 @@ std::string formatForceLog(const std::vector<haptics::StepOutput>& log) {
     out.reserve(out.size() + log.size() * 160);
     for (const haptics::StepOutput& s : log) {
         out += formatDouble(s.t_s);
-        for (const Vec3* v : {&s.device_m, &s.proxy_m, &s.force_N})
+        for (const Vec3* v : {&s.hand().device_m, &s.hand().proxy_m, &s.hand().force_N})
             for (int k = 0; k < 3; ++k) out += "," + formatDouble((*v)[k]);
-        out += s.contact ? ",1," : ",0,";
-        out += std::to_string(s.face) + (s.cut ? ",1\n" : ",0\n");
+        out += s.hand().contact ? ",1," : ",0,";
+        out += std::to_string(s.hand().face) + (s.cut ? ",1\n" : ",0\n");
     }
     return out;
 }

@@ -157,6 +157,12 @@ void hdGetDoublev(HDenum what, HDdouble* out) {
         case kNominalMaxForce: *out = e.nominalMaxForce; break;
         case kNominalMaxContinuousForce: *out = e.nominalMaxContinuousForce; break;
         case kNominalMaxStiffness: *out = e.nominalMaxStiffness; break;
+        case kUsableWorkspaceDimensions: {
+            // A Touch's: 160 x 120 x 70 mm round the inkwell-calibrated origin.
+            const double box[6] = {-80, -60, -35, 80, 60, 35};
+            std::memcpy(out, box, sizeof box);
+            break;
+        }
         default: pushError(0x0100);  // HD_INVALID_ENUM
     }
 }
