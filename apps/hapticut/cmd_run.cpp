@@ -16,7 +16,10 @@
 #include "hapticut/scene/haptic_run.h"
 #include "hapticut/scene/headless_run.h"
 #include "hapticut/scene/scene_file.h"
+#include "device_setup.h"
+#include "hapticut/haptics/replay_device.h"
 #include "model_source.h"
+#include "stop_signal.h"
 #include "terminal.h"
 
 namespace hapticut::app {
@@ -34,6 +37,11 @@ struct RunOptions {
     double forceUntil_s = -1;
     std::string exportMesh, report;
     std::string trajectory, tool = "probe", forceLog, record;
+    std::vector<std::string> devices;      // --device, once per hand
+    std::string secondTool = "probe";      // the second hand's
+    bool noWorkspaceFit = false;
+    std::string sdlControl = "position";
+    std::string hdLibrary;
     bool realtime = false;
     double rate_hz = 1000;
     double couplingStiffness_N_per_m = haptics::LoopConfig{}.couplingStiffness_N_per_m;
@@ -118,18 +126,18 @@ physics::MassSpringModel buildModelFor(const RunOptions& o, const ModelSource& s
 /// The cut threshold of --tool: the procedural probe's or scalpel's, a scene tool's of that name, or a
 /// thesis tool file's. Nothing (with the reason printed, and `status` set to the exit code) for an
 /// unknown name (2) or a bad file (1).
-std::optional<double> toolThreshold(const RunOptions& o, int& status) {
+std::optional<double> toolThreshold(const RunOptions& o, const std::string& name, int& status) {
     if (o.sceneFile)
         for (const scene::SceneTool& t : o.sceneFile->tools)
-            if (t.name == o.tool) return t.threshold_N;
-    if (o.tool == "probe") return mesh::procedural::kProbeThreshold_N;
-    if (o.tool == "scalpel") return mesh::procedural::kScalpelThreshold_N;
-    if (o.tool.find('.') == std::string::npos) {
-        std::cerr << "hapticut run: unknown tool '" << o.tool << "': expected probe, scalpel or a tool file (thesis format)\n";
+            if (t.name == name) return t.threshold_N;
+    if (name == "probe") return mesh::procedural::kProbeThreshold_N;
+    if (name == "scalpel") return mesh::procedural::kScalpelThreshold_N;
+    if (name.find('.') == std::string::npos) {
+        std::cerr << "hapticut run: unknown tool '" << name << "': expected probe, scalpel or a tool file (thesis format)\n";
         status = 2;
         return std::nullopt;
     }
-    const auto tool = mesh::io::readToolFile(o.tool);
+    const auto tool = mesh::io::readToolFile(name);
     if (!tool) {
         std::cerr << tool.error().toString() << "\n";
         status = 1;
@@ -139,19 +147,77 @@ std::optional<double> toolThreshold(const RunOptions& o, int& status) {
 }
 
 int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
-    const auto trajectory = haptics::readTrajectory(o.trajectory);
-    if (!trajectory) {
-        std::cerr << trajectory.error().toString() << "\n";
-        return 1;
+    // The hands: --trajectory is the first hand's replay; each --device adds one.
+    std::vector<haptics::DeviceSpec> specs;
+    if (!o.trajectory.empty()) specs.push_back({haptics::DeviceKind::Replay, o.trajectory});
+    for (const std::string& text : o.devices) {
+        auto spec = haptics::parseDeviceSpec(text);
+        if (!spec) {
+            std::cerr << "hapticut run: " << spec.error() << "\n";
+            return 2;
+        }
+        if (spec->kind == haptics::DeviceKind::Virtual) {
+            std::cerr << "hapticut run: the virtual device is moved by a program or the viewer's mouse, and nothing moves it in a headless run: "
+                         "give replay:FILE, openhaptics[:NAME] or sdl[:INDEX]\n";
+            return 2;
+        }
+        specs.push_back(*spec);
+    }
+    if (specs.size() > static_cast<std::size_t>(haptics::kMaxHands)) {
+        std::cerr << "hapticut run: " << specs.size() << " devices (--trajectory counts as one): at most " << haptics::kMaxHands << ", one per hand\n";
+        return 2;
     }
     int toolStatus = 0;
-    const auto threshold_N = toolThreshold(o, toolStatus);
+    const auto threshold_N = toolThreshold(o, o.tool, toolStatus);
     if (!threshold_N) return toolStatus;
+    const auto secondThreshold_N = toolThreshold(o, o.secondTool, toolStatus);
+    if (!secondThreshold_N) return toolStatus;
+    if (o.sdlControl != "position" && o.sdlControl != "rate") {
+        std::cerr << "hapticut run: --sdl-control takes position or rate, found '" << o.sdlControl << "'\n";
+        return 2;
+    }
     auto source = loadModelSource(o.model, o.triangles);
     if (!source) return 1;
     placeBySceneFile(o, *source);
     cutting::CutModel organ(source->mesh, buildModelFor(o, *source));
     const physics::MassSpringModel& model = organ.model();
+
+    // Open the devices; a live one (not a replay) means real time, until --steps or Ctrl-C.
+    DeviceSetup setup;
+    setup.modelBox = geometry::boundsOf(organ.mesh().positions);
+    setup.fitWorkspace = !o.noWorkspaceFit;
+    setup.hdLibrary = o.hdLibrary;
+    setup.sdlControl = o.sdlControl == "rate" ? haptics::SdlControl::Rate : haptics::SdlControl::Position;
+    if (o.sceneFile) {
+        setup.maxForce_N = o.sceneFile->maxForce_N;
+        setup.sceneWorkspace = o.sceneFile->workspace;
+        setup.sceneWorkspaceGiven = true;
+    }
+    std::vector<OpenedDevice> opened;
+    double replayDuration_s = 0;
+    bool live = false;
+    for (const haptics::DeviceSpec& spec : specs) {
+        std::string error;
+        auto device = openDevice(spec, setup, error);
+        if (!device) {
+            std::cerr << "hapticut run: " << error << "\n";
+            return 1;
+        }
+        if (const auto* replay = dynamic_cast<const haptics::ReplayDevice*>(device->device.get()))
+            replayDuration_s = std::max(replayDuration_s, replay->trajectory().duration_s());
+        else
+            live = true;
+        std::cerr << "hapticut run: hand " << opened.size() + 1 << ": " << device->description << "\n";
+        opened.push_back(std::move(*device));
+    }
+    std::vector<haptics::Hand> hands;
+    for (std::size_t h = 0; h < opened.size(); ++h) {
+        haptics::Hand hand;
+        hand.device = opened[h].device.get();
+        hand.cutThreshold_N = h == 0 ? *threshold_N : *secondThreshold_N;
+        hand.maxForce_N = setup.maxForce_N;
+        hands.push_back(hand);
+    }
 
     scene::HapticRunConfig config;
     config.loop.scheme = scheme;
@@ -172,13 +238,24 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
         config.loop.proxy.staticFriction = mus;
         config.loop.proxy.dynamicFriction = mud;
     }
-    config.steps = o.stepsGiven ? o.steps : -1;
-    config.realtime = o.realtime;
+    config.steps = o.stepsGiven ? o.steps : live ? -1 : std::lround(replayDuration_s * o.rate_hz) + 1;
+    config.realtime = o.realtime || live;
+    StopSignal stopSignal;
+    config.stopRequested = [] { return StopSignal::requested(); };
+    config.progress = [&](long steps) { std::cerr << "\rhapticut run: " << steps << " steps (Ctrl-C ends the run)" << std::flush; };
     config.tool = o.tool;
     config.loop.cutThreshold_N = *threshold_N;
-    std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << o.tool << " on " << o.trajectory << " ("
-              << trajectory->duration_s() << " s) at " << o.rate_hz << " Hz, " << (o.realtime ? "real time" : "simulated time") << "\n";
-    const scene::HapticRunResult r = scene::runHaptic(organ, *trajectory, config);
+    std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << o.tool << (hands.size() > 1 ? " and " + o.secondTool : "")
+              << ", " << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at " << o.rate_hz << " Hz, "
+              << (config.realtime ? "real time" : "simulated time") << "\n";
+    scene::HapticRunResult r;
+    try {
+        r = scene::runHaptic(organ, hands, config);
+    } catch (const std::exception& e) {
+        std::cerr << "hapticut run: " << e.what() << "\n";
+        return 1;
+    }
+    if (StopSignal::requested()) std::cerr << "\nhapticut run: stopped by signal " << StopSignal::signalNumber() << "; the devices were left at zero force\n";
 
     std::cout << r.steps << " haptic steps (" << r.simTime_s << " s simulated) in " << r.wallTime_s << " s wall: " << r.hapticRate_hz
               << " steps/s; step " << r.stepTime_us.p50 << " us p50, " << r.stepTime_us.p99 << " us p99, " << r.stepTime_us.max << " us max\n";
@@ -187,6 +264,10 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
                   << " us max; overruns " << r.overruns << "\n";
     std::cout << "contact in " << r.contactSteps << " steps; max force " << r.maxForce_N << " N; max proxy penetration " << r.maxProxyPenetration_m
               << " m; max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, " << r.finalMaxDisplacement_m * 1e3 << " mm at the end\n";
+    if (r.handCount > 1)
+        for (int h = 0; h < r.handCount; ++h)
+            std::cout << "hand " << h + 1 << " (" << specs[static_cast<std::size_t>(h)].toString() << ", " << (h == 0 ? o.tool : o.secondTool) << "): max force "
+                      << r.hands[static_cast<std::size_t>(h)].maxForce_N << " N, contact in " << r.hands[static_cast<std::size_t>(h)].contactSteps << " steps\n";
     if (r.watchdogTripped) std::cout << "watchdog tripped: " << r.nonFiniteEvents << " non-finite value(s); force was zeroed\n";
     const mesh::MeshReport after = mesh::validateMesh(organ.mesh());
     if (r.cut.cuts > 0)
@@ -199,6 +280,8 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     if (!r.invariantProblems.empty()) std::cout << "the cut broke the organ: " << r.invariantProblems.front() << "\n";
 
     int status = r.watchdogTripped ? 3 : 0;
+    // Ctrl-C is how a run with a live device and no --steps ends; a run with a set length was cut short.
+    if (StopSignal::requested() && o.stepsGiven) status = 128 + StopSignal::signalNumber();
     if (!o.forceLog.empty() && !writeOutput(o.forceLog, scene::formatForceLog(r.log), "the force log")) status = 1;
     if (!o.record.empty() && !writeOutput(o.record, haptics::formatRecording(r.log), "the recording")) status = 1;
     if (!exportDeformed(o.exportMesh, organ.mesh(), *source, model)) status = 1;
@@ -214,7 +297,20 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
         j["coupling_stiffness_N_per_m"] = config.loop.couplingStiffness_N_per_m;
         j["friction"] = {{"static", config.loop.proxy.staticFriction}, {"dynamic", config.loop.proxy.dynamicFriction}};
         j["trajectory"] = o.trajectory;
-        j["realtime"] = o.realtime;
+        j["realtime"] = config.realtime;
+        nlohmann::ordered_json handsJson = nlohmann::ordered_json::array();
+        for (int h = 0; h < r.handCount; ++h) {
+            const auto k = static_cast<std::size_t>(h);
+            const double threshold = h == 0 ? *threshold_N : *secondThreshold_N;
+            handsJson.push_back({{"device", specs[k].toString()},
+                                 {"description", opened[k].description},
+                                 {"tool", h == 0 ? o.tool : o.secondTool},
+                                 {"tool_threshold_N", std::isfinite(threshold) && threshold < 1e8 ? nlohmann::ordered_json(threshold) : nlohmann::ordered_json(nullptr)},
+                                 {"max_force_N", r.hands[k].maxForce_N},
+                                 {"contact_steps", r.hands[k].contactSteps}});
+        }
+        j["hands"] = handsJson;
+        j["stopped_by_signal"] = StopSignal::requested();
         j["sim_time_s"] = r.simTime_s;
         j["wall_time_s"] = r.wallTime_s;
         j["haptic_rate_hz"] = r.hapticRate_hz;
@@ -254,7 +350,7 @@ int run(RunOptions& o) {
         std::cerr << "hapticut run: unknown integrator '" << o.integrator << "': expected euler, midpoint, rk4 or symplectic\n";
         return 2;
     }
-    if (!o.trajectory.empty()) {
+    if (!o.trajectory.empty() || !o.devices.empty()) {
         if (!o.force.empty()) {
             std::cerr << "hapticut run: --force and --trajectory do not go together: the trajectory's device presses the model\n";
             return 2;
@@ -350,6 +446,16 @@ Command addRunCommand(CLI::App& app) {
     cmd->add_option("--trajectory", o->trajectory, "Drive the haptic loop with a device trajectory (CSV t,x,y,z,button)");
     cmd->add_option("--tool", o->tool, "probe, scalpel (cuts above its threshold), a scene's tool or a tool file (with --trajectory)")
         ->capture_default_str();
+    cmd->add_option("--device", o->devices,
+                    "A device per hand: replay:FILE, openhaptics[:NAME] or sdl[:INDEX]; give it twice for two hands (--trajectory counts as "
+                    "the first). Live devices run in real time until --steps or Ctrl-C")
+        ->expected(1)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    cmd->add_option("--second-tool", o->secondTool, "The second hand's tool")->capture_default_str();
+    cmd->add_flag("--no-workspace-fit", o->noWorkspaceFit,
+                  "Keep a device's own mapping (the scene's, or millimetres 1:1 round the model) instead of fitting its reach to the model");
+    cmd->add_option("--sdl-control", o->sdlControl, "A joystick's axes as position or rate (velocity)")->capture_default_str();
+    cmd->add_option("--hd-library", o->hdLibrary, "The OpenHaptics HD library to try first");
     cmd->add_flag("--realtime", o->realtime, "Run the haptic loop at wall-clock rate in its own thread (with --trajectory)");
     cmd->add_option("--rate", o->rate_hz, "Haptic loop rate in Hz (with --trajectory)")->capture_default_str()->check(CLI::Range(100.0, 10'000.0));
     cmd->add_option("--force-log", o->forceLog, "Write every haptic step as CSV (with --trajectory)");

@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "commands.h"
+#include "hapticut/haptics/device_spec.h"
 #include "terminal.h"
 #include "viewer/viewer.h"
 
@@ -31,10 +32,16 @@ int view(ViewCommandOptions& o) {
         return 2;
     }
     std::tie(o.viewer.width, o.viewer.height) = *size;
-    if (o.viewer.device != "virtual" && o.viewer.device != "openhaptics" && o.viewer.device.rfind("openhaptics:", 0) != 0) {
-        std::cerr << "hapticut view: unknown --device '" << o.viewer.device << "': expected virtual (the mouse) or openhaptics[:NAME] (hapticut devices lists what works here)\n";
+    if (o.viewer.devices.size() > 2) {
+        std::cerr << "hapticut view: " << o.viewer.devices.size() << " devices: at most two, one per hand\n";
         return 2;
     }
+    for (const std::string& device : o.viewer.devices)
+        if (const auto spec = haptics::parseDeviceSpec(device); !spec) {
+            std::cerr << "hapticut view: " << spec.error() << "\n";
+            return 2;
+        }
+    o.viewer.hands = std::max(o.viewer.hands, static_cast<int>(o.viewer.devices.size()));
     if (!o.viewer.screenshot.empty() && o.viewer.frames < 0) {
         std::cerr << "hapticut view: --screenshot needs --frames: it captures the last frame\n";
         return 2;
@@ -50,7 +57,16 @@ Command addViewCommand(CLI::App& app) {
     cmd->add_option("--scene", o->viewer.choice.scene, "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
     cmd->add_option("--model", o->model, "'heart' or a model file; overrides the scene's model");
     cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->check(CLI::Range(12, 20'000'000));
-    cmd->add_option("--device", o->viewer.device, "virtual (the mouse) or openhaptics[:NAME] (a Phantom / Touch)")->capture_default_str();
+    cmd->add_option("--device", o->viewer.devices,
+                    "virtual (the mouse), replay:FILE, openhaptics[:NAME] (a Phantom / Touch) or sdl[:INDEX] (a joystick); twice for two hands")
+        ->expected(1)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->capture_default_str();
+    cmd->add_option("--hands", o->viewer.hands, "1 or 2: a second hand with the next tool, driven by the mouse when Tab selects it")
+        ->check(CLI::Range(1, 2))
+        ->capture_default_str();
+    cmd->add_flag("--no-workspace-fit", [o](std::int64_t) { o->viewer.fitWorkspace = false; },
+                  "Map a hardware device 1:1 (millimetres round the organ) instead of fitting its reach to the organ");
     cmd->add_option("--tool", o->viewer.tool, "The tool in hand at the start")->capture_default_str();
     cmd->add_option("--stereo", o->stereo, "off, quad, anaglyph or side-by-side")->capture_default_str();
     cmd->add_flag("--fullscreen", o->viewer.fullscreen, "Fill the primary monitor");

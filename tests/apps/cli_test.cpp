@@ -31,11 +31,13 @@ std::string slurp(const fs::path& file) {
 class Cli : public ::testing::Test {
 protected:
 
-    CliResult run(const std::string& args) const {
-        const std::string cmd = std::string(HAPTICUT_EXE) + " " + args + " >" + (dir_ / "out").string() + " 2>" + (dir_ / "err").string();
+    CliResult run(const std::string& args) const { return run_raw(std::string(HAPTICUT_EXE) + " " + args); }
+    CliResult run_raw(const std::string& command) const {
+        const std::string cmd = command + " >" + (dir_ / "out").string() + " 2>" + (dir_ / "err").string();
         const int status = std::system(cmd.c_str());
         return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "out"), slurp(dir_ / "err")};
     }
+    CliResult run_with_env(const std::string& env, const std::string& args) const { return run_raw(env + HAPTICUT_EXE + " " + args); }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
     hapticut::test::ScratchDir scratch_;
@@ -243,7 +245,8 @@ TEST_F(Cli, DevicesListsEveryBackendAndWhyOneIsMissing) {
     EXPECT_EQ(byName["replay"]["available"], true);
     EXPECT_EQ(byName["openhaptics"]["available"], false);
     EXPECT_NE(byName["openhaptics"]["detail"].get<std::string>().find("libHD-not-installed.so"), std::string::npos);
-    EXPECT_EQ(byName["sdl"]["available"], false);
+    EXPECT_FALSE(byName["sdl"]["detail"].get<std::string>().empty()) << "the joysticks SDL sees, or why none";
+    EXPECT_TRUE(byName["sdl"]["joysticks"].is_array());
     // With the HD API's emulation in its place, OpenHaptics is available through that library.
     const CliResult found = run("devices --json --hd-library " + std::string(HD_EMULATION_LIBRARY));
     ASSERT_EQ(found.exitCode, 0) << found.err;
@@ -252,6 +255,57 @@ TEST_F(Cli, DevicesListsEveryBackendAndWhyOneIsMissing) {
             EXPECT_EQ(b["available"], true) << b.dump();
         }
     }
+}
+
+TEST_F(Cli, RunTakesADevicePerHandAndReportsEachHand) {
+    const std::string trajectories = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/";
+    const CliResult r = run("run --trajectory " + trajectories + "cut-front.csv --tool scalpel --device replay:" + trajectories +
+                            "press-front.csv --force-log " + path("log.csv") + " --report " + path("two.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(path("two.json")));
+    ASSERT_EQ(j["hands"].size(), 2u);
+    EXPECT_EQ(j["hands"][0]["tool"], "scalpel");
+    EXPECT_EQ(j["hands"][1]["tool"], "probe");
+    EXPECT_EQ(j["hands"][1]["device"], "replay:" + trajectories + "press-front.csv");
+    EXPECT_GT(j["hands"][1]["max_force_N"].get<double>(), 0.5) << "the second hand pressed";
+    EXPECT_GT(j["hands"][1]["contact_steps"].get<long>(), 100);
+    EXPECT_GT(j["cut_points"].get<int>(), 5) << "the first hand's scalpel cut";
+    const std::string log = slurp(path("log.csv"));
+    EXPECT_NE(log.substr(0, log.find('\n')).find(",fx2,fy2,fz2,contact2,face2"), std::string::npos) << "the log has both hands";
+
+    const CliResult bad = run("run --device phantom");
+    EXPECT_EQ(bad.exitCode, 2);
+    EXPECT_NE(bad.err.find("expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX]"), std::string::npos) << bad.err;
+    const CliResult three = run("run --trajectory " + trajectories + "cut-front.csv --device replay:a.csv --device replay:b.csv");
+    EXPECT_EQ(three.exitCode, 2);
+    EXPECT_NE(three.err.find("at most 2"), std::string::npos) << three.err;
+    const CliResult missing = run("run --device replay:" + path("nowhere.csv"));
+    EXPECT_EQ(missing.exitCode, 1);
+    EXPECT_NE(missing.err.find("nowhere.csv"), std::string::npos) << missing.err;
+}
+
+TEST_F(Cli, ALiveDeviceRunsInRealTimeAndTheSelfTestChecksItEndToEnd) {
+    const std::string env = std::string("HAPTICUT_HD_LIBRARY=") + HD_EMULATION_LIBRARY + " ";
+    const CliResult r = run_with_env(env, "run --device openhaptics --steps 300 --report " + path("live.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(path("live.json")));
+    EXPECT_EQ(j["realtime"], true) << "a live device runs on the wall clock";
+    EXPECT_EQ(j["steps"], 300);
+    EXPECT_NE(j["hands"][0]["description"].get<std::string>().find("workspace fitted to the model"), std::string::npos) << j["hands"][0].dump();
+
+    const CliResult ok = run("devices --json --self-test openhaptics --force-pulse --seconds 0.3 --hd-library " + std::string(HD_EMULATION_LIBRARY));
+    ASSERT_EQ(ok.exitCode, 0) << ok.out << ok.err;
+    const auto report = nlohmann::json::parse(ok.out);
+    EXPECT_EQ(report["ok"], true);
+    std::map<std::string, nlohmann::json> checks;
+    for (const auto& c : report["checks"]) checks[c["check"]] = c;
+    EXPECT_EQ(checks["positions"]["ok"], true);
+    EXPECT_NE(checks["force"]["detail"].get<std::string>().find("pushed up to 0.50 N"), std::string::npos) << checks["force"].dump();
+
+    const CliResult broken = run("devices --self-test openhaptics --hd-library " + std::string(HD_EMULATION_INCOMPLETE_LIBRARY));
+    EXPECT_EQ(broken.exitCode, 1);
+    EXPECT_NE(broken.out.find("open       FAIL"), std::string::npos) << broken.out;
+    EXPECT_NE(broken.out.find("lacks"), std::string::npos) << "names what the library is missing: " << broken.out;
 }
 
 }  // namespace

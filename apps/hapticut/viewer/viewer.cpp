@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "device_setup.h"
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/mesh/io/load_error.h"
@@ -22,6 +23,7 @@
 #include "render/offscreen.h"
 #include "render/renderer.h"
 #include "render/snapshot_frame.h"
+#include "stop_signal.h"
 #include "viewer/force_plot.h"
 #include "viewer/mouse_device.h"
 #include "viewer/panel.h"
@@ -190,20 +192,24 @@ void Viewer::updateDevice(const haptics::Snapshot& snapshot) {
 
 int Viewer::run() {
     GLFWwindow* w = window_->handle();
-    // The device first: a missing one ends the run before the UI starts.
-    if (options_.device.rfind("openhaptics", 0) == 0) {
-        haptics::OpenHapticsOptions hd;
-        if (options_.device.size() > 12) hd.deviceName = options_.device.substr(12);
-        // Device millimetres round the organ's centre: the Touch's workspace holds a heart at 1:1.
-        hd.workspace.offset_m = geometry::boundsOf(session_.scene().source.mesh.positions).center();
+    // The devices first: a missing one ends the run before the UI starts.
+    if (options_.hands > 1) session_.setHandCount(options_.hands);
+    for (std::size_t h = 0; h < options_.devices.size(); ++h) {
+        const auto spec = haptics::parseDeviceSpec(options_.devices[h]);  // checked by the command
+        if (!spec || spec->kind == haptics::DeviceKind::Virtual) continue;  // the mouse
+        app::DeviceSetup setup;
+        setup.modelBox = geometry::boundsOf(session_.scene().source.mesh.positions);
+        setup.fitWorkspace = options_.fitWorkspace;
+        setup.maxForce_N = session_.scene().settings.maxForce_N;
+        setup.sceneWorkspace = session_.scene().settings.workspace;
         std::string error;
-        auto device = haptics::OpenHapticsDevice::open(hd, error);
-        if (!device) {
+        auto opened = app::openDevice(*spec, setup, error);
+        if (!opened) {
             std::cerr << "hapticut view: " << error << "\n";
             return 1;
         }
-        std::cerr << "hapticut view: " << device->model() << " (" << device->serial() << ") through " << device->libraryPath() << "\n";
-        session_.useDevice(std::move(device));
+        std::cerr << "hapticut view: hand " << h + 1 << ": " << opened->description << "\n";
+        session_.useDevice(std::move(opened->device), static_cast<int>(h));
         if (!session_.loopError().empty()) {
             std::cerr << "hapticut view: " << session_.loopError() << "\n";
             return 1;
@@ -245,7 +251,9 @@ int Viewer::run() {
     long rateFrames = 0, rateStep = session_.loop().snapshots().readLatest().step;
     Rates rates;
     const auto timeIsUp = [&] { return options_.quitAfter_s >= 0 && std::chrono::duration<double>(Clock::now() - start).count() >= options_.quitAfter_s; };
-    while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames) && !timeIsUp()) {
+    // Ctrl-C or SIGTERM closes the window like q: the loop stops and every device is left at zero force.
+    const app::StopSignal stopSignal;
+    while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames) && !timeIsUp() && !app::StopSignal::requested()) {
         glfwPollEvents();
         if (session_.scene().source.name != framedModel_) frameOrgan();  // a model loaded from the panel
         while (renderer_->toolCount() < session_.scene().tools.size()) renderer_->addTool(session_.scene().tools[renderer_->toolCount()].mesh);

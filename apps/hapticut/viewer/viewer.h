@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "render/stereo.h"
 #include "scene_setup.h"
@@ -18,7 +19,9 @@ struct ViewerOptions {
     std::string screenshot;      // with frames: the last frame, panel and all, as a PNG
     std::string trajectory;      // replay this device path instead of following the mouse
     std::string tool = "probe";
-    std::string device = "virtual";  // virtual (the mouse), openhaptics[:NAME]
+    std::vector<std::string> devices{"virtual"};  // one per hand: virtual (the mouse), replay:FILE, openhaptics[:NAME], sdl[:INDEX]
+    int hands = 1;                // two: a second hand (Tab switches the one the mouse drives)
+    bool fitWorkspace = true;     // fit each hardware device's reach to the organ
     std::string report;          // JSON: frames, frame rate, haptic rate, renderer
     bool wireframe = false;
     bool hidePanel = false;

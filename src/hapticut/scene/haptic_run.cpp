@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 #include <thread>
 
 #include "hapticut/collision/inside_test.h"
@@ -13,26 +14,54 @@
 namespace hapticut::scene {
 
 HapticRunResult runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory, const HapticRunConfig& config) {
+    haptics::ReplayDevice device(trajectory);
+    haptics::Hand hand;
+    hand.device = &device;
+    hand.cutThreshold_N = config.loop.cutThreshold_N;
+    HapticRunConfig c = config;
+    if (c.steps < 0) c.steps = std::lround(trajectory.duration_s() * config.loop.rate_hz) + 1;
+    return runHaptic(organ, std::span<const haptics::Hand>(&hand, 1), c);
+}
+
+HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands, const HapticRunConfig& config) {
     HapticRunResult r;
-    const long steps = config.steps >= 0 ? config.steps : std::lround(trajectory.duration_s() * config.loop.rate_hz) + 1;
+    const long steps = config.steps;
+    if (steps < 0 && !(config.realtime && config.stopRequested)) throw std::invalid_argument("an open-ended haptic run needs real time and a way to stop");
     const double mass_kg = physics::totalMass(organ.model());
     physics::MassSpringModel& model = organ.model();
-    haptics::ReplayDevice device(trajectory);
-    haptics::HapticLoop loop(organ, device, config.loop);
-    r.log.reserve(static_cast<std::size_t>(steps));
+    haptics::HapticLoop loop(organ, hands, config.loop);
+    r.handCount = loop.handCount();
+    const long tenMinutes = std::lround(600 * config.loop.rate_hz);
+    r.log.reserve(static_cast<std::size_t>(steps >= 0 ? steps : tenMinutes));
     // The observer runs on the loop's thread in real time: it only appends to reserved memory and
     // runs the inside test, which allocates nothing.
     auto observe = [&](const haptics::StepOutput& s) {
         if (r.log.size() < r.log.capacity()) r.log.push_back(s);
+        for (int h = 0; h < s.handCount; ++h) {
+            const auto k = static_cast<std::size_t>(h);
+            r.hands[k].maxForce_N = std::max(r.hands[k].maxForce_N, s.hands[k].force_N.norm());
+            r.hands[k].contactSteps += s.hands[k].contact;
+        }
         // The ray-parity test needs a closed surface: an opened cut leaves the proxy free to enter the
         // wound (a scalpel down in its own cut), which is no penetration.
         if (!loop.cutter()->stats().opened)
-            r.maxProxyPenetration_m = std::max(r.maxProxyPenetration_m, collision::penetrationDepth(loop.bvh(), loop.surface(), s.hand().proxy_m));
+            for (int h = 0; h < s.handCount; ++h)
+                r.maxProxyPenetration_m = std::max(r.maxProxyPenetration_m,
+                                                   collision::penetrationDepth(loop.bvh(), loop.surface(), s.hands[static_cast<std::size_t>(h)].proxy_m));
         r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model));
     };
     if (config.realtime) {
-        loop.start(steps, observe);
-        while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        std::string error;
+        if (!loop.start(steps, observe, error)) throw std::runtime_error(error);
+        auto lastProgress = std::chrono::steady_clock::now();
+        while (loop.running()) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+            if (config.stopRequested && config.stopRequested()) break;
+            if (config.progress && std::chrono::steady_clock::now() - lastProgress > std::chrono::seconds(1)) {
+                lastProgress = std::chrono::steady_clock::now();
+                config.progress(static_cast<long>(r.log.size()));
+            }
+        }
         loop.stop();
     } else {
         loop.runSimulated(steps, observe);
@@ -63,14 +92,22 @@ HapticRunResult runHaptic(cutting::CutModel& organ, const haptics::Trajectory& t
 
 std::string formatForceLog(const std::vector<haptics::StepOutput>& log) {
     using mesh::io::formatDouble;
-    std::string out = "t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut\n";
-    out.reserve(out.size() + log.size() * 160);
+    const bool two = !log.empty() && log.front().handCount > 1;
+    std::string out = "t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut";
+    out += two ? ",device_x2,device_y2,device_z2,proxy_x2,proxy_y2,proxy_z2,fx2,fy2,fz2,contact2,face2\n" : "\n";
+    out.reserve(out.size() + log.size() * (two ? 300 : 160));
+    auto hand = [&](const haptics::HandStep& h) {
+        for (const Vec3* v : {&h.device_m, &h.proxy_m, &h.force_N})
+            for (int k = 0; k < 3; ++k) out += "," + formatDouble((*v)[k]);
+        out += h.contact ? ",1," : ",0,";
+        out += std::to_string(h.face);
+    };
     for (const haptics::StepOutput& s : log) {
         out += formatDouble(s.t_s);
-        for (const Vec3* v : {&s.hand().device_m, &s.hand().proxy_m, &s.hand().force_N})
-            for (int k = 0; k < 3; ++k) out += "," + formatDouble((*v)[k]);
-        out += s.hand().contact ? ",1," : ",0,";
-        out += std::to_string(s.hand().face) + (s.cut ? ",1\n" : ",0\n");
+        hand(s.hands[0]);
+        out += s.cut ? ",1" : ",0";
+        if (two) hand(s.hands[1]);
+        out += "\n";
     }
     return out;
 }

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
+#include <span>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +22,17 @@ struct HapticRunConfig {
     long steps = -1;          // negative: the trajectory's duration at the loop rate
     bool realtime = false;    // wall-clock rate in the loop's own thread, else as fast as possible
     std::string tool = "probe";  // its cut threshold is config.loop.cutThreshold_N
+    /// Real time only: polled every few milliseconds; true ends the run (Ctrl-C). With steps < 0 the
+    /// run goes on until it says so.
+    std::function<bool()> stopRequested;
+    /// Real time only: called about once a second with the steps done so far.
+    std::function<void(long)> progress;
+};
+
+/// What one hand did over the run.
+struct HandSummary {
+    double maxForce_N = 0;
+    long contactSteps = 0;
 };
 
 struct HapticRunResult {
@@ -38,15 +51,21 @@ struct HapticRunResult {
     long cutEvents = 0;
     Summary cutTime_us;
     std::vector<std::string> invariantProblems;  // empty: every cutting invariant holds at the end
-    std::vector<haptics::StepOutput> log;  // every step
+    std::array<HandSummary, haptics::kMaxHands> hands{};
+    int handCount = 1;
+    std::vector<haptics::StepOutput> log;  // every step (the first ten minutes of a run until stopped)
 };
 
 /// Replays the trajectory through the haptic loop on the organ, which the tool cuts when
 /// config.loop.cutThreshold_N is below the force it presses with.
 HapticRunResult runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory, const HapticRunConfig& config);
+/// Any devices, one per hand, each with its tool's threshold. config.steps must be given unless the
+/// run is real time and config.stopRequested ends it.
+HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands, const HapticRunConfig& config);
 
 /// The force log as CSV: t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut
-/// (cut: 1 when the scalpel changed the mesh in that step).
+/// (cut: 1 when the scalpel changed the mesh in that step); with two hands the second hand's columns
+/// follow, suffixed 2.
 std::string formatForceLog(const std::vector<haptics::StepOutput>& log);
 
 }  // namespace hapticut::scene
