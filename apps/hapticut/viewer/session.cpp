@@ -39,8 +39,8 @@ Session::Session(app::LoadedScene scene) : scene_(std::move(scene)) {
     config_.activeRegion = scene_.settings.activeRegion;
     config_.proxy.staticFriction = scene_.settings.staticFriction;
     config_.proxy.dynamicFriction = scene_.settings.dynamicFriction;
-    if (!scene_.tools.empty()) config_.cutThreshold_N = scene_.tools[0].threshold_N;
-    threshold_.fill(config_.cutThreshold_N);
+    // Each hand's threshold is its tool's: the loop gets them per hand, not from config_.
+    threshold_.fill(scene_.tools.empty() ? config_.cutThreshold_N : scene_.tools[0].threshold_N);
     resetModel();
 }
 
@@ -73,7 +73,7 @@ void Session::setHandCount(int hands) {
         // The second hand takes the next tool, and starts where the first hand is, a little to its side.
         tool_[1] = (tool_[0] + 1) % scene_.tools.size();
         threshold_[1] = scene_.tools[tool_[1]].threshold_N;
-        mice_[1]->setPosition(mice_[0]->read(loop_ ? loop_->time_s() : 0).position_m + Vec3(-0.02, 0, 0));
+        mice_[1]->setPosition(mice_[0]->read(0).position_m + Vec3(-0.02, 0, 0));  // the loop is stopped: no other reader
     }
     handCount_ = hands;
     activeHand_ = std::min(activeHand_, handCount_ - 1);
@@ -124,7 +124,6 @@ void Session::setTool(std::size_t index) {
 
 void Session::setCutThreshold(double threshold_N) {
     threshold_[static_cast<std::size_t>(activeHand_)] = threshold_N;
-    if (activeHand_ == 0) config_.cutThreshold_N = threshold_N;
     loop_->commands().push({haptics::LoopCommand::Kind::SetCutThreshold, threshold_N, activeHand_});
 }
 

@@ -106,7 +106,6 @@ void HapticLoop::applyPendingCommands() noexcept {
             case LoopCommand::Kind::SetMaxForceScale: maxForceScale_ = std::clamp(c->value, 0.0, 1.0); break;
             case LoopCommand::Kind::SetCutThreshold:
                 if (c->hand >= 0 && c->hand < handCount()) hands_[static_cast<std::size_t>(c->hand)].setup.cutThreshold_N = std::max(c->value, 0.0);
-                if (c->hand == 0) config_.cutThreshold_N = std::max(c->value, 0.0);
                 break;
             case LoopCommand::Kind::ResetModel:
                 std::copy(model_.nodes.restPosition.begin(), model_.nodes.restPosition.end(), model_.nodes.position.begin());
@@ -279,7 +278,7 @@ StepOutput HapticLoop::step() noexcept {
     return out;
 }
 
-void HapticLoop::sendForces(std::array<Vec3, kMaxHands>& force, StepOutput& out) noexcept {
+void HapticLoop::sendForces(const std::array<Vec3, kMaxHands>& force, StepOutput& out) noexcept {
     const double dt = 1 / config_.rate_hz;
     bool limited = false;
     for (std::size_t h = 0; h < hands_.size(); ++h) {

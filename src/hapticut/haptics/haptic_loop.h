@@ -37,7 +37,7 @@ struct LoopConfig {
     bool activeRegion = true;                  // integrate only the tissue near the tool (Stepper::setActiveRegion)
     /// The tool cuts while its force is above this (R14): the scalpel's threshold; the probe's is infinite.
     /// Only a loop built on a CutModel cuts.
-    /// The single-device constructors' tool; a Hand carries its own.
+    /// The single-device constructors' tool; a Hand carries its own, which SetCutThreshold changes.
     double cutThreshold_N = std::numeric_limits<double>::infinity();
     ProxyParams proxy;
     cutting::CutterParams cutter;
@@ -173,7 +173,7 @@ private:
         Vec3 sentForce_N = Vec3::Zero();  // what the device was last told, for the force-rate limit
     };
     /// Sends each hand its force, rate-limited, and returns in `out` what was sent.
-    void sendForces(std::array<Vec3, kMaxHands>& force, StepOutput& out) noexcept;
+    void sendForces(const std::array<Vec3, kMaxHands>& force, StepOutput& out) noexcept;
     void zeroAllForces() noexcept;
     void initialise(std::span<const Hand> hands);
     void applyPendingCommands() noexcept;
