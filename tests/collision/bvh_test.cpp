@@ -115,17 +115,43 @@ TEST(Bvh, AddedFacesAreFoundBeforeAndAfterTheRebuild) {
     Soup s = randomSoup(rng, 1000);
     Bvh bvh;
     bvh.build(s.view());
-    const Soup extra = randomSoup(rng, 200);
-    for (int batch = 0; batch < 10; ++batch) {
+    // Faces anywhere in the cube, not only inside old ones: the boxes on their way must grow.
+    const Soup extra = randomSoup(rng, 1200);
+    std::size_t mostAdded = 0;
+    for (int batch = 0; batch < 60; ++batch) {
         for (int i = 0; i < 20; ++i) {
             const auto base = static_cast<std::uint32_t>(s.positions.size());
             for (int k = 0; k < 3; ++k) s.positions.push_back(extra.positions[static_cast<std::size_t>(3 * (20 * batch + i) + k)]);
             s.faces.push_back({base, base + 1, base + 2});
         }
-        bvh.facesAdded(s.view());
+        bvh.facesChanged(s.view());
+        mostAdded = std::max(mostAdded, bvh.addedFaces());
         expectMatchesBruteForce(bvh, s, rng, 30);
     }
-    EXPECT_LT(bvh.pendingFaces(), 200u) << "a rebuild must have absorbed the pending faces";
+    EXPECT_GE(mostAdded, 400u) << "faces must be added to the tree, not rebuilt every time";
+    EXPECT_LT(bvh.addedFaces(), 1200u) << "a rebuild must have absorbed the added faces once they were half the tree";
+    EXPECT_LE(2 * bvh.addedFaces(), s.faces.size() - bvh.addedFaces());
+}
+
+TEST(Bvh, FacesWhoseCornersChangedAreFoundWithoutARefit) {
+    std::mt19937 rng(4);
+    Soup s = heartSoup(1619);
+    Bvh bvh;
+    bvh.build(s.view());
+    // Re-point some faces at a far corner and add faces there, as a cut's wall pushed inward might.
+    std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(s.faces.size() - 1));
+    std::vector<std::uint32_t> changed;
+    for (int i = 0; i < 40; ++i) {
+        const std::uint32_t f = pick(rng);
+        s.positions.push_back(s.positions[s.faces[f][0]] + Vec3(0.02, -0.03, 0.01) * (i % 3 - 1));
+        s.faces[f][0] = static_cast<std::uint32_t>(s.positions.size() - 1);
+        changed.push_back(f);
+        if (i % 4 == 0) s.faces.push_back({s.faces[f][0], s.faces[f][2], s.faces[f][1]});
+    }
+    bvh.facesChanged(s.view(), changed);
+    expectMatchesBruteForce(bvh, s, rng, 300);
+    bvh.refit(s.view());
+    expectMatchesBruteForce(bvh, s, rng, 100);
 }
 
 TEST(Bvh, SegmentThroughASharedEdgeOrVertexHitsTheSurface) {

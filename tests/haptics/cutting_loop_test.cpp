@@ -37,6 +37,7 @@ struct StrokeResult {
     mesh::MeshReport after;
     std::vector<std::string> problems;
     std::size_t snapshotFaces = 0, facesAfter = 0;
+    long snapshotsChecked = 0, snapshotMismatches = 0;
     std::vector<Vec3> cutPoints;
     double maxForce_N = 0;
 };
@@ -50,9 +51,19 @@ StrokeResult stroke(double threshold_N, double depth_m) {
     config.cutThreshold_N = threshold_N;
     HapticLoop loop(organ, device, config);
     StrokeResult r;
+    long step = 0;
     loop.runSimulated(2300, [&](const StepOutput& s) {
         if (s.cut)
             for (std::uint32_t v : loop.cutter()->points()) r.cutPoints.push_back(organ.mesh().positions[v]);
+        // Now and then, as a renderer does, so that the other slots fall several cuts behind and must
+        // catch up on every face changed since: the snapshot published with a cut shows exactly the organ.
+        if (s.cut && ++step % 3 == 0) {
+            const Snapshot& shot = loop.snapshots().readLatest();
+            r.snapshotsChecked += 1;
+            r.snapshotMismatches += shot.faces != organ.mesh().faces || shot.uvs.size() != organ.mesh().uvs.size();
+            for (std::size_t f = 0; f < std::min(shot.uvs.size(), organ.mesh().uvs.size()); ++f)
+                for (int k = 0; k < 3; ++k) r.snapshotMismatches += shot.uvs[f][k] != organ.mesh().uvs[f][k];
+        }
     });
     r.cut = loop.cutter()->stats();
     r.cutEvents = loop.stats().cutEvents;
@@ -88,6 +99,8 @@ TEST(CuttingLoop, AScalpelPressedPastItsThresholdCutsAlongTheStrokeAndTheWoundOp
     EXPECT_TRUE(r.after.oriented);
     EXPECT_GT(r.after.minAngleDeg, 5.0);
     EXPECT_EQ(r.snapshotFaces, r.facesAfter) << "the renderer sees the cut";
+    EXPECT_GE(r.snapshotsChecked, 3);
+    EXPECT_EQ(r.snapshotMismatches, 0) << "a snapshot's faces or UVs differ from the organ's";
 }
 
 TEST(CuttingLoop, TheProbeOnTheSamePathCutsNothing) {

@@ -37,9 +37,14 @@ bool segmentTouchesBox(const geometry::Aabb& box, const Vec3& from, const Vec3& 
 
 }  // namespace
 
+template <class Visit>
+void Bvh::visitLeaf(const Node& leaf, Visit&& visit) const {
+    for (std::uint32_t k = leaf.start; k < leaf.start + leaf.count; ++k) visit(faceOrder_[k]);
+    for (std::uint32_t f = leaf.added; f != kNone; f = addedNext_[f]) visit(f);
+}
+
 template <class Enter, class Visit>
 void Bvh::traverse(Enter&& enter, Visit&& visit) const {
-    for (std::uint32_t f : pending_) visit(f);
     if (nodes_.empty()) return;
     std::array<std::uint32_t, kMaxDepth> stack;
     int top = 0;
@@ -48,7 +53,7 @@ void Bvh::traverse(Enter&& enter, Visit&& visit) const {
         const Node& node = nodes_[stack[--top]];
         if (!enter(node.box)) continue;
         if (node.count > 0) {
-            for (std::uint32_t k = node.start; k < node.start + node.count; ++k) visit(faceOrder_[k]);
+            visitLeaf(node, visit);
             continue;
         }
         stack[top++] = node.right;
@@ -73,10 +78,14 @@ void Bvh::build(const SurfaceView& s) {
     }
     nodes_.clear();
     nodes_.reserve(2 * (n / kLeafSize + 1));
+    // Room for the faces cuts add before the next rebuild, so adding them rarely allocates.
+    leafOf_.reserve(n + n / 2 + 1024);
+    addedNext_.reserve(n + n / 2 + 1024);
+    leafOf_.assign(n, kNone);
+    addedNext_.assign(n, kNone);
     if (n > 0) buildNode(s, 0, n, centroids, 0);
-    pending_.clear();
-    pending_.reserve(std::max<std::size_t>(64, n / 8));
     builtFaces_ = n;
+    addedFaces_ = 0;
 }
 
 std::uint32_t Bvh::buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count, std::vector<Vec3>& centroids, int depth) {
@@ -93,6 +102,7 @@ std::uint32_t Bvh::buildNode(const SurfaceView& s, std::uint32_t start, std::uin
     if (count <= kLeafSize || depth >= kMaxDepth - 2) {
         nodes_[index].start = start;
         nodes_[index].count = count;
+        for (std::uint32_t i = start; i < start + count; ++i) leafOf_[faceOrder_[i]] = index;
         return index;
     }
     // Median split along the longest axis of the centroids: balanced, so depth stays near log2(n).
@@ -101,9 +111,10 @@ std::uint32_t Bvh::buildNode(const SurfaceView& s, std::uint32_t start, std::uin
     const std::uint32_t half = count / 2;
     auto first = faceOrder_.begin() + start;
     std::nth_element(first, first + half, first + count, [&](std::uint32_t a, std::uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
-    buildNode(s, start, half, centroids, depth + 1);
+    const std::uint32_t left = buildNode(s, start, half, centroids, depth + 1);
     const std::uint32_t right = buildNode(s, start + half, count - half, centroids, depth + 1);
     nodes_[index].right = right;
+    nodes_[left].parent = nodes_[right].parent = index;
     return index;
 }
 
@@ -112,8 +123,9 @@ void Bvh::refit(const SurfaceView& s) {
         Node& node = nodes_[i];
         if (node.count > 0) {
             geometry::Aabb box;
-            for (std::uint32_t k = node.start; k < node.start + node.count; ++k)
-                for (std::uint32_t v : s.faces[faceOrder_[k]]) box.grow(s.positions[v]);
+            visitLeaf(node, [&](std::uint32_t f) {
+                for (std::uint32_t v : s.faces[f]) box.grow(s.positions[v]);
+            });
             node.box = box;
         } else {
             node.box = nodes_[i + 1].box;
@@ -123,14 +135,50 @@ void Bvh::refit(const SurfaceView& s) {
     }
 }
 
-void Bvh::facesAdded(const SurfaceView& s) {
-    // Rebuilding costs O(n log n); a linear pass over a few pending faces per query is cheaper until
-    // they are a sixteenth of the mesh.
-    if (s.faces.size() - builtFaces_ > std::max<std::size_t>(32, builtFaces_ / 16)) {
-        build(s);
+void Bvh::growToContain(std::uint32_t node, const geometry::Aabb& box) {
+    for (; node != kNone; node = nodes_[node].parent) {
+        geometry::Aabb& b = nodes_[node].box;
+        if ((b.min.array() <= box.min.array()).all() && (b.max.array() >= box.max.array()).all()) return;  // so are its ancestors
+        b.grow(box.min);
+        b.grow(box.max);
+    }
+}
+
+void Bvh::insertFace(const SurfaceView& s, std::uint32_t f) {
+    const geometry::Aabb box = faceBox(s, f);
+    // Down the tree toward the child whose box grows least: a face cut off another lies inside that
+    // one's box, so it normally lands in its leaf and no box grows at all.
+    auto growth = [&](const geometry::Aabb& b) {
+        geometry::Aabb grown = b;
+        grown.grow(box.min);
+        grown.grow(box.max);
+        return grown.extent().sum() - b.extent().sum();
+    };
+    std::uint32_t node = 0;
+    while (nodes_[node].count == 0) {
+        const std::uint32_t left = node + 1, right = nodes_[node].right;
+        node = growth(nodes_[left].box) <= growth(nodes_[right].box) ? left : right;
+    }
+    addedNext_[f] = nodes_[node].added;
+    nodes_[node].added = f;
+    leafOf_[f] = node;
+    growToContain(node, box);
+    ++addedFaces_;
+}
+
+void Bvh::facesChanged(const SurfaceView& s, std::span<const std::uint32_t> changed) {
+    const std::size_t n = s.faces.size();
+    if (nodes_.empty() || n < leafOf_.size() || n - builtFaces_ > std::max<std::size_t>(64, builtFaces_ / 2)) {
+        build(s);  // nothing to add to, faces removed, or enough added that a fresh tree pays
         return;
     }
-    for (std::size_t f = builtFaces_ + pending_.size(); f < s.faces.size(); ++f) pending_.push_back(static_cast<std::uint32_t>(f));
+    for (std::uint32_t f : changed)
+        if (f < leafOf_.size()) growToContain(leafOf_[f], faceBox(s, f));
+    for (auto f = static_cast<std::uint32_t>(leafOf_.size()); f < n; ++f) {
+        leafOf_.push_back(kNone);
+        addedNext_.push_back(kNone);
+        insertFace(s, f);
+    }
 }
 
 std::optional<SurfacePoint> Bvh::closestPoint(const SurfaceView& s, const Vec3& p, double max_distance) const {
@@ -145,7 +193,6 @@ std::optional<SurfacePoint> Bvh::closestPoint(const SurfaceView& s, const Vec3& 
             best = SurfacePoint{f, c.point, c.bary, 0};
         }
     };
-    for (std::uint32_t f : pending_) consider(f);
     if (!nodes_.empty()) {
         std::array<std::uint32_t, kMaxDepth> stack;
         int top = 0;
@@ -154,7 +201,7 @@ std::optional<SurfacePoint> Bvh::closestPoint(const SurfaceView& s, const Vec3& 
             const Node& node = nodes_[stack[--top]];
             if (boxDistanceSquared(node.box, p) > bestD2) continue;
             if (node.count > 0) {
-                for (std::uint32_t k = node.start; k < node.start + node.count; ++k) consider(faceOrder_[k]);
+                visitLeaf(node, consider);
                 continue;
             }
             const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;

@@ -1,5 +1,6 @@
-// Bounding volume hierarchy over the triangles of a deforming mesh: build, linear-time refit, cheap
-// handling of added faces, and closest-point, first-hit and radius queries that never allocate.
+// Bounding volume hierarchy over the triangles of a deforming mesh: build, linear-time refit, faces
+// added and changed by cuts in time proportional to the tree's depth, and closest-point, first-hit
+// and radius queries that never allocate.
 #pragma once
 
 #include <cstdint>
@@ -40,9 +41,12 @@ public:
     void build(const SurfaceView& surface);
     /// Recomputes every box bottom-up from the current positions, in time linear in the faces.
     void refit(const SurfaceView& surface);
-    /// Faces appended to the surface since the last build are searched linearly until there are
-    /// enough of them to pay for a rebuild. Faces changed in place are covered by refit.
-    void facesAdded(const SurfaceView& surface);
+    /// After a topology edit: faces appended since the last call join the leaf whose box grows least
+    /// (a face split off another lies inside its box), and the listed faces whose corners changed
+    /// grow their leaf's box and its ancestors', so every query stays exact before the next refit.
+    /// Costs the tree's depth per face. Once the added faces are half as many as the built ones the
+    /// tree is rebuilt, which costs O(n log n).
+    void facesChanged(const SurfaceView& surface, std::span<const std::uint32_t> changed = {});
 
     std::optional<SurfacePoint> closestPoint(const SurfaceView& surface, const Vec3& p,
                                              double max_distance = std::numeric_limits<double>::infinity()) const;
@@ -54,26 +58,35 @@ public:
     void facesWithinRadius(const SurfaceView& surface, const Vec3& p, double radius, std::vector<std::uint32_t>& out) const;
 
     std::size_t nodeCount() const { return nodes_.size(); }
-    std::size_t pendingFaces() const { return pending_.size(); }
+    /// Faces added since the last build, held in chains at the leaves.
+    std::size_t addedFaces() const { return addedFaces_; }
 
 private:
+    static constexpr std::uint32_t kNone = 0xffffffffu;
     struct Node {
         geometry::Aabb box;
         std::uint32_t start = 0, count = 0;  // leaf: faceOrder_[start, start + count)
         std::uint32_t right = 0;             // inner: the left child is the next node (preorder)
+        std::uint32_t parent = kNone;
+        std::uint32_t added = kNone;         // leaf: the first face added since the build (see addedNext_)
     };
     static constexpr int kMaxDepth = 64;
 
     std::uint32_t buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count, std::vector<Vec3>& centroids, int depth);
     geometry::Aabb faceBox(const SurfaceView& s, std::uint32_t f) const;
-    /// Visits the pending faces and the faces of every leaf whose box (and ancestors' boxes) `enter` accepts.
+    /// Visits the faces of every leaf whose box (and ancestors' boxes) `enter` accepts.
     template <class Enter, class Visit>
     void traverse(Enter&& enter, Visit&& visit) const;
+    template <class Visit>
+    void visitLeaf(const Node& leaf, Visit&& visit) const;
+    void insertFace(const SurfaceView& s, std::uint32_t f);
+    void growToContain(std::uint32_t node, const geometry::Aabb& box);
 
     std::vector<Node> nodes_;
     std::vector<std::uint32_t> faceOrder_;
-    std::vector<std::uint32_t> pending_;
-    std::size_t builtFaces_ = 0;
+    std::vector<std::uint32_t> leafOf_;     // the leaf holding each face
+    std::vector<std::uint32_t> addedNext_;  // the next added face in the same leaf's chain, per face
+    std::size_t builtFaces_ = 0, addedFaces_ = 0;
 };
 
 }  // namespace hapticut::collision

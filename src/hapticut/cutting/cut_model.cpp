@@ -22,6 +22,23 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model) : mes
         km += model_.nodes.anchorStiffness[i], dm += model_.nodes.anchorDamping[i], mass += model_.nodes.mass[i];
     if (s.size() > 0) stiffnessTimesLength_ = kl / static_cast<double>(s.size()), dampingTimesLength_ = dl / static_cast<double>(s.size());
     if (mass > 0) anchorStiffnessPerKg_ = km / mass, anchorDampingPerKg_ = dm / mass;
+    // Room to grow: a cut appends to every array, and a reallocation of a large organ's arrays in the
+    // haptic loop would cost milliseconds. Half as much again covers hours of cutting.
+    auto room = [](std::size_t n) { return n + n / 2 + 1024; };
+    const std::size_t nodes = room(mesh_.positions.size()), springs = room(s.size()), faces = room(mesh_.faces.size());
+    mesh_.positions.reserve(nodes);
+    facesAround_.around.reserve(nodes);
+    physics::Nodes& n = model_.nodes;
+    for (auto* v : {&n.position, &n.velocity, &n.restPosition, &n.externalForce}) v->reserve(nodes);
+    for (auto* v : {&n.mass, &n.inverseMass, &n.anchorStiffness, &n.anchorDamping}) v->reserve(nodes);
+    physics::Springs& sp = model_.springs;
+    for (auto* v : {&sp.a, &sp.b}) v->reserve(springs);
+    for (auto* v : {&sp.restLength, &sp.stiffness, &sp.damping}) v->reserve(springs);
+    mesh_.edges.reserve(springs);
+    springOfEdge_.reserve(springs);
+    mesh_.faces.reserve(faces);
+    mesh_.uvs.reserve(faces);
+    mesh_.normals.reserve(faces);
 }
 
 std::uint64_t CutModel::edgeKey(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
@@ -53,7 +70,34 @@ std::uint32_t CutModel::addVertex(const Vec3& rest, const Vec3& position, const 
     n.anchorStiffness.push_back(anchorStiffnessPerKg_ * mass);
     n.anchorDamping.push_back(anchorDampingPerKg_ * mass);
     facesAround_.around.emplace_back();
+    changes_.nodes.push_back(v);
     return v;
+}
+
+void CutModel::setMass(std::uint32_t v, double mass) {
+    physics::Nodes& n = model_.nodes;
+    n.mass[v] = mass;
+    n.inverseMass[v] = mass > 0 ? 1 / mass : 0;
+    n.anchorStiffness[v] = anchorStiffnessPerKg_ * mass;
+    n.anchorDamping[v] = anchorDampingPerKg_ * mass;
+    changes_.nodes.push_back(v);
+}
+
+void CutModel::touchSpring(std::uint32_t k) {
+    changes_.springs.push_back(k);
+    changes_.nodes.push_back(model_.springs.a[k]);
+    changes_.nodes.push_back(model_.springs.b[k]);
+}
+
+void CutModel::moveSpringEnd(std::uint32_t k, std::uint32_t from, std::uint32_t to) {
+    physics::Springs& s = model_.springs;
+    const std::uint32_t other = s.a[k] == from ? s.b[k] : s.a[k];
+    springOfEdge_.erase(edgeKey(from, other));
+    (s.a[k] == from ? s.a[k] : s.b[k]) = to;
+    springOfEdge_[edgeKey(to, other)] = k;
+    mesh_.edges[k] = {s.a[k], s.b[k]};  // mesh_.edges stays parallel to the springs: edge k is spring k
+    changes_.nodes.push_back(from);
+    touchSpring(k);
 }
 
 void CutModel::addSpring(std::uint32_t a, std::uint32_t b) {
@@ -67,6 +111,7 @@ void CutModel::addSpring(std::uint32_t a, std::uint32_t b) {
     s.stiffness.push_back(stiffnessTimesLength_ / std::max(length, 1e-9));
     s.damping.push_back(dampingTimesLength_ / std::max(length, 1e-9));
     mesh_.edges.push_back({a, b});
+    touchSpring(static_cast<std::uint32_t>(s.size() - 1));
 }
 
 void CutModel::replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs) {
@@ -78,6 +123,7 @@ void CutModel::replaceFace(std::uint32_t face, const mesh::Face& corners, const 
     mesh_.uvs[face] = uvs;
     mesh_.normals[face] = geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]);
     for (std::uint32_t v : corners) facesAround_.around[v].push_back(face);
+    changes_.faces.push_back(face);
 }
 
 std::uint32_t CutModel::appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs) {
@@ -86,6 +132,7 @@ std::uint32_t CutModel::appendFace(const mesh::Face& corners, const mesh::FaceUv
     mesh_.uvs.push_back(uvs);
     mesh_.normals.push_back(geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]));
     for (std::uint32_t v : corners) facesAround_.around[v].push_back(face);
+    changes_.faces.push_back(face);
     return face;
 }
 
@@ -102,12 +149,7 @@ std::uint32_t CutModel::splitFace(std::uint32_t face, const Vec3& bary) {
     const Vec3 velocity = mix(n.velocity);
     // The face's three masses are shared equally among its corners and the new vertex (R15).
     const double faceMass = n.mass[f[0]] + n.mass[f[1]] + n.mass[f[2]];
-    for (std::uint32_t v : f) {
-        model_.nodes.mass[v] = faceMass / 4;
-        model_.nodes.inverseMass[v] = 4 / faceMass;
-        model_.nodes.anchorStiffness[v] = anchorStiffnessPerKg_ * faceMass / 4;
-        model_.nodes.anchorDamping[v] = anchorDampingPerKg_ * faceMass / 4;
-    }
+    for (std::uint32_t v : f) setMass(v, faceMass / 4);
     const std::uint32_t k = addVertex(rest, position, velocity, faceMass / 4);
     const Vec2 uvk = bary.x() * uv[0] + bary.y() * uv[1] + bary.z() * uv[2];
     replaceFace(face, {f[0], f[1], k}, {uv[0], uv[1], uvk});
@@ -126,26 +168,17 @@ std::uint32_t CutModel::splitEdge(std::uint32_t a, std::uint32_t b, double u) {
     const Vec3 velocity = (1 - u) * n.velocity[a] + u * n.velocity[b];
     // The new vertex takes a third of each end's mass, weighted by closeness (total conserved).
     const double fromA = n.mass[a] * (1 - u) / 3, fromB = n.mass[b] * u / 3;
-    for (const auto& [v, take] : {std::pair{a, fromA}, std::pair{b, fromB}}) {
-        n.mass[v] -= take;
-        n.inverseMass[v] = n.mass[v] > 0 ? 1 / n.mass[v] : 0;
-        n.anchorStiffness[v] = anchorStiffnessPerKg_ * n.mass[v];
-        n.anchorDamping[v] = anchorDampingPerKg_ * n.mass[v];
-    }
+    for (const auto& [v, take] : {std::pair{a, fromA}, std::pair{b, fromB}}) setMass(v, n.mass[v] - take);
     const std::uint32_t p = addVertex(rest, position, velocity, fromA + fromB);
 
     // The edge's spring now joins a and p (its end at b moves to p); p and b get a new one (R16).
-    // mesh_.edges stays parallel to the springs: edge k is spring k.
     if (const auto k = springOf(a, b)) {
         physics::Springs& s = model_.springs;
-        springOfEdge_.erase(edgeKey(a, b));
-        (s.a[*k] == b ? s.a[*k] : s.b[*k]) = p;
+        moveSpringEnd(*k, b, p);
         const double length = (mesh_.positions[p] - mesh_.positions[a]).norm();
         s.restLength[*k] = length;
         s.stiffness[*k] = stiffnessTimesLength_ / std::max(length, 1e-9);
         s.damping[*k] = dampingTimesLength_ / std::max(length, 1e-9);
-        springOfEdge_[edgeKey(a, p)] = *k;
-        mesh_.edges[*k] = {s.a[*k], s.b[*k]};
     }
     addSpring(a, p);
     addSpring(p, b);
@@ -202,10 +235,7 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     physics::Nodes& n = model_.nodes;
     const double half = n.mass[v] / 2;
     const std::uint32_t w = addVertex(mesh_.positions[v], n.position[v], n.velocity[v], half);
-    n.mass[v] = half;
-    n.inverseMass[v] = half > 0 ? 1 / half : 0;
-    n.anchorStiffness[v] = anchorStiffnessPerKg_ * half;
-    n.anchorDamping[v] = anchorDampingPerKg_ * half;
+    setMass(v, half);
 
     // Left faces take the duplicate; their vertices other than the cut ends move their springs to it.
     std::vector<std::uint32_t> leftVertices;
@@ -227,10 +257,7 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
             addSpring(w, x);
             continue;
         }
-        springOfEdge_.erase(edgeKey(v, x));
-        (s.a[*k] == v ? s.a[*k] : s.b[*k]) = w;
-        springOfEdge_[edgeKey(w, x)] = *k;
-        mesh_.edges[*k] = {s.a[*k], s.b[*k]};
+        moveSpringEnd(*k, v, w);
     }
     // Pull the wound open: every spring at either copy a little shorter, except along the cut. After
     // the opening the cut's edges at v and v' are exactly their boundary edges (the lips).
@@ -238,7 +265,10 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
         for (std::uint32_t f : facesAround_.around[copy])
             for (std::uint32_t x : mesh_.faces[f]) {
                 if (x == copy || facesOfEdge(copy, x).size() < 2) continue;
-                if (const auto k = springOf(copy, x); k && shortened_.insert(*k).second) s.restLength[*k] *= 1 - shorten;
+                if (const auto k = springOf(copy, x); k && shortened_.insert(*k).second) {
+                    s.restLength[*k] *= 1 - shorten;
+                    touchSpring(*k);
+                }
             }
     shortened_.clear();
     if (retract > 0) {

@@ -14,6 +14,17 @@
 
 namespace hapticut::cutting {
 
+/// What the edits since the last clearChanges() touched, so that the haptic loop brings its stepper,
+/// tree and snapshots up to date in time proportional to the cut rather than to the organ. Entries
+/// may repeat; every consumer treats them as a set.
+struct TopologyChanges {
+    std::vector<std::uint32_t> nodes;    // new, or their mass, anchor or springs changed
+    std::vector<std::uint32_t> springs;  // new, or their ends, rest length or stiffness changed
+    std::vector<std::uint32_t> faces;    // new, or their corners changed
+    bool empty() const { return nodes.empty() && springs.empty() && faces.empty(); }
+    void clear() { nodes.clear(), springs.clear(), faces.clear(); }
+};
+
 /// Node i of the model is vertex i of the mesh; spring k of the model is an edge of the faces.
 /// mesh.positions hold the rest (undeformed) shape, model.nodes.position the deformed one.
 class CutModel {
@@ -27,6 +38,10 @@ public:
     const std::vector<std::uint32_t>& facesAround(std::uint32_t vertex) const { return facesAround_.around[vertex]; }
     /// The faces around every vertex, kept current through every edit (the proxy's fast path reads it).
     const mesh::VertexFaces& vertexFaces() const { return facesAround_; }
+    /// Everything the edits changed since the last clearChanges().
+    const TopologyChanges& changes() const { return changes_; }
+    void clearChanges() { changes_.clear(); }
+
     /// The spring along edge (a, b), if there is one.
     std::optional<std::uint32_t> springOf(std::uint32_t a, std::uint32_t b) const;
     /// The faces that have edge (a, b), in any orientation (two on a manifold interior edge).
@@ -66,6 +81,11 @@ public:
 private:
     std::uint32_t addVertex(const Vec3& rest, const Vec3& position, const Vec3& velocity, double mass);
     void addSpring(std::uint32_t a, std::uint32_t b);
+    /// v's mass is now `mass`; its anchor follows (mass follows area).
+    void setMass(std::uint32_t v, double mass);
+    /// Spring k now runs from `from`'s end to `to` (its other end unchanged).
+    void moveSpringEnd(std::uint32_t k, std::uint32_t from, std::uint32_t to);
+    void touchSpring(std::uint32_t k);
     void replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs);
     std::uint32_t appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs);
     static std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b);
@@ -74,6 +94,7 @@ private:
     physics::MassSpringModel model_;
     mesh::VertexFaces facesAround_;
     std::unordered_map<std::uint64_t, std::uint32_t> springOfEdge_;
+    TopologyChanges changes_;
     std::unordered_set<std::uint64_t> shortened_;  // scratch for openCut: each spring shortened once
     // Material of new springs and anchors: the means of the model's own, per unit length and mass.
     double stiffnessTimesLength_ = 0, dampingTimesLength_ = 0, anchorStiffnessPerKg_ = 0, anchorDampingPerKg_ = 0;

@@ -37,6 +37,12 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
         CutModel cut(organ, physics::buildModel(organ, physics::Material{}));
         const double mass = physics::totalMass(cut.model());
         ProgressiveCutter cutter(cut);
+        // The haptic loop's stepper follows the edits (Stepper::topologyChanged); this one does too.
+        physics::Stepper live(physics::Scheme::RungeKutta4);
+        live.setAutoSubstep(false);
+        live.setActiveRegion(true);
+        live.prepare(cut.model());
+        std::vector<std::uint32_t> woken;  // every node the edits touched, which `live` woke
         ++r.organs;
         const auto fail = [&](long stroke, long operation, const std::string& what) {
             r.problems.push_back("seed " + std::to_string(config.seed) + ", organ " + std::to_string(organIndex) + ", stroke " + std::to_string(stroke) +
@@ -49,6 +55,10 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
             for (int i = 0; i <= samples; ++i) {
                 const RestTouch t = touchRestSurface(cut, from + (to - from) * (static_cast<double>(i) / samples));
                 const bool changed = cutter.cutAt(t.face, t.bary);
+                live.topologyChanged(cut.model(), cut.changes().nodes, cut.changes().springs);
+                woken.insert(woken.end(), cut.changes().nodes.begin(), cut.changes().nodes.end());
+                for (std::uint32_t k : cut.changes().springs) woken.push_back(cut.model().springs.a[k]), woken.push_back(cut.model().springs.b[k]);
+                cut.clearChanges();
                 r.meshChanges += changed;
                 ++r.operations;
                 if ((config.checkEveryOperation && changed) || i == samples) {
@@ -70,15 +80,25 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
         r.facesAdded += st.facesAdded;
         r.opened |= st.opened;
         r.largestFaces = std::max(r.largestFaces, static_cast<long>(cut.mesh().faces.size()));
-        // The cut organ must still simulate: no NaN, at the stable step the cuts left it.
-        physics::Stepper stepper(physics::Scheme::RungeKutta4);
-        stepper.setAutoSubstep(false);
-        stepper.prepare(cut.model());
-        for (int i = 0; i < config.simulateSteps; ++i)
-            if (!stepper.step(cut.model(), stepper.stableStep_s()).finite) {
-                fail(config.strokesPerOrgan, -1, "the cut organ's simulation produced a non-finite value");
-                break;
-            }
+        // The cut organ must still simulate: no NaN, at the stable step the cuts left it, the same with
+        // the stepper that followed the edits as with a fresh one.
+        physics::Stepper fresh(physics::Scheme::RungeKutta4);
+        fresh.setAutoSubstep(false);
+        fresh.setActiveRegion(true);
+        fresh.prepare(cut.model());
+        for (std::uint32_t n : woken) fresh.wake(n);  // the same region awake in both
+        if (live.stableStep_s() > fresh.stableStep_s() * (1 + 1e-12))
+            fail(config.strokesPerOrgan, -1,
+                 "the stable step kept through the edits (" + std::to_string(live.stableStep_s()) + " s) exceeds the model's (" + std::to_string(fresh.stableStep_s()) + " s)");
+        physics::MassSpringModel copy = cut.model();
+        const double dt = live.stableStep_s();
+        for (int i = 0; i < config.simulateSteps && r.problems.empty(); ++i) {
+            if (!live.step(cut.model(), dt).finite || !fresh.step(copy, dt).finite) fail(config.strokesPerOrgan, -1, "the cut organ's simulation produced a non-finite value");
+            double apart = 0;
+            for (std::size_t n = 0; n < copy.nodes.size(); ++n) apart = std::max(apart, (copy.nodes.position[n] - cut.model().nodes.position[n]).norm());
+            if (apart > 1e-9)
+                fail(config.strokesPerOrgan, -1, "after " + std::to_string(i + 1) + " steps the incrementally updated stepper is " + std::to_string(apart * 1e9) + " nm from a fresh one");
+        }
         if (!r.problems.empty()) break;
     }
     r.wallTime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

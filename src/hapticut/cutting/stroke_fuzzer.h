@@ -33,7 +33,10 @@ struct StrokeFuzzConfig {
     /// Check the invariants after every cutAt that changed the mesh (one that changed nothing cannot
     /// break anything), and at the end of every stroke; else at the end of every stroke only.
     bool checkEveryOperation = true;
-    /// Simulate the cut organ (RK4 at its stable step) for this many steps after each organ's strokes.
+    /// Simulate the cut organ (RK4 at its stable step) for this many steps after each organ's strokes,
+    /// twice: with a stepper that followed every edit incrementally, as the haptic loop's does, and
+    /// with a freshly prepared one. They must agree, and the incremental stable step must not exceed
+    /// the fresh one.
     int simulateSteps = 20;
 };
 

@@ -70,13 +70,22 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
         hand.proxy.reset(start + Vec3(0, 0, 1.0));
         hand.proxy.update(start, surface(), bvh_);
     }
+    // Room for what cuts add, as the organ's own arrays have (CutModel), so publishing rarely allocates.
+    auto room = [](std::size_t n) { return n + n / 2 + 1024; };
     for (Snapshot& s : snapshots_.slots()) {
+        s.positions.reserve(room(model_.nodes.size()));
         s.positions.resize(model_.nodes.size());
+        s.faces.reserve(room(faces_.size()));
         s.faces.assign(faces_.begin(), faces_.end());
-        if (organ_) s.uvs = organ_->mesh().uvs;
+        if (organ_) {
+            s.uvs.reserve(room(faces_.size()));
+            s.uvs.assign(organ_->mesh().uvs.begin(), organ_->mesh().uvs.end());
+        }
         s.topologyVersion = topologyVersion_;
         s.handCount = handCount();
     }
+    slotVersion_.fill(topologyVersion_);
+    faceLog_.reserve(4096);
 }
 
 HapticLoop::~HapticLoop() {
@@ -318,25 +327,39 @@ void HapticLoop::scaleMaterial(LoopCommand::Kind kind, double factor) noexcept {
 }
 
 void HapticLoop::afterTopologyChange() {
+    // Everything here follows only what the cut touched (CutModel::changes), so a cut event costs the
+    // same on a 100,000-triangle organ as on the thesis's heart.
     faces_ = organ_->mesh().faces;
     const collision::SurfaceView view = surface();
-    // No refit here: a face split in place becomes part of itself and an opened copy sits where its
-    // vertex was, so the old boxes still hold them; the step's own refit after the physics tightens them.
-    bvh_.facesAdded(view);  // new faces are searched linearly until a rebuild pays
-    stepper_.prepare(model_);  // new nodes and springs, springs moved to the opened copy, the stable step
+    const cutting::TopologyChanges& changes = organ_->changes();
+    // No refit: the boxes grow to hold the changed and added faces; the step's refit tightens them.
+    bvh_.facesChanged(view, changes.faces);
+    stepper_.topologyChanged(model_, changes.nodes, changes.springs);
     // Once a cut has opened, the surface has lips: no longer closed, so no ray-parity check.
     for (HandState& hand : hands_) hand.proxy.surfaceRemeshed(view, bvh_, hand.proxy.params().closedSurface && !cutter_->stats().opened);
     ++topologyVersion_;
+    for (std::uint32_t f : changes.faces) faceLog_.push_back({topologyVersion_, f});
+    organ_->clearChanges();
 }
 
 void HapticLoop::publishSnapshot(const StepOutput& out) {
     Snapshot& s = snapshots_.writeSlot();
-    // Sizes change only after a cut, the one time this may allocate.
+    // Sizes change only after a cut; the slots were reserved with room to grow.
     s.positions.assign(model_.nodes.position.begin(), model_.nodes.position.end());
     if (s.topologyVersion != topologyVersion_) {
-        s.faces.assign(faces_.begin(), faces_.end());
-        if (organ_) s.uvs.assign(organ_->mesh().uvs.begin(), organ_->mesh().uvs.end());
+        // Catch up on the faces the cuts since this slot's version changed, not the whole mesh.
+        s.faces.resize(faces_.size());
+        if (organ_) s.uvs.resize(faces_.size());
+        for (const FaceChange& c : faceLog_) {
+            if (c.version <= s.topologyVersion) continue;
+            s.faces[c.face] = faces_[c.face];
+            if (organ_) s.uvs[c.face] = organ_->mesh().uvs[c.face];
+        }
         s.topologyVersion = topologyVersion_;
+        slotVersion_[static_cast<std::size_t>(&s - snapshots_.slots().data())] = topologyVersion_;
+        // What every slot has is needed no more.
+        const long everywhere = *std::min_element(slotVersion_.begin(), slotVersion_.end());
+        faceLog_.erase(faceLog_.begin(), std::find_if(faceLog_.begin(), faceLog_.end(), [&](const FaceChange& c) { return c.version > everywhere; }));
     }
     s.hands = out.hands;
     s.handCount = out.handCount;

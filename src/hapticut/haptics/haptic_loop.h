@@ -195,6 +195,14 @@ private:
     const mesh::VertexFaces* topology_ = nullptr;
     std::optional<cutting::ProgressiveCutter> cutter_;
     long topologyVersion_ = 0;
+    // The faces each topology version rewrote or added, kept until every snapshot slot has them, so a
+    // slot catches up by copying those faces instead of the whole mesh.
+    struct FaceChange {
+        long version;
+        std::uint32_t face;
+    };
+    std::vector<FaceChange> faceLog_;
+    std::array<long, 3> slotVersion_{};  // the topology version each snapshot slot was last brought to
     double rampStart_s_ = 0;                       // forces fade in from here: the start, or a watchdog reset
     LoopStats stats_;
     TripleBuffer<Snapshot> snapshots_;

@@ -59,6 +59,21 @@ double largestStableStep(Scheme scheme, double w2, double c) {
     return lo;
 }
 
+/// Lowers dt to what one node's modes allow: its positioning mode, and its highest mode against its
+/// neighbours (springs summing to k, d). A mode still stable at dt cannot lower it: one check instead
+/// of a bisection for almost every node.
+void lowerForNode(Scheme scheme, double& dt, double inverse_mass, double anchor_k, double anchor_d, double k, double d) {
+    if (inverse_mass == 0) return;
+    auto lower = [&](double w2, double c) {
+        if (dt < 1e9 && modeStable(scheme, w2, c, dt)) return;
+        dt = std::min(dt, largestStableStep(scheme, w2, c));
+    };
+    lower(anchor_k * inverse_mass, anchor_d * inverse_mass);
+    lower((anchor_k + 2 * k) * inverse_mass, (anchor_d + 2 * d) * inverse_mass);
+}
+
+constexpr double kStableSafety = 0.9;
+
 }  // namespace
 
 double stableTimeStep(const MassSpringModel& model, Scheme scheme, double extra_stiffness_N_per_m) {
@@ -70,20 +85,9 @@ double stableTimeStep(const MassSpringModel& model, Scheme scheme, double extra_
         d[s.a[i]] += s.damping[i], d[s.b[i]] += s.damping[i];
     }
     double dt = 1e9;
-    // A mode still stable at the smallest step so far cannot lower it: one check instead of a bisection
-    // for almost every node, which keeps re-preparing after a cut cheap.
-    auto lower = [&](double w2, double c) {
-        if (dt < 1e9 && modeStable(scheme, w2, c, dt)) return;
-        dt = std::min(dt, largestStableStep(scheme, w2, c));
-    };
-    for (std::size_t i = 0; i < n.size(); ++i) {
-        const double im = n.inverseMass[i];
-        if (im == 0) continue;
-        const double anchor = n.anchorStiffness[i] + extra_stiffness_N_per_m;
-        lower(anchor * im, n.anchorDamping[i] * im);
-        lower((anchor + 2 * k[i]) * im, (n.anchorDamping[i] + 2 * d[i]) * im);
-    }
-    return 0.9 * dt;
+    for (std::size_t i = 0; i < n.size(); ++i)
+        lowerForNode(scheme, dt, n.inverseMass[i], n.anchorStiffness[i] + extra_stiffness_N_per_m, n.anchorDamping[i], k[i], d[i]);
+    return kStableSafety * dt;
 }
 
 void Stepper::setScheme(Scheme scheme) {
@@ -101,10 +105,23 @@ void Stepper::setActiveRegion(bool on) {
     activeDirty_ = true;
 }
 
+void Stepper::reserveFor(std::size_t n, std::size_t ns) {
+    const std::size_t nodes = n + n / 2 + 1024, springs = ns + ns / 2 + 1024;
+    for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->reserve(nodes);
+    for (auto* list : {&allNodes_, &activeNodes_, &touchedNodes_, &wakeList_}) list->reserve(nodes);
+    for (auto* marks : {&awake_, &wakeNext_, &touchedMark_}) marks->reserve(nodes);
+    nodeSprings_.reserve(nodes);
+    springMark_.reserve(springs);
+    activeSprings_.reserve(springs);
+    springEnds_.reserve(springs);
+}
+
 void Stepper::prepare(const MassSpringModel& model) {
     const std::size_t n = model.nodes.size(), ns = model.springs.size();
+    reserveFor(n, ns);
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n);
     stableDt_ = stableTimeStep(model, scheme_, toolStiffness_);
+    rawStableDt_ = stableDt_ / kStableSafety;
     allNodes_.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) allNodes_[i] = i;
     // Active-region bookkeeping, sized once so that stepping never allocates.
@@ -113,22 +130,65 @@ void Stepper::prepare(const MassSpringModel& model) {
     touchedMark_.assign(n, 0);
     springMark_.assign(ns, 0);
     activeNodes_.clear();
-    activeNodes_.reserve(n);
     touchedNodes_.clear();
-    touchedNodes_.reserve(n);
     activeSprings_.clear();
-    activeSprings_.reserve(ns);
-    nodeSpringStart_.assign(n + 1, 0);
-    for (std::size_t k = 0; k < ns; ++k) ++nodeSpringStart_[model.springs.a[k] + 1], ++nodeSpringStart_[model.springs.b[k] + 1];
-    for (std::size_t i = 0; i < n; ++i) nodeSpringStart_[i + 1] += nodeSpringStart_[i];
-    nodeSprings_.resize(nodeSpringStart_.back());
-    std::vector<std::uint32_t> fill(nodeSpringStart_.begin(), nodeSpringStart_.end() - 1);
-    for (std::uint32_t k = 0; k < ns; ++k) nodeSprings_[fill[model.springs.a[k]]++] = k, nodeSprings_[fill[model.springs.b[k]]++] = k;
+    nodeSprings_.assign(n, {});
+    springEnds_.resize(ns);
+    for (std::uint32_t k = 0; k < ns; ++k) {
+        springEnds_[k] = {model.springs.a[k], model.springs.b[k]};
+        nodeSprings_[model.springs.a[k]].push_back(k), nodeSprings_[model.springs.b[k]].push_back(k);
+    }
     // Whatever is not at rest starts awake.
     wakeList_.clear();
-    wakeList_.reserve(n);
     for (std::uint32_t i = 0; i < n; ++i)
         if (model.nodes.position[i] != model.nodes.restPosition[i] || model.nodes.velocity[i] != Vec3::Zero()) wake(i);
+    activeDirty_ = true;
+    preparedNodes_ = n;
+    preparedSprings_ = ns;
+}
+
+void Stepper::lowerStableStepAt(const MassSpringModel& model, std::uint32_t i) {
+    double k = 0, d = 0;
+    for (std::uint32_t s : nodeSprings_[i]) k += model.springs.stiffness[s], d += model.springs.damping[s];
+    const Nodes& n = model.nodes;
+    lowerForNode(scheme_, rawStableDt_, n.inverseMass[i], n.anchorStiffness[i] + toolStiffness_, n.anchorDamping[i], k, d);
+}
+
+void Stepper::topologyChanged(const MassSpringModel& model, std::span<const std::uint32_t> nodes, std::span<const std::uint32_t> springs) {
+    if (preparedNodes_ == static_cast<std::size_t>(-1) || model.nodes.size() < preparedNodes_ || model.springs.size() < preparedSprings_) {
+        prepare(model);  // never prepared, or the model shrank: not an edit this can follow
+        return;
+    }
+    const std::size_t n = model.nodes.size(), ns = model.springs.size();
+    if (n > x0_.capacity() || ns > springEnds_.capacity()) reserveFor(n, ns);
+    for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n, Vec3::Zero());
+    for (auto i = static_cast<std::uint32_t>(allNodes_.size()); i < n; ++i) allNodes_.push_back(i);
+    for (auto* marks : {&awake_, &wakeNext_, &touchedMark_}) marks->resize(n, 0);
+    springMark_.resize(ns, 0);
+    nodeSprings_.resize(n);
+    constexpr std::uint32_t kNone = 0xffffffffu;
+    springEnds_.resize(ns, {kNone, kNone});
+    // Move each listed spring between the nodes' lists when its ends changed.
+    for (std::uint32_t k : springs) {
+        const std::array<std::uint32_t, 2> now{model.springs.a[k], model.springs.b[k]};
+        std::array<std::uint32_t, 2>& seen = springEnds_[k];
+        if (seen == now) continue;
+        for (std::uint32_t end : seen) {
+            if (end == kNone) continue;
+            auto& list = nodeSprings_[end];
+            list.erase(std::remove(list.begin(), list.end(), k), list.end());
+        }
+        for (std::uint32_t end : now) nodeSprings_[end].push_back(k);
+        seen = now;
+    }
+    // The nodes whose modes may have changed: the listed ones and the ends of the listed springs.
+    auto visit = [&](std::uint32_t i) {
+        lowerStableStepAt(model, i);
+        wake(i);  // falls asleep again at once if it is at rest with nothing pulling on it
+    };
+    for (std::uint32_t i : nodes) visit(i);
+    for (std::uint32_t k : springs) visit(model.springs.a[k]), visit(model.springs.b[k]);
+    stableDt_ = kStableSafety * rawStableDt_;
     activeDirty_ = true;
     preparedNodes_ = n;
     preparedSprings_ = ns;
@@ -156,8 +216,7 @@ void Stepper::rebuildActiveLists(const MassSpringModel& model) {
         touchedNodes_.push_back(i);
     }
     for (std::uint32_t i : activeNodes_)
-        for (std::uint32_t e = nodeSpringStart_[i]; e < nodeSpringStart_[i + 1]; ++e) {
-            const std::uint32_t k = nodeSprings_[e];
+        for (const std::uint32_t k : nodeSprings_[i]) {
             if (springMark_[k]) continue;
             springMark_[k] = 1;
             activeSprings_.push_back(k);
@@ -217,8 +276,7 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
                 // travels further than the one ring the region grows by per step.
                 wakeNext_[i] = 1;
                 admit(i);
-                for (std::uint32_t e = nodeSpringStart_[i]; e < nodeSpringStart_[i + 1]; ++e) {
-                    const std::uint32_t k = nodeSprings_[e];
+                for (const std::uint32_t k : nodeSprings_[i]) {
                     const std::uint32_t j = model.springs.a[k] == i ? model.springs.b[k] : model.springs.a[k];
                     wakeNext_[j] = 1;
                     admit(j);

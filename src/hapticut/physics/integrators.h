@@ -1,6 +1,7 @@
 // Explicit time integrators behind one interface (SPEC R5), with automatic substepping for stability.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -37,6 +38,12 @@ public:
     /// Sizes buffers and estimates the stable step for this model; call after any change to the
     /// model's size or constants. Stepping an unprepared or resized model prepares it first.
     void prepare(const MassSpringModel& model);
+    /// After a topology edit (a cut): brings buffers, the springs of each node and the stable step up to
+    /// date for the listed nodes and springs (new ones, or ones whose mass, anchor, ends or stiffness
+    /// changed; repeats allowed), in time proportional to them, not to the model. The stable step only
+    /// ever shrinks here: a cut splits masses and shortens springs, and a bound kept from before the
+    /// edit stays safe. Wakes the listed nodes. Allocates only when the model outgrows its reserve.
+    void topologyChanged(const MassSpringModel& model, std::span<const std::uint32_t> nodes, std::span<const std::uint32_t> springs);
     /// Stiffness a tool may add to any node (the haptic coupling); counted in the stable step.
     void setToolStiffness(double stiffness_N_per_m);
     /// Substeps are off when false: every step is taken as asked, stable or not.
@@ -61,10 +68,14 @@ private:
     void accelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v);
     void rebuildActiveLists(const MassSpringModel& model);
     void updateSleep(const MassSpringModel& model);
+    /// Lowers rawStableDt_ to what node i's own modes allow.
+    void lowerStableStepAt(const MassSpringModel& model, std::uint32_t i);
+    /// Capacity for `n` nodes and `ns` springs, with room to grow, so that cuts rarely reallocate.
+    void reserveFor(std::size_t n, std::size_t ns);
 
     Scheme scheme_;
     bool autoSubstep_ = true;
-    double stableDt_ = 0;
+    double stableDt_ = 0, rawStableDt_ = 0;  // with and without the safety factor
     double toolStiffness_ = 0;
     std::size_t preparedNodes_ = static_cast<std::size_t>(-1), preparedSprings_ = 0;
     std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
@@ -74,7 +85,8 @@ private:
     bool activeRegion_ = false, activeDirty_ = true;
     std::vector<std::uint8_t> awake_, touchedMark_, springMark_, wakeNext_;
     std::vector<std::uint32_t> activeNodes_, touchedNodes_, activeSprings_, wakeList_;
-    std::vector<std::uint32_t> nodeSpringStart_, nodeSprings_;  // springs of each node (compressed rows)
+    std::vector<std::vector<std::uint32_t>> nodeSprings_;       // the springs at each node
+    std::vector<std::array<std::uint32_t, 2>> springEnds_;      // each spring's ends as last seen
 };
 
 }  // namespace hapticut::physics
