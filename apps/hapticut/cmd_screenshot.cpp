@@ -23,7 +23,7 @@ struct ScreenshotOptions {
     std::string model, size = "1280x1024", out, trajectory, tool, stereo = "off";
     int triangles = 1619;
     double at_s = -1;
-    bool wireframe = false, noBump = false;
+    bool wireframe = false, noBump = false, noWalls = false;
     double yaw_deg = 0, pitch_deg = 12, zoom = 1;
 };
 
@@ -122,10 +122,12 @@ int screenshot(ScreenshotOptions& o) {
     if (*stereo == render::StereoMode::QuadBuffer) std::cerr << "hapticut screenshot: a PNG has no quad buffer; drawing anaglyph instead\n";
     view.wireframe = o.wireframe || loaded->settings.wireframe;
     view.normalMapping = !o.noBump;
+    view.woundWalls = !o.noWalls;
     view.camera.yaw_rad = o.yaw_deg * M_PI / 180;
     view.camera.pitch_rad = o.pitch_deg * M_PI / 180;
     view.frameOrgan(loaded->source.mesh.positions, o.zoom);
 
+    renderer->setOrganRims(loaded->source.mesh.faces);
     target->bind();
     renderer->draw(frame, view, width, height);
     const render::Image image = target->read();
@@ -152,6 +154,7 @@ Command addScreenshotCommand(CLI::App& app) {
     cmd->add_option("--stereo", o->stereo, "off, anaglyph, side-by-side (quad falls back to anaglyph)")->capture_default_str();
     cmd->add_flag("--wireframe", o->wireframe, "Draw the organ's edges instead of shading it");
     cmd->add_flag("--no-bump", o->noBump, "Turn off bump (normal) mapping");
+    cmd->add_flag("--no-walls", o->noWalls, "Leave opened wounds without their walls (see through the gap)");
     cmd->add_option("--yaw", o->yaw_deg, "Camera turned about the vertical, degrees (0: from the front)")->capture_default_str();
     cmd->add_option("--pitch", o->pitch_deg, "Camera raised above the horizontal, degrees")->capture_default_str()->check(CLI::Range(-85.0, 85.0));
     cmd->add_option("--zoom", o->zoom, "Closer (>1) or further (<1) than the framing of the whole organ")->capture_default_str()->check(CLI::Range(0.05, 50.0));

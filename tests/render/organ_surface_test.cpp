@@ -55,8 +55,33 @@ TEST(OrganSurface, AnOpenedCutsLipsAreFlaggedAndKeepNormalsOfTheirOwn) {
     EXPECT_TRUE(s.onLip(b));
     EXPECT_TRUE(s.onLip(*copy));
     EXPECT_FALSE(s.onLip(row - 9 * 2 + 4));  // two rows away, inside the grid
-    // The grid's own rim is open too.
+    // Without the uncut organ's faces, the grid's own open rim counts as a lip too.
     EXPECT_TRUE(s.onLip(0));
+
+    // Told the uncut grid, only the cut's lips are lips, and only they hang walls: two triangles per
+    // lip edge, drawn after the organ with the wall's own material (wound attribute 2).
+    OrganSurface told;
+    told.setRims(grid.faces);
+    told.setTopology(organ.mesh().faces, organ.mesh().uvs, organ.mesh().positions.size());
+    told.update(organ.model().nodes.position);
+    EXPECT_FALSE(told.onLip(0));
+    EXPECT_TRUE(told.onLip(b));
+    EXPECT_TRUE(told.onLip(*copy));
+    const std::size_t lipEdges = 4;  // a-b and b-c on each side
+    EXPECT_EQ(told.walls().faces().size(), 2 * lipEdges);
+    EXPECT_EQ(told.indices().size(), 3 * (organ.mesh().faces.size() + 2 * lipEdges));
+    const std::size_t organVertices = told.renderVertexCount();
+    ASSERT_EQ(told.vertices().size(), (organVertices + told.walls().positions().size()) * kFloatsPerVertex);
+    for (std::size_t i = organVertices; i < organVertices + told.walls().positions().size(); ++i)
+        EXPECT_EQ(told.vertices()[i * kFloatsPerVertex + 8], 2.0f);
+    for (std::size_t k = 0; k < 3 * organ.mesh().faces.size(); ++k) EXPECT_LT(told.indices()[k], organVertices);
+
+    OrganSurface hidden;
+    hidden.setRims(grid.faces);
+    hidden.setWallsShown(false);
+    hidden.setTopology(organ.mesh().faces, organ.mesh().uvs, organ.mesh().positions.size());
+    EXPECT_TRUE(hidden.walls().empty());
+    EXPECT_EQ(hidden.indices().size(), 3 * organ.mesh().faces.size());
 }
 
 }  // namespace

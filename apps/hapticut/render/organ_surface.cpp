@@ -37,22 +37,19 @@ void OrganSurface::setTopology(std::span<const mesh::Face> faces, std::span<cons
             }
             indices_.push_back(it->second);
         }
-    // Lips: the ends of edges only one face uses. Drawn darker, like the blood along a fresh wound.
+    // Lips: the ends of edges a cut opened (edges only one face uses, beyond the organ's own rims).
+    // Drawn darker, like the blood along a fresh wound, with walls hanging into the gap.
+    const std::vector<cutting::LipEdge> lips = cutting::lipEdges(faces, rims_);
     lip_.assign(vertexCount, 0);
-    std::unordered_map<std::uint64_t, int> edgeUses;
-    edgeUses.reserve(faces.size() * 2);
-    for (const mesh::Face& f : faces)
-        for (int c = 0; c < 3; ++c) {
-            const std::uint32_t a = std::min(f[c], f[(c + 1) % 3]), b = std::max(f[c], f[(c + 1) % 3]);
-            ++edgeUses[(std::uint64_t{a} << 32) | b];
-        }
-    for (const auto& [key, uses] : edgeUses)
-        if (uses == 1) {
-            const auto a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key & 0xffffffffu);
-            if (a < vertexCount) lip_[a] = 1;
-            if (b < vertexCount) lip_[b] = 1;
-        }
-    vertices_.assign(source_.size() * kFloatsPerVertex, 0.0f);
+    for (const cutting::LipEdge& e : lips) {
+        if (e.a < vertexCount) lip_[e.a] = 1;
+        if (e.b < vertexCount) lip_[e.b] = 1;
+    }
+    walls_.setLips(wallsShown_ ? std::span<const cutting::LipEdge>(lips) : std::span<const cutting::LipEdge>());
+    const auto organVertices = static_cast<std::uint32_t>(source_.size());
+    for (const mesh::Face& f : walls_.faces())
+        for (std::uint32_t v : f) indices_.push_back(organVertices + v);
+    vertices_.assign((source_.size() + walls_.positions().size()) * kFloatsPerVertex, 0.0f);
 }
 
 void OrganSurface::update(std::span<const Vec3> positions) {
@@ -78,6 +75,20 @@ void OrganSurface::update(std::span<const Vec3> positions) {
         out[6] = uv_[2 * r];
         out[7] = uv_[2 * r + 1];
         out[8] = lip_[v] ? 1.0f : 0.0f;
+    }
+    if (walls_.empty()) return;
+    walls_.update(positions, normals_);
+    const std::span<const Vec3> wall = walls_.positions(), wallNormals = walls_.normals();
+    const std::span<const Vec2> wallUvs = walls_.uvs();
+    for (std::size_t i = 0; i < wall.size(); ++i) {
+        float* out = &vertices_[(source_.size() + i) * kFloatsPerVertex];
+        for (int k = 0; k < 3; ++k) {
+            out[k] = static_cast<float>(wall[i][k]);
+            out[3 + k] = static_cast<float>(wallNormals[i][k]);
+        }
+        out[6] = static_cast<float>(wallUvs[i].x());
+        out[7] = static_cast<float>(wallUvs[i].y());
+        out[8] = 2.0f;  // the wall's own material
     }
 }
 

@@ -86,6 +86,7 @@ struct Renderer::Impl {
     ShaderProgram organ, metal, flat;
     GLuint diffuse = 0, detail = 0, environment = 0;
     OrganSurface surface;
+    bool wallsShown = true;
     GpuMesh organMesh;
     long topologyVersion = LONG_MIN;
     std::vector<std::unique_ptr<GpuMesh>> tools;
@@ -151,8 +152,8 @@ struct Renderer::Impl {
         const Eigen::Quaterniond toolRotation = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), handle);
         const double r = std::max(camera.distance_m * 0.004, 2e-4);
         const int handCount = std::clamp(frame.handCount, 0, static_cast<int>(frame.hands.size()));
-        for (int h = 0; h < handCount; ++h) {
-            const SceneFrame::Hand& hand = frame.hands[static_cast<std::size_t>(h)];
+        for (int i = 0; i < handCount; ++i) {
+            const SceneFrame::Hand& hand = frame.hands[static_cast<std::size_t>(i)];
             if (hand.tool >= 0 && hand.tool < static_cast<int>(tools.size())) {
                 metal.use();
                 metal.set("uModel", toFloat(placement(hand.proxy_m, toolRotation, Vec3::Ones())));
@@ -179,8 +180,8 @@ struct Renderer::Impl {
         glDisable(GL_DEPTH_TEST);
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        for (int h = 0; h < handCount; ++h)
-            drawFlat(*sphere, placement(frame.hands[static_cast<std::size_t>(h)].device_m, Eigen::Quaterniond::Identity(), Vec3::Constant(r * 0.8)),
+        for (int i = 0; i < handCount; ++i)
+            drawFlat(*sphere, placement(frame.hands[static_cast<std::size_t>(i)].device_m, Eigen::Quaterniond::Identity(), Vec3::Constant(r * 0.8)),
                      Eigen::Vector4f(0.3f, 0.8f, 1.0f, 0.55f));
         glDisable(GL_BLEND);
         glEnable(GL_DEPTH_TEST);
@@ -245,13 +246,20 @@ Renderer::~Renderer() {
 
 void Renderer::invalidateOrgan() { impl_->topologyVersion = LONG_MIN; }
 
+void Renderer::setOrganRims(std::span<const mesh::Face> uncutFaces) {
+    impl_->surface.setRims(uncutFaces);
+    invalidateOrgan();
+}
+
 void Renderer::addTool(const mesh::SurfaceMesh& tool) { impl_->tools.push_back(uploadStatic(tool, 0.6)); }
 
 std::size_t Renderer::toolCount() const { return impl_->tools.size(); }
 
 void Renderer::draw(const SceneFrame& frame, const ViewSettings& view, int width, int height) {
     Impl& m = *impl_;
-    if (frame.topologyVersion != m.topologyVersion) {
+    if (frame.topologyVersion != m.topologyVersion || view.woundWalls != m.wallsShown) {
+        m.surface.setWallsShown(view.woundWalls);
+        m.wallsShown = view.woundWalls;
         m.surface.setTopology(frame.faces, frame.uvs, frame.organPositions.size());
         m.topologyVersion = frame.topologyVersion;
         m.surface.update(frame.organPositions);

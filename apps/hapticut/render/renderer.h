@@ -42,6 +42,7 @@ struct ViewSettings {
     double eyeSeparation_m = 0.012, focalLength_m = 0.35;
     bool wireframe = false;
     bool normalMapping = true;
+    bool woundWalls = true;                // walls hang from the lips of opened cuts into the organ
     bool quadBufferAvailable = false;      // the bound framebuffer has left and right back buffers
     double forceArrowLength_m_per_N = 0.01;
 
@@ -61,6 +62,9 @@ public:
     void draw(const SceneFrame& frame, const ViewSettings& view, int width, int height);
     /// Forget the organ's topology, e.g. after the model was reset to a different mesh.
     void invalidateOrgan();
+    /// The organ's faces before any cut: boundary edges among them are its own open rims, not the lips
+    /// of a wound, and hang no walls. Without this every boundary edge counts as a lip.
+    void setOrganRims(std::span<const mesh::Face> uncutFaces);
     /// Adds a tool (tip at the origin, handle along +z); SceneFrame::tool indexes the tools in order.
     void addTool(const mesh::SurfaceMesh& tool);
     std::size_t toolCount() const;

@@ -85,11 +85,19 @@ vec3 bumped(vec3 N, vec2 uv) {
 void main() {
     vec3 N = normalize(vNormal);
     vec3 V = normalize(-vPosition);
+    if (vWound > 1.5) {
+        // A wound's wall: raw, wet tissue, darker toward the bottom, streaked along the cut.
+        if (!gl_FrontFacing) N = -N;
+        float streak = texture(uDetail, vec2(vUv.x * 0.37, vUv.y * 0.11)).g;
+        vec3 wall = uInsideColour * (0.85 - 0.55 * vUv.y) * (0.8 + 0.35 * streak);
+        fragColour = finish(blinn(N, V, wall, 0.5 * (1.0 - vUv.y)), 1.0);
+        return;
+    }
     vec2 uv = vUv * uUvScale;
     vec3 kd = texture(uDiffuse, uv).rgb;
     float ks = texture(uDetail, uv).r;
     // Along a wound's lips the tissue is raw and bloody: darker, redder, wetter.
-    float wound = smoothstep(0.0, 1.0, vWound);
+    float wound = smoothstep(0.0, 1.0, min(vWound, 1.0));
     kd = mix(kd, uInsideColour * 0.45, wound);
     ks = mix(ks, 1.0, 0.6 * wound);
     if (!gl_FrontFacing) {  // looking into the wound: raw, darker, duller tissue

@@ -3,7 +3,7 @@
 
 namespace hapticut::render {
 
-/// Position xyz, normal xyz, uv, and how much the vertex lies on a wound's lip (0 or 1).
+/// Position xyz, normal xyz, uv, and the wound attribute: 0 tissue, 1 on a wound's lip, 2 a wound's wall.
 inline constexpr int kFloatsPerVertex = 9;
 
 }  // namespace hapticut::render

@@ -155,6 +155,7 @@ void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snap
     ImGui::Checkbox("wireframe (w)", &view.wireframe);
     ImGui::SameLine();
     ImGui::Checkbox("bump mapping (b)", &view.normalMapping);
+    ImGui::Checkbox("wound walls", &view.woundWalls);
     int stereo = static_cast<int>(view.stereo);
     const char* modes[] = {"off", "quad buffer", "anaglyph", "side by side"};
     if (ImGui::Combo("stereo (s)", &stereo, modes, 4)) view.stereo = static_cast<render::StereoMode>(stereo);

@@ -379,6 +379,7 @@ int runViewer(const ViewerOptions& options) {
         std::cerr << "hapticut view: " << error << " (" << window->rendererDescription() << ")\n";
         return 1;
     }
+    renderer->setOrganRims(scene->source.mesh.faces);
     Viewer viewer(options, std::move(window), std::move(renderer), std::move(*scene));
     return viewer.run();
 }
