@@ -273,6 +273,7 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     if (r.cut.cuts > 0)
         std::cout << "cut " << r.cut.cuts << " time(s): " << r.cut.cutPoints << " cut points, " << r.cut.length_m * 1e3 << " mm long, "
                   << r.cut.verticesAdded << " vertices and " << r.cut.facesAdded << " faces added, " << (r.cut.opened ? "opened" : "not opened")
+                  << (r.cut.joins > 0 ? ", " + std::to_string(r.cut.joins) + " join(s) with a boundary or an earlier wound" : std::string())
                   << "; " << after.boundaryEdges << " boundary edges now; cut event " << r.cutTime_us.p50 << " us p50, " << r.cutTime_us.max
                   << " us max\n";
     else if (std::isfinite(config.loop.cutThreshold_N))
@@ -329,6 +330,7 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
         j["cut_events"] = r.cutEvents;
         j["vertices_added"] = r.cut.verticesAdded;
         j["faces_added"] = r.cut.facesAdded;
+        j["joins"] = r.cut.joins;
         j["cut_length_m"] = r.cut.length_m;
         j["opened"] = r.cut.opened;
         j["cut_event_us"] = r.cutEvents > 0 ? toJson(r.cutTime_us) : nlohmann::ordered_json(nullptr);

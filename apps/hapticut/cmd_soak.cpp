@@ -31,7 +31,7 @@ int soak(SoakOptions& o) {
     progress.finish();
     std::cout << r.strokes << " strokes on " << r.organs << " organs in " << r.wallTime_s << " s: " << r.operations << " operations, " << r.meshChanges
               << " changed the mesh; " << r.cutPoints << " cut points, " << r.verticesAdded << " vertices and " << r.facesAdded
-              << " faces added (largest organ " << r.largestFaces << " faces); " << r.invariantChecks << " invariant checks: "
+ << " faces added (largest organ " << r.largestFaces << " faces), " << r.joins << " joins; " << r.invariantChecks << " invariant checks: "
               << (r.ok() ? "all held" : r.problems.front()) << "\n";
     if (!o.report.empty()) {
         nlohmann::ordered_json j;
@@ -46,6 +46,7 @@ int soak(SoakOptions& o) {
         j["cut_points"] = r.cutPoints;
         j["vertices_added"] = r.verticesAdded;
         j["faces_added"] = r.facesAdded;
+        j["joins"] = r.joins;
         j["largest_faces"] = r.largestFaces;
         j["opened"] = r.opened;
         j["invariants_ok"] = r.ok();

@@ -82,6 +82,22 @@ TEST(CutModel, InvariantsCatchABrokenModel) {
     const InvariantReport r = checkInvariants(cut, physics::totalMass(cut.model()));
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.problems.front().find("not finite"), std::string::npos) << r.problems.front();
+
+    // Two triangles touching only at vertex 0: edge-manifold, but pinched at a vertex.
+    mesh::SurfaceMesh bowtie;
+    bowtie.positions = {Vec3(0, 0, 0), Vec3(0.01, 0, 0), Vec3(0.01, 0.01, 0), Vec3(-0.01, 0, 0), Vec3(-0.01, -0.01, 0)};
+    bowtie.faces = {{0, 1, 2}, {0, 3, 4}};
+    bowtie.uvs.assign(2, mesh::FaceUvs{});
+    bowtie.edges = mesh::edgesOfFaces(bowtie.faces);
+    CutModel pinched = cuttable(bowtie);
+    const InvariantReport p = checkInvariants(pinched, physics::totalMass(pinched.model()));
+    ASSERT_FALSE(p.ok());
+    EXPECT_NE(p.problems.front().find("vertex 0 joins 2 fans"), std::string::npos) << p.problems.front();
+    // separateFans is the cure: vertex 0 gets a copy for the second fan, and every invariant holds.
+    EXPECT_EQ(pinched.separateFans(0), 1);
+    const InvariantReport fixed = checkInvariants(pinched, physics::totalMass(cuttable(bowtie).model()));
+    EXPECT_TRUE(fixed.ok()) << fixed.problems.front();
+    EXPECT_EQ(pinched.mesh().positions.size(), 6u);
 }
 
 /// One random split: a face at a random interior point, or one of its edges at a random point. The new

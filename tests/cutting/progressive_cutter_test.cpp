@@ -2,6 +2,7 @@
 // through vertices, a fast stroke, and many random strokes on the heart with every invariant kept.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <random>
 
 #include "hapticut/cutting/invariants.h"
@@ -91,6 +92,105 @@ TEST(ProgressiveCutter, AFastStrokeCutsEveryFaceOnItsWayInOrder) {
     const InvariantReport r = checkInvariants(cut, physics::totalMass(cut.model()));
     ASSERT_TRUE(r.ok()) << r.problems.front();
     EXPECT_NEAR(cutter.stats().length_m, 0.06, 0.01);
+}
+
+/// Groups of vertices joined by edges: of the faces (pieces), or of the boundary edges only (openings).
+int countGroups(const mesh::SurfaceMesh& m, bool boundaryOnly) {
+    std::vector<std::uint32_t> parent(m.positions.size());
+    for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    auto root = [&](std::uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (const mesh::Face& f : m.faces)
+        for (int k = 0; k < 3; ++k) ++uses[std::minmax(f[k], f[(k + 1) % 3])];
+    std::vector<char> used(m.positions.size(), 0);
+    for (const auto& [edge, count] : uses) {
+        if (boundaryOnly && count != 1) continue;
+        parent[root(edge.first)] = root(edge.second);
+        used[edge.first] = used[edge.second] = 1;
+    }
+    int groups = 0;
+    for (std::uint32_t v = 0; v < parent.size(); ++v) groups += used[v] && root(v) == v;
+    return groups;
+}
+
+TEST(ProgressiveCutter, ACutAcrossTheWholeGridJoinsBothRimsAndLeavesTwoPiecesThatBothSimulate) {
+    const mesh::SurfaceMesh grid = mesh::procedural::makeGrid(10, 0.01);
+    CutModel cut = cuttable(grid);
+    const double mass = physics::totalMass(cut.model());
+    ProgressiveCutter cutter(cut);
+    ASSERT_EQ(countGroups(cut.mesh(), false), 1);
+    // From the left rim's vertex row... no: between rows, from just inside the left rim to past the right.
+    const Vec3 from(-0.0495, 0.0043, 0), to(0.06, 0.0043, 0);
+    for (int i = 0; i <= 200; ++i) {
+        const RestTouch t = touchRestSurface(cut, from + (to - from) * (i / 200.0));
+        cutter.cutAt(t.face, t.bary);
+    }
+    cutter.endCut();
+    const InvariantReport r = checkInvariants(cut, mass);
+    ASSERT_TRUE(r.ok()) << r.problems.front();
+    EXPECT_GE(cutter.stats().joins, 1) << "the cut ran into the right rim and joined it";
+    EXPECT_EQ(countGroups(cut.mesh(), false), 2) << "the cut separates the grid into two pieces";
+    EXPECT_EQ(countGroups(cut.mesh(), true), 2) << "each piece has its own rim";
+
+    // Each piece simulates on its own: pull one node of each, the piece it belongs to follows and the
+    // other does not feel it, and nothing goes non-finite.
+    physics::MassSpringModel& model = cut.model();
+    physics::Stepper stepper(physics::Scheme::RungeKutta4);
+    stepper.prepare(model);
+    for (int i = 0; i < 300; ++i) ASSERT_TRUE(stepper.step(model, 1e-3).finite);
+    const std::vector<Vec3> settled = model.nodes.position;
+    auto nearest = [&](const Vec3& p) {
+        std::uint32_t best = 0;
+        for (std::uint32_t v = 1; v < model.nodes.size(); ++v)
+            if ((cut.mesh().positions[v] - p).norm() < (cut.mesh().positions[best] - p).norm()) best = v;
+        return best;
+    };
+    for (const double y : {0.03, -0.03}) {
+        const std::uint32_t pulled = nearest(Vec3(0, y, 0));
+        model.nodes.position = settled;
+        std::fill(model.nodes.velocity.begin(), model.nodes.velocity.end(), Vec3::Zero());
+        model.nodes.externalForce[pulled] = Vec3(0, 0, 0.5);
+        stepper.wake(pulled);
+        for (int i = 0; i < 100; ++i) ASSERT_TRUE(stepper.step(model, 1e-3).finite);
+        model.nodes.externalForce[pulled] = Vec3::Zero();
+        double sameSide = 0, otherSide = 0;
+        for (std::uint32_t v = 0; v < model.nodes.size(); ++v) {
+            const double lift = std::abs(model.nodes.position[v].z() - settled[v].z());
+            ((cut.mesh().positions[v].y() - 0.0043) * y > 0 ? sameSide : otherSide) += lift;
+        }
+        EXPECT_GT(model.nodes.position[pulled].z(), 1e-4) << "the pulled piece follows";
+        EXPECT_GT(sameSide, 1e-4);
+        EXPECT_LT(otherSide, 1e-9 + 1e-3 * sameSide) << "the other piece does not feel it";
+    }
+}
+
+TEST(ProgressiveCutter, AStrokeAcrossAnEarlierWoundJoinsItIntoOneOpening) {
+    CutModel cut = cuttable(mesh::procedural::makeGrid(12, 0.01));
+    const double mass = physics::totalMass(cut.model());
+    ProgressiveCutter cutter(cut);
+    stroke(cut, cutter, Vec3(-0.035, 0.0043, 0), Vec3(0.035, 0.0043, 0), 140);  // the earlier wound
+    ASSERT_EQ(countGroups(cut.mesh(), true), 2) << "the grid's rim and the wound";
+    stroke(cut, cutter, Vec3(0.0031, -0.03, 0), Vec3(0.0031, 0.03, 0), 120);  // across it
+    const InvariantReport r = checkInvariants(cut, mass);
+    ASSERT_TRUE(r.ok()) << r.problems.front();
+    EXPECT_GE(cutter.stats().joins, 1);
+    EXPECT_EQ(countGroups(cut.mesh(), true), 2) << "the two cuts are one opening, apart from the grid's rim";
+    EXPECT_EQ(countGroups(cut.mesh(), false), 1) << "and the grid is still one piece";
+    // The second cut went on beyond the first wound.
+    double yMax = -1;
+    for (std::uint32_t v = 0; v < cut.mesh().positions.size(); ++v) {
+        const Vec3& p = cut.mesh().positions[v];
+        if (std::abs(p.x() - 0.0031) < 0.002 && cut.facesAround(v).size() > 0) {
+            bool lip = false;
+            for (std::uint32_t f : cut.facesAround(v))
+                for (std::uint32_t x : cut.mesh().faces[f]) lip = lip || (x != v && cut.facesOfEdge(v, x).size() == 1);
+            if (lip) yMax = std::max(yMax, p.y());
+        }
+    }
+    EXPECT_GT(yMax, 0.02) << "the lips of the crossing cut reach well past the first wound";
 }
 
 TEST(ProgressiveCutter, RandomStrokesOnTheHeartKeepEveryInvariant) {

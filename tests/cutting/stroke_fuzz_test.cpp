@@ -23,6 +23,7 @@ TEST_P(StrokeFuzz, TwoAndAHalfThousandRandomStrokesKeepEveryInvariant) {
     EXPECT_GT(r.meshChanges, r.strokes);
     EXPECT_GT(r.invariantChecks, r.strokes * 2);
     EXPECT_TRUE(r.opened);
+    EXPECT_GT(r.joins, 10) << "strokes that cross earlier wounds join them";
     EXPECT_GT(r.largestFaces, 2000);
 }
 

@@ -291,6 +291,60 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     return w;
 }
 
+void CutModel::fansAround(std::uint32_t v, std::vector<std::uint32_t>& faces, std::vector<std::uint32_t>& fanStart) const {
+    faces.clear();
+    fanStart.clear();
+    const std::vector<std::uint32_t>& around = facesAround_.around[v];
+    // Flood each fan from a face not yet taken, across shared edges through v. Fans are small (a
+    // vertex's valence), so the linear searches cost less than any set would.
+    for (std::uint32_t seed : around) {
+        if (std::find(faces.begin(), faces.end(), seed) != faces.end()) continue;
+        fanStart.push_back(static_cast<std::uint32_t>(faces.size()));
+        faces.push_back(seed);
+        for (std::size_t i = fanStart.back(); i < faces.size(); ++i) {
+            const mesh::Face f = mesh_.faces[faces[i]];
+            for (std::uint32_t x : f) {
+                if (x == v) continue;
+                const std::vector<std::uint32_t> shared = facesOfEdge(v, x);
+                if (shared.size() != 2) continue;  // a boundary edge: the fan ends here
+                for (std::uint32_t g : shared)
+                    if (std::find(faces.begin(), faces.end(), g) == faces.end()) faces.push_back(g);
+            }
+        }
+    }
+    fanStart.push_back(static_cast<std::uint32_t>(faces.size()));
+}
+
+int CutModel::separateFans(std::uint32_t v) {
+    fansAround(v, fanFaces_, fanStart_);
+    const std::size_t fans = fanStart_.size() - 1;
+    if (fans <= 1) return 0;
+    physics::Nodes& n = model_.nodes;
+    const double mass = n.mass[v];
+    const auto total = static_cast<double>(fanFaces_.size());
+    double given = 0;
+    for (std::size_t k = 1; k < fans; ++k) {
+        const double share = mass * static_cast<double>(fanStart_[k + 1] - fanStart_[k]) / total;
+        given += share;
+        const std::uint32_t w = addVertex(mesh_.positions[v], n.position[v], n.velocity[v], share);
+        n.restPosition[w] = n.restPosition[v];  // the anchor as v's, which an opening may have moved
+        for (std::uint32_t i = fanStart_[k]; i < fanStart_[k + 1]; ++i) {
+            const std::uint32_t f = fanFaces_[i];
+            mesh::Face corners = mesh_.faces[f];
+            // Each edge through v belongs to one fan only (two faces on an edge are in the same fan), so
+            // its spring moves with the fan; the fan's next face on that edge finds it moved already.
+            for (std::uint32_t x : corners)
+                if (x != v)
+                    if (const auto spring = springOf(v, x)) moveSpringEnd(*spring, v, w);
+            for (std::uint32_t& c : corners)
+                if (c == v) c = w;
+            replaceFace(f, corners, mesh_.uvs[f]);
+        }
+    }
+    setMass(v, mass - given);
+    return static_cast<int>(fans - 1);
+}
+
 double CutModel::splitEdgeMinAngle_deg(std::uint32_t a, std::uint32_t b, double u) const {
     const auto& x = mesh_.positions;
     const Vec3 p = (1 - u) * x[a] + u * x[b];

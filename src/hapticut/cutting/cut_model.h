@@ -70,6 +70,16 @@ public:
     /// when v has no face on the left of v -> next.
     std::optional<std::uint32_t> openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten = 0.1, double retract = 0);
 
+    /// Where a cut meets an open boundary or an earlier wound, or starts on one, the vertex there is left
+    /// joining two fans of faces that touch only at it. This gives each fan beyond the first its own
+    /// copy of v (same place and anchor, v's mass shared by the fans' face counts, the fan's springs
+    /// moved to it), so the wounds join into one opening and the surface stays manifold. Returns how
+    /// many copies it made (0 when v's faces form one fan).
+    int separateFans(std::uint32_t v);
+    /// The fans of faces round v: faces joined across the edges through v that two faces share.
+    /// Each fan's faces are listed together; `fanStart` gives where each fan begins (plus the end).
+    void fansAround(std::uint32_t v, std::vector<std::uint32_t>& faces, std::vector<std::uint32_t>& fanStart) const;
+
     /// The smallest angle (degrees) of the faces splitEdge(a, b, u) would make, on the rest shape.
     double splitEdgeMinAngle_deg(std::uint32_t a, std::uint32_t b, double u) const;
     /// The smallest angle (degrees) of the faces splitFace(face, bary) would make, on the rest shape.
@@ -95,7 +105,8 @@ private:
     mesh::VertexFaces facesAround_;
     std::unordered_map<std::uint64_t, std::uint32_t> springOfEdge_;
     TopologyChanges changes_;
-    std::unordered_set<std::uint64_t> shortened_;  // scratch for openCut: each spring shortened once
+    std::unordered_set<std::uint64_t> shortened_;
+    std::vector<std::uint32_t> fanFaces_, fanStart_;  // scratch for separateFans  // scratch for openCut: each spring shortened once
     // Material of new springs and anchors: the means of the model's own, per unit length and mass.
     double stiffnessTimesLength_ = 0, dampingTimesLength_ = 0, anchorStiffnessPerKg_ = 0, anchorDampingPerKg_ = 0;
 };

@@ -37,6 +37,31 @@ InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_
         const auto spring = cut.springOf(a, b);
         if (!spring) problem("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") has no spring");
     }
+    // Vertex-manifold: the faces round each vertex form one fan, joined across the edges through it
+    // that two faces share; two fans touching only at a vertex are a pinch. Corner 3f + k is vertex
+    // faces[f][k] in face f; each shared edge joins its two faces' corners at both of its ends.
+    std::vector<std::uint32_t> parent(3 * m.faces.size());
+    for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+    auto root = [&](std::uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    auto cornerOf = [&](std::uint32_t f, std::uint32_t v) {
+        int k = 0;
+        while (k < 2 && m.faces[f][k] != v) ++k;
+        return 3 * f + static_cast<std::uint32_t>(k);
+    };
+    for (std::size_t e = 0; e < adj.edges.size(); ++e) {
+        const auto faces = adj.facesOfEdge(e);
+        if (faces.size() != 2) continue;
+        for (std::uint32_t v : adj.edges[e]) parent[root(cornerOf(faces[0], v))] = root(cornerOf(faces[1], v));
+    }
+    std::vector<std::uint32_t> fans(m.positions.size(), 0);
+    for (std::uint32_t c = 0; c < parent.size(); ++c)
+        if (root(c) == c && m.faces[c / 3][c % 3] < fans.size()) ++fans[m.faces[c / 3][c % 3]];
+    for (std::uint32_t v = 0; v < fans.size(); ++v)
+        if (fans[v] > 1) problem("vertex " + std::to_string(v) + " joins " + std::to_string(fans[v]) + " fans of faces that touch only there");
+
     std::vector<mesh::Edge> springEdges;
     for (std::size_t k = 0; k < s.size(); ++k) {
         const mesh::Edge e{std::min(s.a[k], s.b[k]), std::max(s.a[k], s.b[k])};

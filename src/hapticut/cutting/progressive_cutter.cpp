@@ -28,14 +28,32 @@ bool ProgressiveCutter::onBoundary(std::uint32_t v) const {
 void ProgressiveCutter::addPoint(std::uint32_t vertex) {
     if (!points_.empty()) stats_.length_m += (model_.mesh().positions[vertex] - model_.mesh().positions[points_.back()]).norm();
     points_.push_back(vertex);
+    lipVertices_.push_back(vertex);
     ++stats_.cutPoints;
     // R17: from the third point on, each new point opens the one before it.
     if (points_.size() >= 3) {
         const std::size_t n = points_.size();
         const std::size_t before = model_.mesh().positions.size();
-        if (model_.openCut(points_[n - 3], points_[n - 2], points_[n - 1], params_.shorten, params_.retract)) stats_.opened = true;
+        if (const auto copy = model_.openCut(points_[n - 3], points_[n - 2], points_[n - 1], params_.shorten, params_.retract)) {
+            stats_.opened = true;
+            lipVertices_.push_back(*copy);
+        }
+        // A cut that started on a boundary or a wound's lip now opens into it at its first point.
+        if (n == 3) model_.separateFans(points_[0]);
         stats_.verticesAdded += static_cast<long>(model_.mesh().positions.size() - before);
     }
+}
+
+void ProgressiveCutter::joinAt(std::uint32_t vertex) {
+    addPoint(vertex);
+    // With three points or more the one before `vertex` has opened up to it, leaving `vertex` pinched
+    // between two fans; two points open nothing, and a cut of one edge between two boundaries stays shut.
+    if (points_.size() >= 3) {
+        const std::size_t before = model_.mesh().positions.size();
+        if (model_.separateFans(vertex) > 0) ++stats_.joins;
+        stats_.verticesAdded += static_cast<long>(model_.mesh().positions.size() - before);
+    }
+    endCut();
 }
 
 bool ProgressiveCutter::fanContains(std::uint32_t vertex, const Vec3& q) const {
@@ -78,26 +96,63 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
     std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) { return x.gap < y.gap; });
     auto inCut = [&](std::uint32_t v) { return std::find(points_.begin(), points_.end(), v) != points_.end(); };
     for (const Crossing& c : crossings) {
-        // A boundary edge is an open end of the organ or an earlier wound: the cut ends there (joining
-        // it cleanly is future work).
-        if (model_.facesOfEdge(c.a, c.b).size() < 2) return false;
-        // Snap to an end of the edge rather than make a sliver (SPEC beyond: never create slivers).
-        const double length = (m.positions[c.b] - m.positions[c.a]).norm();
-        const double snap = params_.snapFraction * length;
-        std::uint32_t next;
-        const bool sliver = model_.splitEdgeMinAngle_deg(c.a, c.b, c.u) < params_.minAngle_deg;
-        if (c.u * length < snap || (sliver && c.u < 0.5)) next = c.a;
-        else if ((1 - c.u) * length < snap || sliver) next = c.b;
-        else {
-            const std::size_t faces = m.faces.size();
-            next = model_.splitEdge(c.a, c.b, c.u);
-            ++stats_.verticesAdded;
-            stats_.facesAdded += static_cast<long>(m.faces.size() - faces);
+        // A boundary edge is an open end of the organ or an earlier wound: the cut runs into it there
+        // and joins it (on the edge, or at an end of it rather than make a sliver).
+        const bool boundaryEdge = model_.facesOfEdge(c.a, c.b).size() < 2;
+        const std::uint32_t next = pointOnEdge(c.a, c.b, c.u);
+        if (inCut(next)) {
+            if (boundaryEdge) return false;  // along a lip of its own: nothing to join
+            continue;                        // would step back along the cut
         }
-        if (inCut(next)) continue;  // would step back along the cut
-        // An open end of the organ or an earlier wound ends the cut (joining it cleanly is future work).
-        if (onBoundary(next)) return false;
-        addPoint(next);
+        advanceTo(next);
+        return true;
+    }
+    return false;
+}
+
+std::uint32_t ProgressiveCutter::pointOnEdge(std::uint32_t a, std::uint32_t b, double u) {
+    // Snap to an end of the edge rather than make a sliver (SPEC beyond: never create slivers).
+    const mesh::SurfaceMesh& m = model_.mesh();
+    const double length = (m.positions[b] - m.positions[a]).norm();
+    const double snap = params_.snapFraction * length;
+    const bool sliver = model_.splitEdgeMinAngle_deg(a, b, u) < params_.minAngle_deg;
+    if (u * length < snap || (sliver && u < 0.5)) return a;
+    if ((1 - u) * length < snap || sliver) return b;
+    const std::size_t faces = m.faces.size();
+    const std::uint32_t p = model_.splitEdge(a, b, u);
+    ++stats_.verticesAdded;
+    stats_.facesAdded += static_cast<long>(m.faces.size() - faces);
+    return p;
+}
+
+void ProgressiveCutter::advanceTo(std::uint32_t next) {
+    // A cut that so far is only its start on a boundary moves along the boundary: nothing lies between.
+    if (points_.size() == 1 && onBoundary(points_[0]) && onBoundary(next)) {
+        points_[0] = next;
+        lipVertices_.assign(1, next);
+        return;
+    }
+    if (onBoundary(next)) joinAt(next);
+    else addPoint(next);
+}
+
+bool ProgressiveCutter::reachBoundary(const Vec3& q) {
+    const mesh::SurfaceMesh& m = model_.mesh();
+    const std::uint32_t last = points_.back();
+    // The last point already touches this cut's own lips; those are not what the blade runs into.
+    auto ownLip = [&](std::uint32_t v) { return std::find(lipVertices_.begin(), lipVertices_.end(), v) != lipVertices_.end(); };
+    for (std::uint32_t f : model_.facesAround(last)) {
+        const mesh::Face& face = m.faces[f];
+        int k = 0;
+        while (face[k] != last) ++k;
+        const std::uint32_t a = face[(k + 1) % 3], b = face[(k + 2) % 3];
+        if (model_.facesOfEdge(a, b).size() != 1 || (ownLip(a) && ownLip(b))) continue;
+        const Vec3 ab = m.positions[b] - m.positions[a];
+        const double u = std::clamp(ab.dot(q - m.positions[a]) / ab.squaredNorm(), 0.0, 1.0);
+        if ((m.positions[a] + u * ab - q).norm() >= params_.snapFraction * ab.norm()) continue;
+        const std::uint32_t next = pointOnEdge(a, b, u);
+        if (std::find(points_.begin(), points_.end(), next) != points_.end()) return false;
+        advanceTo(next);
         return true;
     }
     return false;
@@ -161,7 +216,7 @@ bool ProgressiveCutter::cutAtUnchecked(std::uint32_t face, const Vec3& bary) {
         double shortest = 1e300;
         for (int k = 0; k < 3; ++k) shortest = std::min(shortest, (m.positions[f[(k + 1) % 3]] - m.positions[f[k]]).norm());
         ++stats_.cuts;
-        if (const auto corner = model_.snapVertex(face, bary, params_.snapFraction * shortest); corner && !onBoundary(*corner)) {
+        if (const auto corner = model_.snapVertex(face, bary, params_.snapFraction * shortest)) {
             addPoint(*corner);
             return false;
         }
@@ -172,7 +227,6 @@ bool ProgressiveCutter::cutAtUnchecked(std::uint32_t face, const Vec3& bary) {
             const Vec3 ab = m.positions[b] - m.positions[a];
             const double u = std::clamp(ab.dot(q - m.positions[a]) / ab.squaredNorm(), 0.0, 1.0);
             if ((m.positions[a] + u * ab - q).norm() >= params_.snapFraction * shortest) continue;
-            if (model_.facesOfEdge(a, b).size() < 2) break;  // an open end or a wound: start inside the face
             const double at = std::clamp(u, params_.snapFraction, 1 - params_.snapFraction);
             if (model_.splitEdgeMinAngle_deg(a, b, at) < params_.minAngle_deg) break;  // a sliver: try inside the face
             const std::uint32_t v = model_.splitEdge(a, b, at);
@@ -184,13 +238,10 @@ bool ProgressiveCutter::cutAtUnchecked(std::uint32_t face, const Vec3& bary) {
         Vec3 inside = bary.cwiseMax(params_.snapFraction / 3);  // keep the new vertex off the face's edges
         inside /= inside.sum();
         if (model_.splitFaceMinAngle_deg(face, inside) < params_.minAngle_deg) {
-            // No good place to start here: at the nearest corner if it is free, else not at all.
+            // No good place to start here: at the nearest corner.
             int k = 0;
             for (int j = 1; j < 3; ++j)
                 if (bary[j] > bary[k]) k = j;
-            --stats_.cuts;
-            if (onBoundary(f[k])) return false;
-            ++stats_.cuts;
             addPoint(f[k]);
             return false;
         }
@@ -201,13 +252,21 @@ bool ProgressiveCutter::cutAtUnchecked(std::uint32_t face, const Vec3& bary) {
     }
     // R16: still among the faces around the last point, nothing to do; beyond them, cross edges
     // toward q one after another, so a fast stroke cuts every face on its way in order.
-    bool changed = false;
-    for (int i = 0; i < params_.maxCrossingsPerCall && !fanContains(points_.back(), q); ++i) {
-        const std::size_t vertices = m.positions.size();
+    const std::size_t vertices = m.positions.size();
+    for (int i = 0; i < params_.maxCrossingsPerCall && cutting() && !fanContains(points_.back(), q); ++i)
         if (!crossToward(q)) break;
-        changed = changed || m.positions.size() != vertices;
+    // At the organ's open edge or a wound's lip the blade slides off without crossing another edge:
+    // within the snap distance of such a boundary, the cut runs on to it and joins it.
+    if (cutting()) reachBoundary(q);
+    // A cut that is only its start, on a lip, with the blade gone across the gap: the lip's faces do
+    // not lead there. Start again under the blade, on the far side.
+    if (points_.size() == 1 && onBoundary(points_[0]) && !fanContains(points_[0], q)) {
+        endCut();
+        --stats_.cuts;
+        const bool started = cutAtUnchecked(face, bary);
+        return started || m.positions.size() != vertices;
     }
-    return changed;
+    return m.positions.size() != vertices;
 }
 
 }  // namespace hapticut::cutting

@@ -27,6 +27,7 @@ struct CutterParams {
 
 struct CutStats {
     long cutPoints = 0, verticesAdded = 0, facesAdded = 0, cuts = 0;
+    long joins = 0;       // cuts that ran into an open boundary or an earlier wound and joined it
     double length_m = 0;  // along the cut, on the rest shape
     bool opened = false;  // true once any cut point has opened
 };
@@ -50,7 +51,7 @@ public:
     std::optional<BladeProjection> projectBlade(const Vec3& device_m);
 
     /// The force dropped below the threshold or contact was lost: the next cutAt starts a new cut.
-    void endCut() { points_.clear(); }
+    void endCut() { points_.clear(), lipVertices_.clear(); }
 
     bool cutting() const { return !points_.empty(); }
     const std::vector<std::uint32_t>& points() const { return points_; }
@@ -62,13 +63,25 @@ private:
     bool fanContains(std::uint32_t vertex, const Vec3& q) const;
     /// Adds the next cut point toward q across the fan of the last one; false when there is none.
     bool crossToward(const Vec3& q);
+    /// The cut's point on edge (a, b) at a + u (b - a): a new vertex, or an end of the edge when the
+    /// split would be too close to it or make a sliver.
+    std::uint32_t pointOnEdge(std::uint32_t a, std::uint32_t b, double u);
+    /// Goes on to `next`: a new point, a join when it lies on a boundary, or a slide along the boundary
+    /// when the cut is only its start there.
+    void advanceTo(std::uint32_t next);
+    /// Within the snap distance of a boundary edge opposite the last point, runs on to it and joins it.
+    bool reachBoundary(const Vec3& q);
     void addPoint(std::uint32_t vertex);
+    /// The cut reached `vertex` on an open boundary or an earlier wound's lip: it opens up to it, the
+    /// wounds become one opening there (CutModel::separateFans), and this cut ends.
+    void joinAt(std::uint32_t vertex);
     /// On an open end of the organ or the lip of a wound.
     bool onBoundary(std::uint32_t vertex) const;
 
     CutModel& model_;
     CutterParams params_;
     std::vector<std::uint32_t> points_;
+    std::vector<std::uint32_t> lipVertices_;  // the current cut's points and their opened copies
     CutStats stats_;
     double expectedMass_kg_ = 0;  // cutting conserves the organ's mass exactly
     std::vector<std::uint32_t> nearbyFaces_, ring_;  // scratch for projectBlade

@@ -78,6 +78,7 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
         r.cutPoints += st.cutPoints;
         r.verticesAdded += st.verticesAdded;
         r.facesAdded += st.facesAdded;
+        r.joins += st.joins;
         r.opened |= st.opened;
         r.largestFaces = std::max(r.largestFaces, static_cast<long>(cut.mesh().faces.size()));
         // The cut organ must still simulate: no NaN, at the stable step the cuts left it, the same with
