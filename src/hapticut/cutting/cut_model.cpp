@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "hapticut/common/assert.h"
+#include "hapticut/common/reserve.h"
 #include "hapticut/geometry/triangle.h"
 
 namespace hapticut::cutting {
@@ -26,19 +27,19 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model) : mes
     // haptic loop would cost milliseconds. Half as much again covers hours of cutting.
     auto room = [](std::size_t n) { return n + n / 2 + 1024; };
     const std::size_t nodes = room(mesh_.positions.size()), springs = room(s.size()), faces = room(mesh_.faces.size());
-    mesh_.positions.reserve(nodes);
+    reserveTouched(mesh_.positions, nodes);
     facesAround_.around.reserve(nodes);
     physics::Nodes& n = model_.nodes;
-    for (auto* v : {&n.position, &n.velocity, &n.restPosition, &n.externalForce}) v->reserve(nodes);
-    for (auto* v : {&n.mass, &n.inverseMass, &n.anchorStiffness, &n.anchorDamping}) v->reserve(nodes);
+    for (auto* v : {&n.position, &n.velocity, &n.restPosition, &n.externalForce}) reserveTouched(*v, nodes);
+    for (auto* v : {&n.mass, &n.inverseMass, &n.anchorStiffness, &n.anchorDamping}) reserveTouched(*v, nodes);
     physics::Springs& sp = model_.springs;
-    for (auto* v : {&sp.a, &sp.b}) v->reserve(springs);
-    for (auto* v : {&sp.restLength, &sp.stiffness, &sp.damping}) v->reserve(springs);
-    mesh_.edges.reserve(springs);
+    for (auto* v : {&sp.a, &sp.b}) reserveTouched(*v, springs);
+    for (auto* v : {&sp.restLength, &sp.stiffness, &sp.damping}) reserveTouched(*v, springs);
+    reserveTouched(mesh_.edges, springs);
     springOfEdge_.reserve(springs);
-    mesh_.faces.reserve(faces);
-    mesh_.uvs.reserve(faces);
-    mesh_.normals.reserve(faces);
+    reserveTouched(mesh_.faces, faces);
+    reserveTouched(mesh_.uvs, faces);
+    reserveTouched(mesh_.normals, faces);
 }
 
 std::uint64_t CutModel::edgeKey(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b); }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <complex>
 
+#include "hapticut/common/reserve.h"
 #include "hapticut/physics/spring_forces.h"
 
 namespace hapticut::physics {
@@ -107,13 +108,13 @@ void Stepper::setActiveRegion(bool on) {
 
 void Stepper::reserveFor(std::size_t n, std::size_t ns) {
     const std::size_t nodes = n + n / 2 + 1024, springs = ns + ns / 2 + 1024;
-    for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->reserve(nodes);
-    for (auto* list : {&allNodes_, &activeNodes_, &touchedNodes_, &wakeList_}) list->reserve(nodes);
-    for (auto* marks : {&awake_, &wakeNext_, &touchedMark_}) marks->reserve(nodes);
+    for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) reserveTouched(*buffer, nodes);
+    for (auto* list : {&allNodes_, &activeNodes_, &touchedNodes_, &wakeList_}) reserveTouched(*list, nodes);
+    for (auto* marks : {&awake_, &wakeNext_, &touchedMark_}) reserveTouched(*marks, nodes);
     nodeSprings_.reserve(nodes);
-    springMark_.reserve(springs);
-    activeSprings_.reserve(springs);
-    springEnds_.reserve(springs);
+    reserveTouched(springMark_, springs);
+    reserveTouched(activeSprings_, springs);
+    reserveTouched(springEnds_, springs);
 }
 
 void Stepper::prepare(const MassSpringModel& model) {
