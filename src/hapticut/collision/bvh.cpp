@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "hapticut/common/assert.h"
+#include "hapticut/common/reserve.h"
 #include "hapticut/geometry/triangle_queries.h"
 
 namespace hapticut::collision {
@@ -79,8 +80,8 @@ void Bvh::build(const SurfaceView& s) {
     nodes_.clear();
     nodes_.reserve(2 * (n / kLeafSize + 1));
     // Room for the faces cuts add before the next rebuild, so adding them rarely allocates.
-    leafOf_.reserve(n + n / 2 + 1024);
-    addedNext_.reserve(n + n / 2 + 1024);
+    leafOf_.reserve(roomToGrow(n));
+    addedNext_.reserve(roomToGrow(n));
     leafOf_.assign(n, kNone);
     addedNext_.assign(n, kNone);
     if (n > 0) buildNode(s, 0, n, centroids, 0);

@@ -7,6 +7,10 @@
 
 namespace hapticut {
 
+/// How much room to keep for arrays that cuts grow: half as much again, and a little more for small
+/// organs. One policy for the organ, the stepper, the tree and the snapshots.
+inline std::size_t roomToGrow(std::size_t n) { return n + n / 2 + 1024; }
+
 /// Reserves room for `capacity` elements and writes every one of them once, keeping the size.
 template <class T>
 void reserveTouched(std::vector<T>& v, std::size_t capacity) {

@@ -9,6 +9,8 @@
 
 namespace hapticut::cutting {
 
+using mesh::edgeKey;
+
 CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model) : mesh_(std::move(mesh)), model_(std::move(model)) {
     HAPTICUT_ASSERT(mesh_.positions.size() == model_.nodes.size());
     mesh::completeMesh(mesh_);
@@ -25,8 +27,7 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model) : mes
     if (mass > 0) anchorStiffnessPerKg_ = km / mass, anchorDampingPerKg_ = dm / mass;
     // Room to grow: a cut appends to every array, and a reallocation of a large organ's arrays in the
     // haptic loop would cost milliseconds. Half as much again covers hours of cutting.
-    auto room = [](std::size_t n) { return n + n / 2 + 1024; };
-    const std::size_t nodes = room(mesh_.positions.size()), springs = room(s.size()), faces = room(mesh_.faces.size());
+    const std::size_t nodes = roomToGrow(mesh_.positions.size()), springs = roomToGrow(s.size()), faces = roomToGrow(mesh_.faces.size());
     reserveTouched(mesh_.positions, nodes);
     facesAround_.around.reserve(nodes);
     physics::Nodes& n = model_.nodes;
@@ -41,8 +42,6 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model) : mes
     reserveTouched(mesh_.uvs, faces);
     reserveTouched(mesh_.normals, faces);
 }
-
-std::uint64_t CutModel::edgeKey(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
 
 std::optional<std::uint32_t> CutModel::springOf(std::uint32_t a, std::uint32_t b) const {
     const auto it = springOfEdge_.find(edgeKey(a, b));

@@ -18,7 +18,7 @@ namespace hapticut::cutting {
 /// tree and snapshots up to date in time proportional to the cut rather than to the organ. Entries
 /// may repeat; every consumer treats them as a set.
 struct TopologyChanges {
-    std::vector<std::uint32_t> nodes;    // new, or their mass, anchor or springs changed
+    std::vector<std::uint32_t> nodes;    // new, or their mass, anchor or springs changed (both ends of every listed spring)
     std::vector<std::uint32_t> springs;  // new, or their ends, rest length or stiffness changed
     std::vector<std::uint32_t> faces;    // new, or their corners changed
     bool empty() const { return nodes.empty() && springs.empty() && faces.empty(); }
@@ -98,7 +98,6 @@ private:
     void touchSpring(std::uint32_t k);
     void replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs);
     std::uint32_t appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs);
-    static std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b);
 
     mesh::SurfaceMesh mesh_;
     physics::MassSpringModel model_;

@@ -56,8 +56,8 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
                 const RestTouch t = touchRestSurface(cut, from + (to - from) * (static_cast<double>(i) / samples));
                 const bool changed = cutter.cutAt(t.face, t.bary);
                 live.topologyChanged(cut.model(), cut.changes().nodes, cut.changes().springs);
+                // The log lists every changed spring's ends among its nodes, so these are all `live` woke.
                 woken.insert(woken.end(), cut.changes().nodes.begin(), cut.changes().nodes.end());
-                for (std::uint32_t k : cut.changes().springs) woken.push_back(cut.model().springs.a[k]), woken.push_back(cut.model().springs.b[k]);
                 cut.clearChanges();
                 r.meshChanges += changed;
                 ++r.operations;

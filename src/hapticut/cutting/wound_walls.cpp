@@ -4,21 +4,20 @@
 #include <algorithm>
 #include <unordered_map>
 
+#include "hapticut/mesh/adjacency.h"
+
 namespace hapticut::cutting {
 
 namespace {
-std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
+using mesh::edgeKey;
 
-/// Directed edges whose reverse no face has, i.e. edges with one face, in that face's winding.
+/// Edges with one face, a -> b in that face's winding.
 std::vector<LipEdge> boundaryEdges(std::span<const mesh::Face> faces) {
-    std::unordered_map<std::uint64_t, int> uses;
-    uses.reserve(faces.size() * 2);
-    for (const mesh::Face& f : faces)
-        for (int k = 0; k < 3; ++k) ++uses[edgeKey(f[k], f[(k + 1) % 3])];
+    const mesh::MeshAdjacency adj = mesh::buildAdjacency(faces);
     std::vector<LipEdge> out;
-    for (const mesh::Face& f : faces)
+    for (std::uint32_t f = 0; f < faces.size(); ++f)
         for (int k = 0; k < 3; ++k)
-            if (uses[edgeKey(f[k], f[(k + 1) % 3])] == 1) out.push_back({f[k], f[(k + 1) % 3]});
+            if (adj.facesOfEdge(adj.faceEdges[f][k]).size() == 1) out.push_back({faces[f][k], faces[f][(k + 1) % 3]});
     return out;
 }
 }  // namespace

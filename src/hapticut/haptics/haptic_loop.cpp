@@ -1,6 +1,7 @@
 // The haptic loop.
 #include "hapticut/haptics/haptic_loop.h"
 
+#include "hapticut/common/reserve.h"
 #include "hapticut/haptics/force_safety.h"
 #include "hapticut/mesh/adjacency.h"
 
@@ -71,14 +72,13 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
         hand.proxy.update(start, surface(), bvh_);
     }
     // Room for what cuts add, as the organ's own arrays have (CutModel), so publishing rarely allocates.
-    auto room = [](std::size_t n) { return n + n / 2 + 1024; };
     for (Snapshot& s : snapshots_.slots()) {
-        s.positions.reserve(room(model_.nodes.size()));
+        reserveTouched(s.positions, roomToGrow(model_.nodes.size()));
         s.positions.resize(model_.nodes.size());
-        s.faces.reserve(room(faces_.size()));
+        reserveTouched(s.faces, roomToGrow(faces_.size()));
         s.faces.assign(faces_.begin(), faces_.end());
         if (organ_) {
-            s.uvs.reserve(room(faces_.size()));
+            reserveTouched(s.uvs, roomToGrow(faces_.size()));
             s.uvs.assign(organ_->mesh().uvs.begin(), organ_->mesh().uvs.end());
         }
         s.topologyVersion = topologyVersion_;

@@ -11,7 +11,6 @@
 namespace hapticut::mesh {
 
 namespace {
-std::uint64_t key(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
 
 /// Rotates f so that it starts at vertex v (f must contain v).
 Face startingAt(const Face& f, std::uint32_t v) {
@@ -40,7 +39,7 @@ int improveByEdgeFlips(SurfaceMesh& mesh, const FlipOptions& options) {
         const MeshAdjacency adj = buildAdjacency(mesh.faces);
         std::unordered_set<std::uint64_t> edges;
         edges.reserve(adj.edges.size() * 2);
-        for (const Edge& e : adj.edges) edges.insert(key(e[0], e[1]));
+        for (const Edge& e : adj.edges) edges.insert(edgeKey(e[0], e[1]));
         std::vector<char> touched(mesh.faces.size(), 0);  // a face flips at most once a pass: adjacency stays valid
         int flips = 0;
         for (std::size_t e = 0; e < adj.edges.size(); ++e) {
@@ -53,7 +52,7 @@ int improveByEdgeFlips(SurfaceMesh& mesh, const FlipOptions& options) {
             const Face f2 = startingAt(mesh.faces[faces[1]], b);
             if (f2[1] != a) continue;  // inconsistent orientation: leave it alone
             const std::uint32_t d = f2[2];
-            if (c == d || edges.count(key(c, d))) continue;  // the flip would duplicate an edge
+            if (c == d || edges.count(edgeKey(c, d))) continue;  // the flip would duplicate an edge
             const double before = std::max(maxCosine(f1), maxCosine(f2));
             if (before < goodEnough) continue;
 
@@ -68,8 +67,8 @@ int improveByEdgeFlips(SurfaceMesh& mesh, const FlipOptions& options) {
             mesh.faces[faces[0]] = g1;
             mesh.faces[faces[1]] = g2;
             touched[faces[0]] = touched[faces[1]] = 1;
-            edges.erase(key(a, b));
-            edges.insert(key(c, d));
+            edges.erase(edgeKey(a, b));
+            edges.insert(edgeKey(c, d));
             ++flips;
         }
         total += flips;

@@ -26,6 +26,11 @@ struct SurfaceMesh {
     std::size_t faceCount() const { return faces.size(); }
 };
 
+/// One number for the undirected edge (a, b), the same either way round: for hash sets and maps.
+inline std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {
+    return a < b ? (std::uint64_t{a} << 32) | b : (std::uint64_t{b} << 32) | a;
+}
+
 /// The unique undirected edges of the faces, each as {lower, higher} index, sorted.
 std::vector<Edge> edgesOfFaces(std::span<const Face> faces);
 

@@ -107,7 +107,7 @@ void Stepper::setActiveRegion(bool on) {
 }
 
 void Stepper::reserveFor(std::size_t n, std::size_t ns) {
-    const std::size_t nodes = n + n / 2 + 1024, springs = ns + ns / 2 + 1024;
+    const std::size_t nodes = roomToGrow(n), springs = roomToGrow(ns);
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) reserveTouched(*buffer, nodes);
     for (auto* list : {&allNodes_, &activeNodes_, &touchedNodes_, &wakeList_}) reserveTouched(*list, nodes);
     for (auto* marks : {&awake_, &wakeNext_, &touchedMark_}) reserveTouched(*marks, nodes);
