@@ -57,7 +57,7 @@ std::vector<std::uint32_t> CutModel::facesOfEdge(std::uint32_t a, std::uint32_t 
     return out;
 }
 
-std::uint32_t CutModel::addVertex(const Vec3& rest, const Vec3& position, const Vec3& velocity, double mass) {
+std::uint32_t CutModel::addVertex(Vec3 rest, Vec3 position, Vec3 velocity, double mass) {
     const auto v = static_cast<std::uint32_t>(mesh_.positions.size());
     mesh_.positions.push_back(rest);
     physics::Nodes& n = model_.nodes;

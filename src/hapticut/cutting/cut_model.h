@@ -89,7 +89,9 @@ public:
     std::optional<std::uint32_t> snapVertex(std::uint32_t face, const Vec3& bary, double radius_m) const;
 
 private:
-    std::uint32_t addVertex(const Vec3& rest, const Vec3& position, const Vec3& velocity, double mass);
+    /// By value: callers pass elements of the very arrays this grows (a copy of vertex v), which a
+    /// reallocation would leave dangling mid-call.
+    std::uint32_t addVertex(Vec3 rest, Vec3 position, Vec3 velocity, double mass);
     void addSpring(std::uint32_t a, std::uint32_t b);
     /// v's mass is now `mass`; its anchor follows (mass follows area).
     void setMass(std::uint32_t v, double mass);
