@@ -1,32 +1,23 @@
-// Explicit time integrators behind one interface (SPEC R5), with automatic substepping for stability.
+// The time integrators behind one interface (SPEC R5): a Stepper substeps for stability (stability.h)
+// and integrates only the active region (active_region.h); each scheme is one substep function.
 #pragma once
 
-#include <array>
 #include <cstdint>
-#include <optional>
 #include <span>
-#include <string_view>
 #include <vector>
 
+#include "hapticut/physics/active_region.h"
 #include "hapticut/physics/mass_spring_model.h"
+#include "hapticut/physics/node_springs.h"
+#include "hapticut/physics/scheme.h"
+#include "hapticut/physics/stability.h"
 
 namespace hapticut::physics {
-
-enum class Scheme { ExplicitEuler, Midpoint, RungeKutta4, SymplecticEuler };
-
-std::string_view schemeName(Scheme scheme);  // "euler", "midpoint", "rk4", "symplectic"
-std::optional<Scheme> parseScheme(std::string_view name);
 
 struct StepResult {
     int substeps = 1;
     bool finite = true;  // false: the step produced NaN/inf; the state was rolled back and velocities zeroed
 };
-
-/// Largest time step (s) for which every node's local modes are stable under `scheme`: for each node,
-/// its own positioning mode and its highest mode against its neighbours (2·Σk/m, as in a chain),
-/// each with its damping, must have an amplification of at most 1. A 0.9 safety factor is applied.
-/// `extra_stiffness_N_per_m` is added to every node, for a tool spring that may attach anywhere.
-double stableTimeStep(const MassSpringModel& model, Scheme scheme, double extra_stiffness_N_per_m = 0);
 
 /// Advances a model in time. Owns scratch buffers so that stepping never allocates once prepared.
 class Stepper {
@@ -51,23 +42,25 @@ public:
     double stableStep_s() const { return stableDt_; }
     int substepsFor(double dt_s) const;
 
-    /// Active region (local simulation, after Mosegaard): only nodes that move are integrated. A node
-    /// sleeps once the thesis's snap rule holds it at rest and the force on it is negligible; it wakes
-    /// when a spring pulls on it, when the tool touches it, or by wake(). Sleeping nodes sit exactly at
-    /// rest, so the forces between them are exactly zero and leaving them out changes nothing.
-    /// External forces on a sleeping node need a wake() call.
+    /// Integrates only the active region (ActiveRegion) when on. External forces on a sleeping node
+    /// need a wake() call.
     void setActiveRegion(bool on);
-    void wake(std::uint32_t node);
-    std::size_t awakeCount() const { return activeRegion_ ? activeNodes_.size() : preparedNodes_; }
+    void wake(std::uint32_t node) { region_.wake(node); }
+    std::size_t awakeCount() const { return activeRegion_ ? region_.nodes().size() : preparedNodes_; }
 
     /// Advances by dt_s, in as many equal substeps as stability needs; applies the snap-back rule.
     StepResult step(MassSpringModel& model, double dt_s);
 
 private:
     void substep(MassSpringModel& model, double h);
+    // One substep of h seconds of each scheme, over the nodes being integrated.
+    void explicitEulerSubstep(MassSpringModel& model, double h);
+    void symplecticEulerSubstep(MassSpringModel& model, double h);
+    void midpointSubstep(MassSpringModel& model, double h);
+    void rungeKutta4Substep(MassSpringModel& model, double h);
+    /// All nodes, or the awake ones.
+    std::span<const std::uint32_t> integratedNodes() const;
     void accelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v);
-    void rebuildActiveLists(const MassSpringModel& model);
-    void updateSleep(const MassSpringModel& model);
     /// Lowers rawStableDt_ to what node i's own modes allow.
     void lowerStableStepAt(const MassSpringModel& model, std::uint32_t i);
     /// Capacity for `n` nodes and `ns` springs, with room to grow, so that cuts rarely reallocate.
@@ -79,14 +72,10 @@ private:
     double toolStiffness_ = 0;
     std::size_t preparedNodes_ = static_cast<std::size_t>(-1), preparedSprings_ = 0;
     std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
-
-    // The nodes the integrator loops over: all of them, or the awake ones.
     std::vector<std::uint32_t> allNodes_;
-    bool activeRegion_ = false, activeDirty_ = true;
-    std::vector<std::uint8_t> awake_, touchedMark_, springMark_, wakeNext_;
-    std::vector<std::uint32_t> activeNodes_, touchedNodes_, activeSprings_, wakeList_;
-    std::vector<std::vector<std::uint32_t>> nodeSprings_;       // the springs at each node
-    std::vector<std::array<std::uint32_t, 2>> springEnds_;      // each spring's ends as last seen
+    bool activeRegion_ = false;
+    ActiveRegion region_;
+    NodeSprings springsAt_;
 };
 
 }  // namespace hapticut::physics

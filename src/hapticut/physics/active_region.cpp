@@ -1,0 +1,113 @@
+// The active region: admission before a step, sleep after it.
+#include "hapticut/physics/active_region.h"
+
+#include "hapticut/common/reserve.h"
+
+namespace hapticut::physics {
+
+void ActiveRegion::reserve(std::size_t nodes, std::size_t springs) {
+    for (auto* list : {&activeNodes_, &touchedNodes_, &wakeList_}) reserveTouched(*list, nodes);
+    for (auto* marks : {&awake_, &wakeNext_, &touchedMark_}) reserveTouched(*marks, nodes);
+    reserveTouched(springMark_, springs);
+    reserveTouched(activeSprings_, springs);
+}
+
+void ActiveRegion::reset(const MassSpringModel& model) {
+    const std::size_t n = model.nodes.size();
+    awake_.assign(n, 0);
+    wakeNext_.assign(n, 0);
+    touchedMark_.assign(n, 0);
+    springMark_.assign(model.springs.size(), 0);
+    activeNodes_.clear();
+    touchedNodes_.clear();
+    activeSprings_.clear();
+    wakeList_.clear();
+    for (std::uint32_t i = 0; i < n; ++i)
+        if (model.nodes.position[i] != model.nodes.restPosition[i] || model.nodes.velocity[i] != Vec3::Zero()) wake(i);
+    dirty_ = true;
+}
+
+void ActiveRegion::resize(std::size_t nodes, std::size_t springs) {
+    for (auto* marks : {&awake_, &wakeNext_, &touchedMark_}) marks->resize(nodes, 0);
+    springMark_.resize(springs, 0);
+    dirty_ = true;
+}
+
+void ActiveRegion::wake(std::uint32_t node) {
+    if (node >= wakeNext_.size() || wakeNext_[node]) return;
+    wakeNext_[node] = 1;
+    wakeList_.push_back(node);  // reserved for every node: never allocates
+}
+
+void ActiveRegion::admit(const MassSpringModel& model, const NodeSprings& springsAt) {
+    // Only candidates are looked at, so this stays proportional to the region: the tools' nodes, the
+    // resting neighbours flagged by updateSleep, and wake() calls.
+    auto admitNode = [&](std::uint32_t i) {
+        if (wakeNext_[i] && !awake_[i]) {
+            awake_[i] = 1;
+            activeNodes_.push_back(i);
+            dirty_ = true;
+        }
+        wakeNext_[i] = 0;
+    };
+    for (const PointSpring& tool : model.tools) {
+        if (!tool.active) continue;
+        for (std::uint32_t i : tool.nodes) {
+            // The tool's nodes and their neighbours are always awake: within one step a push travels
+            // further than the one ring the region grows by per step.
+            wakeNext_[i] = 1;
+            admitNode(i);
+            for (const std::uint32_t k : springsAt.of(i)) {
+                const std::uint32_t j = NodeSprings::otherEnd(model.springs, k, i);
+                wakeNext_[j] = 1;
+                admitNode(j);
+            }
+        }
+    }
+    for (std::size_t k = 0; k < touchedNodes_.size(); ++k) admitNode(touchedNodes_[k]);
+    for (std::uint32_t i : wakeList_) admitNode(i);
+    wakeList_.clear();
+    if (dirty_) rebuild(model, springsAt);
+}
+
+void ActiveRegion::rebuild(const MassSpringModel& model, const NodeSprings& springsAt) {
+    for (std::uint32_t k : activeSprings_) springMark_[k] = 0;
+    for (std::uint32_t i : touchedNodes_) touchedMark_[i] = 0;
+    activeSprings_.clear();
+    touchedNodes_.clear();
+    for (std::uint32_t i : activeNodes_) {
+        touchedMark_[i] = 1;
+        touchedNodes_.push_back(i);
+    }
+    for (std::uint32_t i : activeNodes_)
+        for (const std::uint32_t k : springsAt.of(i)) {
+            if (springMark_[k]) continue;
+            springMark_[k] = 1;
+            activeSprings_.push_back(k);
+            for (std::uint32_t j : {model.springs.a[k], model.springs.b[k]})
+                if (!touchedMark_[j]) touchedMark_[j] = 1, touchedNodes_.push_back(j);
+        }
+    dirty_ = false;
+}
+
+void ActiveRegion::updateSleep(const MassSpringModel& model, std::span<const Vec3> force) {
+    // Resting neighbours that a spring pulls harder than their anchor could hold within the snap
+    // distance wake for the next step (a one-step delay, far below what the tissue does in 1 ms).
+    const Nodes& n = model.nodes;
+    for (std::uint32_t i : touchedNodes_)
+        if (!awake_[i] && force[i].norm() > n.anchorStiffness[i] * model.snapDistance_m) wakeNext_[i] = 1;
+    std::size_t kept = 0;
+    for (std::uint32_t i : activeNodes_) {
+        const bool atRest = n.position[i] == n.restPosition[i] && n.velocity[i] == Vec3::Zero();
+        const bool pulled = force[i].norm() * n.mass[i] > n.anchorStiffness[i] * model.snapDistance_m;
+        if (atRest && !pulled && !wakeNext_[i]) {
+            awake_[i] = 0;
+            dirty_ = true;
+        } else {
+            activeNodes_[kept++] = i;
+        }
+    }
+    activeNodes_.resize(kept);
+}
+
+}  // namespace hapticut::physics

@@ -1,0 +1,55 @@
+// The active region (local simulation after Mosegaard & Sørensen 2004): which nodes move and must be
+// integrated, which springs act on them, and when nodes fall asleep and wake.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "hapticut/physics/mass_spring_model.h"
+#include "hapticut/physics/node_springs.h"
+
+namespace hapticut::physics {
+
+/// A node sleeps once the thesis's snap rule holds it at rest and the force on it is negligible; it
+/// wakes when a spring pulls on it, when a tool touches it, or by wake(). Sleeping nodes sit exactly
+/// at rest, so the forces between them are exactly zero and leaving them out changes nothing.
+/// Nothing here allocates once reserved; every pass is proportional to the region, not the model.
+class ActiveRegion {
+public:
+    /// Capacity for `nodes` and `springs`, touched up front.
+    void reserve(std::size_t nodes, std::size_t springs);
+    /// Starts over on `model`: every node that is not at rest wakes for the next step.
+    void reset(const MassSpringModel& model);
+    /// After a cut: room for the model's new nodes and springs, which start asleep.
+    void resize(std::size_t nodes, std::size_t springs);
+    /// The lists are rebuilt before the next step (the springs at the awake nodes changed).
+    void invalidate() { dirty_ = true; }
+    /// Wakes `node` for the next step.
+    void wake(std::uint32_t node);
+
+    /// Before a step: admits the tools' nodes and their neighbours, the resting neighbours that
+    /// updateSleep flagged, and the nodes wake() named; rebuilds the lists if the region changed.
+    void admit(const MassSpringModel& model, const NodeSprings& springsAt);
+    /// After a step: `force` holds, for nodes(), the accelerations at the end state and, for the rest
+    /// of touched(), the spring force on them in newtons (computeActiveAccelerations). Resting
+    /// neighbours pulled harder than their anchor holds within the snap distance wake next step;
+    /// awake nodes at rest with a negligible force fall asleep.
+    void updateSleep(const MassSpringModel& model, std::span<const Vec3> force);
+
+    /// The awake nodes: the ones integrated.
+    std::span<const std::uint32_t> nodes() const { return activeNodes_; }
+    /// The awake nodes and their resting neighbours: every node an active spring reads.
+    std::span<const std::uint32_t> touched() const { return touchedNodes_; }
+    /// The springs with an awake end.
+    std::span<const std::uint32_t> springs() const { return activeSprings_; }
+
+private:
+    void rebuild(const MassSpringModel& model, const NodeSprings& springsAt);
+
+    bool dirty_ = true;
+    std::vector<std::uint8_t> awake_, touchedMark_, springMark_, wakeNext_;
+    std::vector<std::uint32_t> activeNodes_, touchedNodes_, activeSprings_, wakeList_;
+};
+
+}  // namespace hapticut::physics
