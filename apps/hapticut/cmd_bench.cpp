@@ -9,7 +9,7 @@
 #include "commands.h"
 #include "hapticut/collision/bvh.h"
 #include "hapticut/common/latency_histogram.h"
-#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/proxy.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/mesh/procedural/tools.h"
@@ -51,9 +51,9 @@ nlohmann::ordered_json benchCutting(const mesh::SurfaceMesh& heart) {
     config.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
     haptics::HapticLoop loop(organ, device, config);
     loop.commands().push({haptics::LoopCommand::Kind::Pause, 0});
-    loop.runSimulated(std::lround(path.duration_s() * config.rate_hz) + 1);
+    haptics::runSimulated(loop, std::lround(path.duration_s() * config.rate_hz) + 1);
     const Summary s = loop.stats().cutTime_us.summary();
-    const cutting::CutStats& c = loop.cutter()->stats();
+    const cutting::CutStats& c = loop.cutter().stats();
     std::printf("%10zu %10ld %10ld %10.0f %10.0f %10.0f %10.0f\n", heart.faces.size(), loop.stats().cutEvents, c.cutPoints, s.mean, s.p50, s.p99, s.max);
     return {{"triangles", heart.faces.size()}, {"cut_events", loop.stats().cutEvents}, {"cut_points", c.cutPoints}, {"cut_event_us", toJson(s)}};
 }

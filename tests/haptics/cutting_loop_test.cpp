@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "hapticut/cutting/invariants.h"
-#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/heart.h"
@@ -52,9 +52,9 @@ StrokeResult stroke(double threshold_N, double depth_m) {
     HapticLoop loop(organ, device, config);
     StrokeResult r;
     long step = 0;
-    loop.runSimulated(2300, [&](const StepOutput& s) {
+    runSimulated(loop, 2300, [&](const StepOutput& s) {
         if (s.cut)
-            for (std::uint32_t v : loop.cutter()->points()) r.cutPoints.push_back(organ.mesh().positions[v]);
+            for (std::uint32_t v : loop.cutter().points()) r.cutPoints.push_back(organ.mesh().positions[v]);
         // Now and then, as a renderer does, so that the other slots fall several cuts behind and must
         // catch up on every face changed since: the snapshot published with a cut shows exactly the organ.
         if (s.cut && ++step % 3 == 0) {
@@ -65,7 +65,7 @@ StrokeResult stroke(double threshold_N, double depth_m) {
                 for (int k = 0; k < 3; ++k) r.snapshotMismatches += shot.uvs[f][k] != organ.mesh().uvs[f][k];
         }
     });
-    r.cut = loop.cutter()->stats();
+    r.cut = loop.cutter().stats();
     r.cutEvents = loop.stats().cutEvents;
     r.maxForce_N = loop.stats().maxForce_N;
     r.after = mesh::validateMesh(organ.mesh());

@@ -10,7 +10,7 @@
 
 #include "hapticut/haptics/device_spec.h"
 #include "hapticut/haptics/force_safety.h"
-#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/haptics/virtual_device.h"
 #include "hapticut/haptics/workspace_fit.h"
@@ -74,7 +74,7 @@ TEST(TwoHands, BothPressTheHeartInTheSameStepAndEachFeelsItsOwnForce) {
     ASSERT_EQ(loop.handCount(), 2);
     StepOutput last;
     Vec3 sentA, sentB;  // what the devices were told in the last step (the run's end zeroes them)
-    loop.runSimulated(1500, [&](const StepOutput& s) {
+    runSimulated(loop, 1500, [&](const StepOutput& s) {
         last = s;
         sentA = a.lastForce();
         sentB = b.lastForce();
@@ -118,11 +118,11 @@ TEST(TwoHands, AProbeHoldsTheTissueWhileTheScalpelInTheOtherHandCuts) {
     const std::array<Hand, 2> hands{Hand{&probe}, Hand{&scalpel, mesh::procedural::kScalpelThreshold_N}};
     HapticLoop loop(h.organ, hands, {});
     double probeForceWhileCutting = std::numeric_limits<double>::infinity();
-    loop.runSimulated(2400, [&](const StepOutput& s) {
+    runSimulated(loop, 2400, [&](const StepOutput& s) {
         if (s.cut) probeForceWhileCutting = std::min(probeForceWhileCutting, s.hands[0].force_N.norm());
     });
     EXPECT_GE(loop.stats().cutEvents, 3) << "the scalpel hand cut";
-    EXPECT_GT(loop.cutter()->stats().length_m, 0.008);
+    EXPECT_GT(loop.cutter().stats().length_m, 0.008);
     EXPECT_GT(probeForceWhileCutting, 0.3) << "the probe kept holding the tissue through every cut event";
     for (const Vec3& p : h.organ.mesh().positions) EXPECT_TRUE(p.allFinite());
 }
@@ -152,10 +152,10 @@ TEST(ForceSafety, TheForceSentGrowsNoFasterThanTheHandsLimitAndEasesOffAtOnce) {
     Hand hand{&device};
     hand.maxForceRate_N_per_s = 500;  // 0.5 N per 1 ms step
     HapticLoop loop(h.organ, std::span<const Hand>(&hand, 1), {});
-    loop.runSimulated(600);
+    runSimulated(loop, 600);
     device.position = front - Vec3(0, 0, 0.01);
     double previous = 0, largestRise = 0;
-    loop.runSimulated(20, [&](const StepOutput& s) {
+    runSimulated(loop, 20, [&](const StepOutput& s) {
         largestRise = std::max(largestRise, s.hand().force_N.norm() - previous);
         previous = s.hand().force_N.norm();
     });
@@ -163,7 +163,7 @@ TEST(ForceSafety, TheForceSentGrowsNoFasterThanTheHandsLimitAndEasesOffAtOnce) {
     EXPECT_LE(largestRise, 0.5 + 1e-9);
     EXPECT_GE(loop.stats().rateLimitedSteps, 2) << "in steps of at most 0.5 N";
     device.position = front + Vec3(0, 0, 0.02);
-    loop.runSimulated(1);
+    runSimulated(loop, 1);
     EXPECT_EQ(device.force, Vec3::Zero()) << "lifting the hand off drops the force at once";
 }
 
@@ -179,10 +179,10 @@ TEST(ForceSafety, TheCouplingStaysBelowTheDevicesRatedStiffnessAtTheLoopRate) {
     device.position = front + Vec3(0, 0, 0.02);
     HapticLoop loop(h.organ, device, {});
     EXPECT_DOUBLE_EQ(loop.couplingStiffness_N_per_m(0), 150) << "400 N/m asked for, 150 N/m rated";
-    loop.runSimulated(600);
+    runSimulated(loop, 600);
     device.position = front - Vec3(0, 0, 0.004);
     StepOutput last;
-    loop.runSimulated(800, [&](const StepOutput& s) { last = s; });
+    runSimulated(loop, 800, [&](const StepOutput& s) { last = s; });
     const double stretch = (last.hand().proxy_m - last.hand().device_m).norm();
     ASSERT_GT(stretch, 1e-3);
     EXPECT_NEAR(last.hand().force_N.norm() / stretch, 150, 15) << "the force reads the capped stiffness";
@@ -194,23 +194,23 @@ TEST(ForceSafety, AfterAWatchdogResetForcesFadeInAgain) {
     const Vec3 front = frontAt(h.mesh, 0, 0);
     device.position = front + Vec3(0, 0, 0.02);
     HapticLoop loop(h.organ, device, {});
-    loop.runSimulated(600);
+    runSimulated(loop, 600);
     device.position = front - Vec3(0, 0, 0.004);
     StepOutput out;
-    loop.runSimulated(500, [&](const StepOutput& s) { out = s; });
+    runSimulated(loop, 500, [&](const StepOutput& s) { out = s; });
     const double steady = out.hand().force_N.norm();
     ASSERT_GT(steady, 0.4);
     device.position = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
-    loop.runSimulated(1, [&](const StepOutput& s) { out = s; });
+    runSimulated(loop, 1, [&](const StepOutput& s) { out = s; });
     EXPECT_TRUE(loop.stats().watchdogTripped);
     EXPECT_EQ(device.force, Vec3::Zero());
     device.position = front - Vec3(0, 0, 0.004);
-    loop.runSimulated(50, [&](const StepOutput& s) { out = s; });
+    runSimulated(loop, 50, [&](const StepOutput& s) { out = s; });
     EXPECT_EQ(out.hand().force_N, Vec3::Zero()) << "latched until someone resets it";
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ResetWatchdog, 0}));
-    loop.runSimulated(2, [&](const StepOutput& s) { out = s; });
+    runSimulated(loop, 2, [&](const StepOutput& s) { out = s; });
     EXPECT_LT(out.hand().force_N.norm(), 0.05 * steady) << "not the full force at once";
-    loop.runSimulated(600, [&](const StepOutput& s) { out = s; });
+    runSimulated(loop, 600, [&](const StepOutput& s) { out = s; });
     EXPECT_NEAR(out.hand().force_N.norm(), steady, 0.1 * steady) << "but all of it after the ramp";
 }
 
@@ -222,14 +222,15 @@ TEST(ForceSafety, TheLoopLeavesEveryHandAtZeroForceWhenItGoesAwayEvenByAnExcepti
     try {
         const std::array<Hand, 2> hands{Hand{&a}, Hand{&b}};
         HapticLoop loop(h.organ, hands, {});
-        loop.runSimulated(600);
+        runSimulated(loop, 600);
         a.position = front - Vec3(0, 0, 0.004);
         b.position = frontAt(h.mesh, 0.01, 0) - Vec3(0, 0, 0.004);
-        loop.start(-1);
+        RealTimeScheduler clock(loop);
+        clock.start(-1);
         for (int i = 0; i < 500 && (a.force.norm() < 0.5 || b.force.norm() < 0.5); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-        loop.stop();
+        clock.stop();
         // Pushing again, on the caller's thread this time, then something throws mid-run.
-        loop.runSimulated(100, [&](const StepOutput& s) {
+        runSimulated(loop, 100, [&](const StepOutput& s) {
             if (s.hands[0].force_N.norm() > 0.5 && s.hands[1].force_N.norm() > 0.5) throw std::runtime_error("mid-run");
         });
         FAIL() << "both hands should have been pushing";

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "hapticut/collision/inside_test.h"
-#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/haptics/virtual_device.h"
 #include "hapticut/mesh/procedural/heart.h"
@@ -17,7 +17,8 @@ namespace {
 
 struct HeartScene {
     mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
-    physics::MassSpringModel model = physics::buildModel(mesh, physics::Material{});
+    cutting::CutModel organ{mesh, physics::buildModel(mesh, physics::Material{})};
+    physics::MassSpringModel& model = organ.model();
 };
 
 /// The front-most surface point of the heart near the centre line: the probe target.
@@ -50,9 +51,9 @@ TEST(HapticLoop, PressingTheHeartIndentsItNearTheContactAndItRecovers) {
     HeartScene h;
     const Vec3 front = frontPoint(h);
     ReplayDevice device(pressTrajectory(front, 0.004));
-    HapticLoop loop(h.model, h.mesh.faces, device);
+    HapticLoop loop(h.organ, device);
     double maxForce = 0, forceAtHold = 0;
-    loop.runSimulated(3000, [&](const StepOutput& s) {
+    runSimulated(loop, 3000, [&](const StepOutput& s) {
         // The proxy is never inside the deforming heart (independent ray-parity test).
         EXPECT_FALSE(collision::insideClosedSurface(loop.bvh(), loop.surface(), s.hand().proxy_m)) << "t = " << s.t_s;
         if (s.t_s < 0.55) {
@@ -86,9 +87,9 @@ TEST(HapticLoop, ForceGrowsWithDepthUpToTheClamp) {
     for (double depth : {0.001, 0.002, 0.004, 0.008, 0.016, 0.03}) {
         HeartScene h;
         ReplayDevice device(pressTrajectory(frontPoint(h), depth));
-        HapticLoop loop(h.model, h.mesh.faces, device);
+        HapticLoop loop(h.organ, device);
         double atHold = 0;
-        loop.runSimulated(1250, [&](const StepOutput& s) {
+        runSimulated(loop, 1250, [&](const StepOutput& s) {
             if (std::abs(s.t_s - 1.2) < 1e-9) atHold = s.hand().force_N.norm();
         });
         EXPECT_GE(atHold, previous - 1e-9) << "depth " << depth;
@@ -104,10 +105,10 @@ TEST(HapticLoop, ForceRampsInOverHalfASecond) {
     HeartScene h;
     VirtualDevice device;
     device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));  // pressed in from the start
-    HapticLoop loop(h.model, h.mesh.faces, device);
+    HapticLoop loop(h.organ, device);
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::Pause, 0}));
     std::vector<double> force;
-    loop.runSimulated(700, [&](const StepOutput& s) { force.push_back(s.hand().force_N.norm()); });
+    runSimulated(loop, 700, [&](const StepOutput& s) { force.push_back(s.hand().force_N.norm()); });
     EXPECT_EQ(force[0], 0.0);
     EXPECT_NEAR(force[100], 0.2 * force[600], 1e-9);
     EXPECT_NEAR(force[250], 0.5 * force[600], 1e-9);
@@ -136,11 +137,11 @@ private:
 TEST(HapticLoop, WatchdogZeroesTheForceOnANonFiniteValue) {
     HeartScene h;
     FaultyDevice device(frontPoint(h) - Vec3(0, 0, 0.003));
-    HapticLoop loop(h.model, h.mesh.faces, device);
+    HapticLoop loop(h.organ, device);
     double before = 0, after = 0;
-    loop.runSimulated(690, [&](const StepOutput& s) { before = s.hand().force_N.norm(); });
+    runSimulated(loop, 690, [&](const StepOutput& s) { before = s.hand().force_N.norm(); });
     EXPECT_GT(before, 0.3) << "pressing before the fault";
-    loop.runSimulated(50, [&](const StepOutput& s) {
+    runSimulated(loop, 50, [&](const StepOutput& s) {
         if (s.t_s > 0.7) after = std::max(after, s.hand().force_N.norm());
     });
     EXPECT_EQ(after, 0.0);
@@ -155,16 +156,17 @@ TEST(HapticLoop, RunsInItsOwnThreadAtTheConfiguredRate) {
     HeartScene h;
     VirtualDevice device;
     device.setPosition(frontPoint(h) + Vec3(0, 0, 0.01));
-    HapticLoop loop(h.model, h.mesh.faces, device);
+    HapticLoop loop(h.organ, device);
     long observed = 0;
-    loop.start(300, [&](const StepOutput&) { ++observed; });
+    RealTimeScheduler clock(loop);
+    clock.start(300, [&](const StepOutput&) { ++observed; });
     // Move the device in from this thread while the loop runs: the force appears.
     for (int i = 0; i < 100; ++i) {
         device.setPosition(frontPoint(h) + Vec3(0, 0, 0.01 - 0.00015 * i));
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    loop.stop();
+    while (clock.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    clock.stop();
     EXPECT_EQ(loop.stats().steps, 300);
     EXPECT_EQ(observed, 300);
     EXPECT_EQ(loop.stats().periodError_us.count(), 300u);
@@ -179,11 +181,11 @@ TEST(HapticLoop, CommandsReachTheLoop) {
     HeartScene h;
     VirtualDevice device;
     device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));
-    HapticLoop loop(h.model, h.mesh.faces, device);
+    HapticLoop loop(h.organ, device);
     double before = 0, after = 1;
-    loop.runSimulated(600, [&](const StepOutput& s) { before = s.hand().force_N.norm(); });
+    runSimulated(loop, 600, [&](const StepOutput& s) { before = s.hand().force_N.norm(); });
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::SetMaxForceScale, 0.0}));
-    loop.runSimulated(1, [&](const StepOutput& s) { after = s.hand().force_N.norm(); });
+    runSimulated(loop, 1, [&](const StepOutput& s) { after = s.hand().force_N.norm(); });
     EXPECT_GT(before, 0.1);
     EXPECT_EQ(after, 0.0);
 }
@@ -212,15 +214,15 @@ TEST(HapticLoop, MaterialCommandsScaleTheModelLiveAndTheStableStepFollows) {
     VirtualDevice device;
     device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));
     const double k0 = h.model.springs.stiffness[5], anchor0 = h.model.nodes.anchorStiffness[5], m0 = h.model.nodes.mass[5];
-    HapticLoop loop(h.model, h.mesh.faces, device);
-    loop.runSimulated(8);
+    HapticLoop loop(h.organ, device);
+    runSimulated(loop, 8);
     const double stable0 = loop.snapshots().readLatest().stableStep_s;
     ASSERT_GT(stable0, 0);
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScalePositioningStiffness, 4.0}));
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScaleStructuralStiffness, 2.0}));
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScaleMass, 0.5}));
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScaleMass, -1.0}));  // refused: not a scale
-    loop.runSimulated(8);
+    runSimulated(loop, 8);
     EXPECT_DOUBLE_EQ(h.model.springs.stiffness[5], 2 * k0);
     EXPECT_DOUBLE_EQ(h.model.nodes.anchorStiffness[5], 4 * anchor0);
     EXPECT_DOUBLE_EQ(h.model.nodes.mass[5], 0.5 * m0);

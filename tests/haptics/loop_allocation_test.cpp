@@ -14,9 +14,9 @@ namespace {
 
 TEST(HapticLoop, SteadyStateStepsWithoutHeapAllocation) {
     const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
-    physics::MassSpringModel model = physics::buildModel(mesh, physics::Material{});
+    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
     VirtualDevice device;
-    HapticLoop loop(model, mesh.faces, device);
+    HapticLoop loop(organ, device);
     // Sweep the device in and out of the front of the heart: contact, sliding, release.
     auto at = [](int i) { return Vec3(0.01 * std::sin(i * 0.01), 0.0, 0.03 - 0.0004 * (i % 100)); };
     for (int i = 0; i < 200; ++i) {

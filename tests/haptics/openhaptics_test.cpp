@@ -11,7 +11,7 @@
 #include <fstream>
 #include <thread>
 
-#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/material.h"
@@ -144,7 +144,8 @@ TEST_F(OpenHaptics, CalibrationIsUpdatedWhenItCanBeAndRefusedWhenItNeedsTheInkwe
 
 struct Heart {
     mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
-    physics::MassSpringModel model = physics::buildModel(mesh, physics::Material{});
+    cutting::CutModel organ{mesh, physics::buildModel(mesh, physics::Material{})};
+    physics::MassSpringModel& model = organ.model();
     Vec3 front() const {
         Vec3 best = mesh.positions[0];
         for (const Vec3& p : mesh.positions)
@@ -162,13 +163,14 @@ TEST_F(OpenHaptics, TheServoLoopDrivesTheHapticLoopAtItsRateAndTheForceIsClamped
     LoopConfig config;
     config.rampTime_s = 0.05;
     {
-        HapticLoop loop(h.model, h.mesh.faces, *device, config);
+        HapticLoop loop(h.organ, *device, config);
+        RealTimeScheduler clock(loop);
         const long ticks0 = emu.ticks();
-        ASSERT_TRUE(loop.start(-1, {}, error)) << error;
+        ASSERT_TRUE(clock.start(-1, {}, error)) << error;
         std::this_thread::sleep_for(std::chrono::milliseconds(400));
         const Snapshot& s = loop.snapshots().readLatest();
         EXPECT_TRUE(s.hands[0].device_m.isApprox(Vec3(front.x(), front.y(), front.z() - 0.008), 1e-9)) << s.hands[0].device_m.transpose();
-        loop.stop();
+        clock.stop();
         const long ticks = emu.ticks() - ticks0;
         // One loop step per servo tick: the servo's clock is the loop's.
         EXPECT_NEAR(static_cast<double>(loop.stats().steps), static_cast<double>(ticks), 3);
@@ -189,8 +191,9 @@ TEST_F(OpenHaptics, ADeviceLostMidRunTripsTheWatchdogAndSendsNoForce) {
     std::string error;
     LoopConfig config;
     config.rampTime_s = 0.02;
-    HapticLoop loop(h.model, h.mesh.faces, *device, config);
-    ASSERT_TRUE(loop.start(-1, {}, error)) << error;
+    HapticLoop loop(h.organ, *device, config);
+    RealTimeScheduler clock(loop);
+    ASSERT_TRUE(clock.start(-1, {}, error)) << error;
     std::this_thread::sleep_for(std::chrono::milliseconds(150));
     EXPECT_GT(emu.lastForce().norm(), 0.1) << "pressing 3 mm in before the loss";
     emu.failAfterTicks(10, hd::kCommError);
@@ -199,7 +202,7 @@ TEST_F(OpenHaptics, ADeviceLostMidRunTripsTheWatchdogAndSendsNoForce) {
     EXPECT_NE(device->faultMessage().find("communication with the device failed"), std::string::npos) << device->faultMessage();
     EXPECT_TRUE(loop.snapshots().readLatest().watchdogTripped);
     EXPECT_EQ(emu.lastForce(), Vec3::Zero());
-    loop.stop();
+    clock.stop();
 }
 
 }  // namespace

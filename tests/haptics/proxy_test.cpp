@@ -6,7 +6,6 @@
 #include <numbers>
 
 #include "hapticut/collision/inside_test.h"
-#include "hapticut/haptics/force_distribution.h"
 #include "hapticut/haptics/proxy.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"
@@ -20,6 +19,9 @@ struct Scene {
     collision::SurfaceView view() const { return {mesh.positions, mesh.faces}; }
     void rebuild() { bvh.build(view()); }
 };
+
+/// The coupling spring's force on the hand, F = k (proxy - device), with no damping or clamp.
+Vec3 hookeForce(const Vec3& proxy_m, const Vec3& device_m, double stiffness_N_per_m) { return stiffness_N_per_m * (proxy_m - device_m); }
 
 Scene plane() {
     Scene s{mesh::procedural::makeGrid(10, 0.01), {}};  // 0.1 m square at z = 0, facing +z
@@ -35,7 +37,7 @@ TEST(Proxy, PressingAFlatPlaneGivesHookesForceAlongTheNormal) {
     for (double depth : {0.0005, 0.001, 0.002, 0.004}) {
         const Vec3 device(0.012, -0.007, -depth);
         EXPECT_EQ(proxy.update(device, s.view(), s.bvh), 1);
-        const Vec3 f = couplingForce(proxy.position(), device, Vec3::Zero(), k, 0, 1e9);
+        const Vec3 f = hookeForce(proxy.position(), device, k);
         EXPECT_NEAR(f.z(), k * (depth + proxy.params().offset_m), 1e-9);
         EXPECT_NEAR(f.x(), 0, 1e-12);
         EXPECT_NEAR(f.y(), 0, 1e-12);
@@ -67,7 +69,7 @@ TEST(Proxy, LeavingTheSurfaceGivesZeroForce) {
     EXPECT_EQ(proxy.update(device, s.view(), s.bvh), 0);
     EXPECT_EQ(proxy.position(), device);
     EXPECT_FALSE(proxy.contact().active);
-    EXPECT_EQ(couplingForce(proxy.position(), device, Vec3::Zero(), 500, 0, 3), Vec3::Zero());
+    EXPECT_EQ(hookeForce(proxy.position(), device, 500), Vec3::Zero());
 }
 
 TEST(Proxy, ConcaveCornerHoldsTheProxyAtTheCorner) {
@@ -111,7 +113,7 @@ TEST(Proxy, SurfaceMovingIntoAStationaryDevicePushesTheProxyOut) {
         proxy.update(device, s.view(), s.bvh);
         const double surfaceZ = s.mesh.positions[0].z();
         EXPECT_GE(proxy.position().z(), surfaceZ) << "step " << step;
-        const double force = couplingForce(proxy.position(), device, Vec3::Zero(), 500, 0, 1e9).z();
+        const double force = hookeForce(proxy.position(), device, 500).z();
         if (surfaceZ > 1e-4) {
             EXPECT_GT(force, previousForce) << "step " << step;
             EXPECT_NEAR(force, 500 * (surfaceZ + proxy.params().offset_m), 1e-6);
@@ -151,28 +153,6 @@ TEST(Proxy, NeverInsideTheHeartWhileSlidingOverEdgesAndVertices) {
         const double a = twoPi * u;
         return Vec3(0.045 * std::cos(3 * a), 0.05 * std::sin(2 * a), 0.03 * std::cos(5 * a + 0.3));
     }, 1500);
-}
-
-TEST(ForceDistribution, SumsExactlyToTheForceWithSquaredWeights) {
-    std::vector<Vec3> forces(3, Vec3::Zero());
-    const mesh::Face face{0, 1, 2};
-    const Vec3 f(0.3, -1.2, 2.5);
-    distributeToTriangle(f, face, Vec3(0.2, 0.3, 0.5), forces);
-    EXPECT_LT((forces[0] + forces[1] + forces[2] - f).norm(), 1e-15);
-    std::fill(forces.begin(), forces.end(), Vec3::Zero());
-    distributeToTriangle(f, face, Vec3(2.0 / 3, 1.0 / 3, 0), forces);
-    EXPECT_NEAR(forces[0].norm() / forces[1].norm(), 4.0, 1e-12) << "weights are the squared barycentrics (R9)";
-    EXPECT_EQ(forces[2], Vec3::Zero());
-    std::fill(forces.begin(), forces.end(), Vec3::Zero());
-    distributeToTriangle(f, face, Vec3(1, 0, 0), forces);
-    EXPECT_EQ(forces[0], f);
-}
-
-TEST(ForceDistribution, DeviceForceIsClamped) {
-    const Vec3 f = couplingForce(Vec3(0, 0, 0.1), Vec3::Zero(), Vec3::Zero(), 1000, 0, 3.3);
-    EXPECT_NEAR(f.norm(), 3.3, 1e-12);
-    EXPECT_NEAR(f.normalized().z(), 1, 1e-12);
-    EXPECT_NEAR(couplingForce(Vec3::Zero(), Vec3::Zero(), Vec3(0, 0, 0.1), 1000, 2, 3.3).z(), -0.2, 1e-12);
 }
 
 }  // namespace
@@ -227,7 +207,7 @@ TEST(Proxy, FrictionSticksInsideTheStaticConeAndSlidesAtTheDynamicRatio) {
     // Drag to 3 mm: 3/4 > 0.5, so it slips and lags so that tangential = 0.3 x normal.
     const Vec3 device(0.003, 0, -0.004);
     proxy.update(device, s.view(), s.bvh);
-    const Vec3 f = couplingForce(proxy.position(), device, Vec3::Zero(), 400, 0, 1e9);
+    const Vec3 f = hookeForce(proxy.position(), device, 400);
     EXPECT_NEAR(std::hypot(f.x(), f.y()) / f.z(), 0.3, 1e-9);
     EXPECT_LT(f.x(), 0) << "friction opposes the motion";
     EXPECT_NEAR(proxy.position().z(), off, 1e-12);

@@ -11,7 +11,7 @@
 
 #include "hapticut/cutting/cut_model.h"
 #include "hapticut/geometry/aabb.h"
-#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/virtual_device.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/tools.h"
@@ -32,6 +32,7 @@ struct PressedHeart {
     std::unique_ptr<cutting::CutModel> organ;
     haptics::VirtualDevice device;
     std::unique_ptr<haptics::HapticLoop> loop;
+    std::unique_ptr<haptics::RealTimeScheduler> clock;  // declared after the loop: stops before it goes
 
     explicit PressedHeart(int triangles) {
         mesh::procedural::HeartOptions options;
@@ -44,7 +45,8 @@ struct PressedHeart {
             if (std::abs(p.x()) < 0.01 && std::abs(p.y() + 0.01) < 0.01 && p.z() > front.z()) front = p;
         device.setPosition(front - Vec3(0, 0, 0.003), 1);
         loop = std::make_unique<haptics::HapticLoop>(*organ, device);
-        loop->start();
+        clock = std::make_unique<haptics::RealTimeScheduler>(*loop);
+        clock->start();
     }
 };
 

@@ -44,7 +44,12 @@ Session::Session(app::LoadedScene scene) : scene_(std::move(scene)) {
     resetModel();
 }
 
-Session::~Session() { loop_.reset(); }
+Session::~Session() { stopLoop(); }
+
+void Session::stopLoop() {
+    clock_.reset();
+    loop_.reset();
+}
 
 haptics::Device& Session::deviceOf(int hand) {
     const auto h = static_cast<std::size_t>(hand);
@@ -62,13 +67,14 @@ void Session::startLoop() {
     }
     loop_ = std::make_unique<haptics::HapticLoop>(*organ_, std::span<const haptics::Hand>(hands.data(), static_cast<std::size_t>(handCount_)), config_);
     loopError_.clear();
-    loop_->start(-1, {}, loopError_);
+    clock_ = std::make_unique<haptics::RealTimeScheduler>(*loop_);
+    clock_->start(-1, {}, loopError_);
 }
 
 void Session::setHandCount(int hands) {
     hands = std::clamp(hands, 1, haptics::kMaxHands);
     if (hands == handCount_) return;
-    loop_.reset();
+    stopLoop();
     if (hands == 2 && !scene_.tools.empty()) {
         // The second hand takes the next tool, and starts where the first hand is, a little to its side.
         tool_[1] = (tool_[0] + 1) % scene_.tools.size();
@@ -94,7 +100,7 @@ bool Session::mouseDrives() const { return !hardware_[static_cast<std::size_t>(a
 
 void Session::useDevice(std::unique_ptr<haptics::Device> device, int hand) {
     hand = std::clamp(hand, 0, haptics::kMaxHands - 1);
-    loop_.reset();
+    stopLoop();
     if (hand == 0) replay_.reset();
     hardware_[static_cast<std::size_t>(hand)] = std::move(device);
     handCount_ = std::max(handCount_, hand + 1);
@@ -102,7 +108,7 @@ void Session::useDevice(std::unique_ptr<haptics::Device> device, int hand) {
 }
 
 void Session::resetModel() {
-    loop_.reset();  // stops the thread before the organ it steps goes away
+    stopLoop();  // before the organ it steps goes away
     organ_ = std::make_unique<cutting::CutModel>(scene_.source.mesh, scene_.buildModel());
     startLoop();
     // The user's material settings outlive a reset: apply them to the fresh model.
@@ -112,7 +118,7 @@ void Session::resetModel() {
 }
 
 void Session::restartLoop() {
-    loop_.reset();
+    stopLoop();
     startLoop();
 }
 
@@ -133,7 +139,7 @@ bool Session::replay(const std::string& file, std::string& error) {
         error = trajectory.error().toString();
         return false;
     }
-    loop_.reset();
+    stopLoop();
     replay_ = std::make_unique<haptics::ReplayDevice>(std::move(*trajectory), scene_.settings.maxForce_N);
     hardware_[0].reset();
     replayFile_ = file;
@@ -144,7 +150,7 @@ bool Session::replay(const std::string& file, std::string& error) {
 void Session::useMouse() {
     const auto h = static_cast<std::size_t>(activeHand_);
     if (!(activeHand_ == 0 && replay_) && !hardware_[h]) return;
-    loop_.reset();
+    stopLoop();
     if (activeHand_ == 0) {
         replay_.reset();
         replayFile_.clear();

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "hapticut/cutting/cut_model.h"
-#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/haptics/virtual_device.h"
 #include "scene_setup.h"
@@ -79,6 +79,8 @@ public:
 
 private:
     void startLoop();
+    /// Stops the loop's clock, then the loop, before what they step goes away.
+    void stopLoop();
     haptics::Device& deviceOf(int hand);
 
     app::LoadedScene scene_;
@@ -89,6 +91,7 @@ private:
     std::string replayFile_;
     std::unique_ptr<cutting::CutModel> organ_;
     std::unique_ptr<haptics::HapticLoop> loop_;
+    std::unique_ptr<haptics::RealTimeScheduler> clock_;  // steps loop_; stopped before it goes (stopLoop)
     std::string loopError_;
     int handCount_ = 1, activeHand_ = 0;
     std::array<std::size_t, haptics::kMaxHands> tool_{0, 0};

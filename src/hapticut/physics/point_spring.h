@@ -27,6 +27,10 @@ struct PointSpring {
     double scale = 1;                      // ramp-in factor, applied after the clamp
     Vec3 normal = Vec3::Zero();            // outward contact normal: a tool pushes, never pulls (zero: no limit)
 
+    /// The thesis's share of the reaction for each corner of the touched triangle (R9): the squared
+    /// barycentric coordinate, normalised to sum to 1 (equal thirds if all are zero). Squaring makes the
+    /// force shift smoothly from one face to the next as the contact slides over their common edge.
+    static Vec3 contactWeights(const Vec3& bary);
     /// The force on the tool for node positions x: scale · clamp(k (p(x) - anchor) - bias), and zero
     /// when it would pull the tissue outward (the tissue has moved past the device: contact separates).
     Vec3 forceOnTool(std::span<const Vec3> x) const;

@@ -8,6 +8,7 @@
 
 #include "hapticut/collision/inside_test.h"
 #include "hapticut/cutting/invariants.h"
+#include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/mesh/io/line_reader.h"
 
@@ -44,7 +45,7 @@ HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Han
         }
         // The ray-parity test needs a closed surface: an opened cut leaves the proxy free to enter the
         // wound (a scalpel down in its own cut), which is no penetration.
-        if (!loop.cutter()->stats().opened)
+        if (!loop.cutter().stats().opened)
             for (int h = 0; h < s.handCount; ++h)
                 r.maxProxyPenetration_m = std::max(r.maxProxyPenetration_m,
                                                    collision::penetrationDepth(loop.bvh(), loop.surface(), s.hands[static_cast<std::size_t>(h)].proxy_m));
@@ -52,9 +53,10 @@ HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Han
     };
     if (config.realtime) {
         std::string error;
-        if (!loop.start(steps, observe, error)) throw std::runtime_error(error);
+        haptics::RealTimeScheduler clock(loop);
+        if (!clock.start(steps, observe, error)) throw std::runtime_error(error);
         auto lastProgress = std::chrono::steady_clock::now();
-        while (loop.running()) {
+        while (clock.running()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(2));
             if (config.stopRequested && config.stopRequested()) break;
             if (config.progress && std::chrono::steady_clock::now() - lastProgress > std::chrono::seconds(1)) {
@@ -62,9 +64,9 @@ HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Han
                 config.progress(static_cast<long>(r.log.size()));
             }
         }
-        loop.stop();
+        clock.stop();
     } else {
-        loop.runSimulated(steps, observe);
+        haptics::runSimulated(loop, steps, observe);
     }
     const haptics::LoopStats& st = loop.stats();
     r.steps = st.steps;
@@ -79,7 +81,7 @@ HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Han
     r.watchdogTripped = st.watchdogTripped;
     r.maxForce_N = st.maxForce_N;
     r.finalMaxDisplacement_m = physics::maxDisplacement(model);
-    r.cut = loop.cutter()->stats();
+    r.cut = loop.cutter().stats();
     r.cutEvents = st.cutEvents;
     r.cutTime_us = st.cutTime_us.summary();
     r.invariantProblems = cutting::checkInvariants(organ, mass_kg).problems;

@@ -1,0 +1,58 @@
+// When the haptic loop steps: as fast as it can on simulated time, or on the wall clock in a thread of
+// its own or from a device's servo loop. The loop itself (haptic_loop.h) only knows how to take a step.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "hapticut/haptics/haptic_loop.h"
+
+namespace hapticut::haptics {
+
+using StepObserver = std::function<void(const StepOutput&)>;
+
+/// Steps `loop` `steps` times on simulated time, as fast as it can; `observer` sees every step. The
+/// devices are left at zero force afterwards.
+void runSimulated(HapticLoop& loop, long steps, const StepObserver& observer = {});
+
+/// Steps a loop at its rate on the wall clock until stop() or a step count.
+class RealTimeScheduler {
+public:
+    /// The loop must outlive the scheduler.
+    explicit RealTimeScheduler(HapticLoop& loop) : loop_(loop) {}
+    ~RealTimeScheduler() { stop(); }
+    RealTimeScheduler(const RealTimeScheduler&) = delete;
+    RealTimeScheduler& operator=(const RealTimeScheduler&) = delete;
+
+    /// Starts stepping, until stop() or `max_steps` (negative: no limit). A device with its own servo
+    /// loop (Device::servoClock) steps the loop from its servo thread at its own rate; otherwise a
+    /// thread of ours does, at the loop's rate. With two servo devices the first one's servo steps the
+    /// loop and the second's only exchanges its frame (OpenHaptics runs both in one scheduler).
+    /// `observer` runs on the stepping thread: it must not block or allocate. False (with `error`)
+    /// when a servo cannot start.
+    bool start(long max_steps, StepObserver observer, std::string& error);
+    bool start(long max_steps = -1, StepObserver observer = {});
+    /// Stops stepping and leaves the devices at zero force.
+    void stop();
+    bool running() const { return running_.load(std::memory_order_acquire); }
+
+private:
+    using Clock = std::chrono::steady_clock;
+    bool startServos(std::vector<ServoClock*> servos, long max_steps, StepObserver observer, std::string& error);
+    void threadMain(long max_steps, StepObserver observer);
+
+    HapticLoop& loop_;
+    std::atomic<bool> running_{false}, stopRequested_{false};
+    std::thread thread_;
+    std::vector<ServoClock*> servos_;  // set while devices' servos run: the first drives the loop
+    // The servo-driven loop's own bookkeeping (what threadMain keeps on its stack).
+    long servoSteps_ = 0, servoMaxSteps_ = -1;
+    Clock::time_point servoBegin_{}, servoLast_{};
+    StepObserver servoObserver_;
+};
+
+}  // namespace hapticut::haptics

@@ -1,0 +1,41 @@
+// What the haptic loop hands the renderer and the panel: the deformed organ, each hand's tool, the loop's health.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "hapticut/mesh/surface_mesh.h"
+#include "hapticut/physics/point_spring.h"
+
+namespace hapticut::haptics {
+
+inline constexpr int kMaxHands = physics::kMaxTools;
+
+/// What one hand did in one step.
+struct HandStep {
+    Vec3 device_m = Vec3::Zero(), proxy_m = Vec3::Zero(), force_N = Vec3::Zero();
+    bool contact = false;
+    std::uint32_t face = 0;
+    std::uint32_t buttons = 0;
+};
+
+/// What the renderer reads: the deformed positions, the faces when a cut changed them, and the tool state.
+struct Snapshot {
+    std::vector<Vec3> positions;
+    std::vector<mesh::Face> faces;  // brought up to date only when topologyVersion changes
+    std::vector<mesh::FaceUvs> uvs;
+    long topologyVersion = -1;
+    std::array<HandStep, kMaxHands> hands{};
+    int handCount = 1;
+    long step = 0;
+    // The loop's health, for the viewer's panel: reading LoopStats from another thread would race.
+    double stepTime_us = 0;     // of the step that published this
+    double maxStepTime_us = 0;  // the slowest step since the previous snapshot
+    double stableStep_s = 0;    // the integrator's stable step on the current model
+    int substeps = 1;
+    long overruns = 0, cutEvents = 0, contactSteps = 0;
+    bool watchdogTripped = false, paused = false;
+};
+
+}  // namespace hapticut::haptics

@@ -1,0 +1,39 @@
+// Publishing snapshots from the loop to the renderer through a triple buffer, bringing each slot's
+// faces up to date from a log of what the cuts changed instead of copying the whole mesh.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "hapticut/common/triple_buffer.h"
+#include "hapticut/haptics/snapshot.h"
+
+namespace hapticut::haptics {
+
+class SnapshotPublisher {
+public:
+    /// Sizes every slot for the organ, with room to grow as cuts add to it, at topology version `version`.
+    void prepare(std::span<const Vec3> positions, std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs, long version,
+                 int handCount);
+    /// The faces that topology version `version` rewrote or added; kept until every slot has them.
+    void facesChanged(long version, std::span<const std::uint32_t> faces);
+    /// The slot to write, its positions copied and its faces and UVs caught up to `version`; the caller
+    /// fills in the rest and calls publish(). Allocation-free while the organ stays within its room to grow.
+    Snapshot& fill(std::span<const Vec3> positions, std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs, long version);
+    void publish() { buffer_.publish(); }
+
+    TripleBuffer<Snapshot>& buffer() { return buffer_; }
+
+private:
+    struct FaceChange {
+        long version;
+        std::uint32_t face;
+    };
+    TripleBuffer<Snapshot> buffer_;
+    std::vector<FaceChange> faceLog_;
+    std::array<long, 3> slotVersion_{};  // the topology version each slot was last brought to
+};
+
+}  // namespace hapticut::haptics
