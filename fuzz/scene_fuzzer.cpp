@@ -1,4 +1,4 @@
-// libFuzzer target: the scene parser returns a scene or a LoadError for any bytes, never crashes.
+// libFuzzer target: the scene parser returns a scene or an Error for any bytes, never crashes.
 #include <cstddef>
 #include <cstdint>
 #include <string_view>

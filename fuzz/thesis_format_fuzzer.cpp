@@ -1,5 +1,5 @@
 // libFuzzer target: the thesis model and tool parsers and the OBJ and PLY readers must return a
-// value or a LoadError for any bytes, never crash, hang or exhaust memory.
+// value or an Error for any bytes, never crash, hang or exhaust memory.
 #include <cstddef>
 #include <cstdint>
 #include <string_view>

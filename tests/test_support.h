@@ -41,7 +41,7 @@ private:
 
 /// Expects a failed parse at `line` (1-based; 0 for none) whose message contains `fragment`.
 template <class ParseResult>
-void expectLoadError(const ParseResult& result, int line, const std::string& fragment) {
+void expectError(const ParseResult& result, int line, const std::string& fragment) {
     ASSERT_FALSE(result.has_value()) << "accepted malformed input; expected: " << fragment;
     EXPECT_EQ(result.error().line, line) << result.error().toString();
     EXPECT_NE(result.error().message.find(fragment), std::string::npos) << result.error().toString();

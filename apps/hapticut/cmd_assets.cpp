@@ -28,17 +28,17 @@ int assets(const std::filesystem::path& out) {
     bvh.build({heart.positions, heart.faces});
     const struct {
         fs::path file;
-        mesh::io::WriteStatus status;
+        WriteStatus status;
     } written[] = {
         {out / "models/heart.txt", mesh::io::writeModelFile(out / "models/heart.txt", heart, physics::thesisPhysicsFor(heart, physics::Material{}))},
         {out / "tools/scalpel.txt", mesh::io::writeToolFile(out / "tools/scalpel.txt", mesh::procedural::makeScalpel(), mesh::procedural::kScalpelThreshold_N)},
         {out / "tools/probe.txt", mesh::io::writeToolFile(out / "tools/probe.txt", mesh::procedural::makeProbe(), mesh::procedural::kProbeThreshold_N)},
         {out / "trajectories/press-front.csv",
-         mesh::io::writeTextFileAtomically(out / "trajectories/press-front.csv", haptics::formatTrajectory(pressTrajectory(heart, bvh)))},
+         writeTextFileAtomically(out / "trajectories/press-front.csv", haptics::formatTrajectory(pressTrajectory(heart, bvh)))},
         {out / "trajectories/stroke-front.csv",
-         mesh::io::writeTextFileAtomically(out / "trajectories/stroke-front.csv", haptics::formatTrajectory(strokeTrajectory(heart, bvh, 0.004)))},
+         writeTextFileAtomically(out / "trajectories/stroke-front.csv", haptics::formatTrajectory(strokeTrajectory(heart, bvh, 0.004)))},
         {out / "trajectories/cut-front.csv",
-         mesh::io::writeTextFileAtomically(out / "trajectories/cut-front.csv", haptics::formatTrajectory(strokeTrajectory(heart, bvh, 0.012)))},
+         writeTextFileAtomically(out / "trajectories/cut-front.csv", haptics::formatTrajectory(strokeTrajectory(heart, bvh, 0.012)))},
     };
     int status = 0;
     for (const auto& w : written) {

@@ -10,8 +10,8 @@
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/mesh/mesh_report.h"
-#include "hapticut/mesh/io/line_reader.h"
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/line_reader.h"
+#include "hapticut/common/text_file.h"
 #include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/scene/haptic_run.h"
 #include "hapticut/scene/headless_run.h"
@@ -67,7 +67,7 @@ bool applyScene(RunOptions& o) {
     if (take("--rate")) o.rate_hz = s.rate_hz;
     if (take("--coupling-stiffness")) o.couplingStiffness_N_per_m = s.couplingStiffness_N_per_m;
     if (take("--friction") && (s.staticFriction > 0 || s.dynamicFriction > 0))
-        o.friction = mesh::io::formatDouble(s.staticFriction) + "," + mesh::io::formatDouble(s.dynamicFriction);
+        o.friction = formatDouble(s.staticFriction) + "," + formatDouble(s.dynamicFriction);
     if (take("--trajectory") && s.deviceBackend == "replay") o.trajectory = s.trajectory;
     if (take("--dt") && !o.given.count("--rate")) o.dt_s = 1 / s.rate_hz;
     o.sceneFile = s;
@@ -77,7 +77,7 @@ bool applyScene(RunOptions& o) {
 /// Writes `text` to `file` if a file was asked for and says so; false on failure (already reported).
 bool writeOutput(const std::string& file, const std::string& text, const char* what) {
     if (file.empty()) return true;
-    if (const auto error = mesh::io::writeTextFileAtomically(file, text)) {
+    if (const auto error = writeTextFileAtomically(file, text)) {
         std::cerr << error->toString() << "\n";
         return false;
     }
@@ -230,8 +230,8 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     if (!o.friction.empty()) {
         const auto comma = o.friction.find(',');
         double mus = 0, mud = 0;
-        if (comma == std::string::npos || !mesh::io::parseFiniteDouble(o.friction.substr(0, comma), mus) ||
-            !mesh::io::parseFiniteDouble(o.friction.substr(comma + 1), mud) || mus < 0 || mud < 0 || mud > mus) {
+        if (comma == std::string::npos || !parseFiniteDouble(o.friction.substr(0, comma), mus) ||
+            !parseFiniteDouble(o.friction.substr(comma + 1), mud) || mus < 0 || mud < 0 || mud > mus) {
             std::cerr << "hapticut run: --friction takes 'STATIC,DYNAMIC' with 0 <= DYNAMIC <= STATIC, found '" << o.friction << "'\n";
             return 2;
         }

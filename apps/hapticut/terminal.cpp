@@ -8,8 +8,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "hapticut/mesh/io/line_reader.h"
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/line_reader.h"
+#include "hapticut/common/text_file.h"
 
 namespace hapticut::app {
 
@@ -32,7 +32,7 @@ std::optional<Vec3> parseVec3(const std::string& text) {
         const std::size_t comma = text.find(',', start);
         if ((k < 2) == (comma == std::string::npos)) return std::nullopt;
         const std::string part = text.substr(start, k < 2 ? comma - start : std::string::npos);
-        if (!mesh::io::parseFiniteDouble(part, v[k])) return std::nullopt;
+        if (!parseFiniteDouble(part, v[k])) return std::nullopt;
         start = comma + 1;
     }
     return v;
@@ -58,7 +58,7 @@ nlohmann::ordered_json toJson(const Summary& s) {
 nlohmann::ordered_json toJson(const Vec3& v) { return nlohmann::ordered_json::array({v.x(), v.y(), v.z()}); }
 
 bool writeJson(const std::filesystem::path& file, const nlohmann::ordered_json& json) {
-    if (const auto error = mesh::io::writeTextFileAtomically(file, json.dump(2) + "\n")) {
+    if (const auto error = writeTextFileAtomically(file, json.dump(2) + "\n")) {
         std::cerr << error->toString() << "\n";
         return false;
     }

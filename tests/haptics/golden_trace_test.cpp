@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "hapticut/mesh/io/line_reader.h"
+#include "hapticut/common/line_reader.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/material.h"
 #include "hapticut/scene/haptic_run.h"
@@ -60,7 +60,7 @@ void expectMatchesGolden(const std::string& trajectory_name) {
         for (int k = 0; k < 5; ++k) {
             std::getline(se, fe, ',');
             std::getline(sa, fa, ',');
-            ASSERT_TRUE(mesh::io::parseFiniteDouble(fe, ve[k]) && mesh::io::parseFiniteDouble(fa, va[k])) << "line " << line;
+            ASSERT_TRUE(parseFiniteDouble(fe, ve[k]) && parseFiniteDouble(fa, va[k])) << "line " << line;
         }
         EXPECT_EQ(va[0], ve[0]) << "line " << line;
         EXPECT_EQ(va[4], ve[4]) << "contact differs at t = " << ve[0];

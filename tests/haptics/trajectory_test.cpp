@@ -50,7 +50,7 @@ TEST(ReplayDevice, InterpolatesLinearlyAndHoldsTheEnds) {
 
 TEST(Trajectory, ErrorsNameTheLineAndWhatWasExpected) {
     auto expectError = [](const std::string& text, int line, const std::string& fragment) {
-        test::expectLoadError(parseTrajectory(text, "path.csv"), line, fragment);
+        test::expectError(parseTrajectory(text, "path.csv"), line, fragment);
     };
     expectError("", 0, "file is empty");
     expectError("time,x,y,z,button\n", 1, "header column 1 should be 't'");

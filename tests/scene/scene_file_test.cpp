@@ -39,7 +39,7 @@ TEST(SceneFile, RelativePathsResolveAgainstTheScenesFolder) {
 
 TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     auto expectError = [](const std::string& text, int line, const std::string& fragment) {
-        test::expectLoadError(parseScene(text, "s.toml", "."), line, fragment);
+        test::expectError(parseScene(text, "s.toml", "."), line, fragment);
     };
     expectError("[modle]\n", 1, "modle: unknown key; allowed here: device, material, model, rendering, simulation, tools");
     expectError("[model]\ntriangle = 5\n", 2, "model.triangle: unknown key; allowed here: rotate_deg, scale, source, translate_m, triangles");

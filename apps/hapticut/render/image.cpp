@@ -6,7 +6,7 @@
 
 #include <algorithm>
 
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/text_file.h"
 
 namespace hapticut::render {
 
@@ -18,7 +18,7 @@ std::optional<std::string> savePng(const std::filesystem::path& file, const Imag
     };
     if (!stbi_write_png_to_func(append, &bytes, image.width, image.height, 4, image.rgba.data(), image.width * 4))
         return file.string() + ": could not encode the PNG";
-    if (const auto error = mesh::io::writeTextFileAtomically(file, bytes)) return error->toString();
+    if (const auto error = writeTextFileAtomically(file, bytes)) return error->toString();
     return std::nullopt;
 }
 

@@ -5,7 +5,7 @@
 #include <imgui_stdlib.h>
 
 #include "hapticut/haptics/openhaptics_device.h"
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/text_file.h"
 
 namespace hapticut::viewer {
 
@@ -190,7 +190,7 @@ void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snap
         state.message = "recording the device path";
     } else if (state.recording && ImGui::Button("stop")) {
         state.recording = false;
-        const auto error = mesh::io::writeTextFileAtomically(state.recordPath, haptics::formatRecording(state.recorded));
+        const auto error = writeTextFileAtomically(state.recordPath, haptics::formatRecording(state.recorded));
         state.message = error ? error->toString() : "wrote " + std::to_string(state.recorded.size()) + " samples to " + state.recordPath;
     }
     ImGui::InputText("##replay", &state.replayPath);

@@ -18,7 +18,7 @@
 #include "device_setup.h"
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/haptics/openhaptics_device.h"
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/text_file.h"
 #include "render/gl_context.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
@@ -338,7 +338,7 @@ int Viewer::run() {
         j["overruns"] = last.overruns;
         j["cut_events"] = last.cutEvents;
         j["renderer"] = window_->rendererDescription();
-        if (const auto error = mesh::io::writeTextFileAtomically(options_.report, j.dump(2) + "\n")) {
+        if (const auto error = writeTextFileAtomically(options_.report, j.dump(2) + "\n")) {
             std::cerr << error->toString() << "\n";
             return 1;
         }

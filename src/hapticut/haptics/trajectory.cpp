@@ -2,12 +2,11 @@
 #include "hapticut/haptics/trajectory.h"
 
 #include "hapticut/haptics/haptic_loop.h"
-#include "hapticut/mesh/io/line_reader.h"
+#include "hapticut/common/line_reader.h"
 
 namespace hapticut::haptics {
 
 namespace {
-using mesh::io::ParseFailure;
 
 std::vector<std::string_view> splitCsv(std::string_view line) {
     std::vector<std::string_view> fields;
@@ -24,9 +23,9 @@ std::vector<std::string_view> splitCsv(std::string_view line) {
 }
 }  // namespace
 
-Result<Trajectory, mesh::io::LoadError> parseTrajectory(std::string_view text, const std::filesystem::path& file) {
+Result<Trajectory, Error> parseTrajectory(std::string_view text, const std::filesystem::path& file) {
     try {
-        mesh::io::LineReader r(text);
+        LineReader r(text);
         if (!r.next()) throw ParseFailure{0, "file is empty, expected the header 't,x,y,z,button'"};
         // t,x,y,z,button, optionally qw,qx,qy,qz, optionally fx,fy,fz (a recording: forces are ignored).
         const auto header = splitCsv(r.rawLine());
@@ -49,10 +48,10 @@ Result<Trajectory, mesh::io::LoadError> parseTrajectory(std::string_view text, c
                 r.fail("expected " + std::to_string(header.size()) + " comma-separated values, found " + std::to_string(fields.size()));
             double v[12];
             for (std::size_t i = 0; i < fields.size(); ++i)
-                if (!mesh::io::parseFiniteDouble(fields[i], v[i]))
+                if (!parseFiniteDouble(fields[i], v[i]))
                     r.fail("expected a finite number for " + std::string(i < columns ? kNames[i] : kForces[i - columns]) + ", found '" + std::string(fields[i]) + "'");
             if (v[4] != 0 && v[4] != 1) r.fail("button must be 0 or 1, found '" + std::string(fields[4]) + "'");
-            if (!out.points.empty() && v[0] <= out.points.back().t_s) r.fail("time must increase: " + std::string(fields[0]) + " s follows " + mesh::io::formatDouble(out.points.back().t_s) + " s");
+            if (!out.points.empty() && v[0] <= out.points.back().t_s) r.fail("time must increase: " + std::string(fields[0]) + " s follows " + formatDouble(out.points.back().t_s) + " s");
             TrajectoryPoint p;
             p.t_s = v[0];
             p.sample.position_m = Vec3(v[1], v[2], v[3]);
@@ -67,19 +66,17 @@ Result<Trajectory, mesh::io::LoadError> parseTrajectory(std::string_view text, c
         if (out.points.size() < 2) throw ParseFailure{r.line(), "a trajectory needs at least two samples"};
         return out;
     } catch (const ParseFailure& failure) {
-        return unexpected(mesh::io::LoadError{file, failure.line, failure.message});
+        return unexpected(Error{file, failure.line, failure.message});
     }
 }
 
-Result<Trajectory, mesh::io::LoadError> readTrajectory(const std::filesystem::path& file) {
-    mesh::io::LoadError error;
-    const auto text = mesh::io::readTextFile(file, error, std::size_t{1} << 30);
-    if (!text) return unexpected(error);
+Result<Trajectory, Error> readTrajectory(const std::filesystem::path& file) {
+    const auto text = readTextFile(file, std::size_t{1} << 30);
+    if (!text) return unexpected(text.error());
     return parseTrajectory(*text, file);
 }
 
 std::string formatRecording(std::span<const StepOutput> log) {
-    using mesh::io::formatDouble;
     std::string out = "t,x,y,z,button,fx,fy,fz\n";
     for (const StepOutput& s : log) {
         out += formatDouble(s.t_s);
@@ -92,7 +89,6 @@ std::string formatRecording(std::span<const StepOutput> log) {
 }
 
 std::string formatTrajectory(const Trajectory& trajectory) {
-    using mesh::io::formatDouble;
     std::string out = "t,x,y,z,button,qw,qx,qy,qz\n";
     for (const TrajectoryPoint& p : trajectory.points) {
         const Vec3& x = p.sample.position_m;

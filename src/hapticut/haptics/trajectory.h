@@ -10,7 +10,7 @@
 
 #include "hapticut/common/result.h"
 #include "hapticut/haptics/device.h"
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/text_file.h"
 
 namespace hapticut::haptics {
 
@@ -24,8 +24,8 @@ struct Trajectory {
     double duration_s() const { return points.empty() ? 0 : points.back().t_s - points.front().t_s; }
 };
 
-Result<Trajectory, mesh::io::LoadError> parseTrajectory(std::string_view text, const std::filesystem::path& file_for_errors);
-Result<Trajectory, mesh::io::LoadError> readTrajectory(const std::filesystem::path& file);
+Result<Trajectory, Error> parseTrajectory(std::string_view text, const std::filesystem::path& file_for_errors);
+Result<Trajectory, Error> readTrajectory(const std::filesystem::path& file);
 std::string formatTrajectory(const Trajectory& trajectory);
 
 struct StepOutput;

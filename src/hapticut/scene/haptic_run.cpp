@@ -10,7 +10,7 @@
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
-#include "hapticut/mesh/io/line_reader.h"
+#include "hapticut/common/line_reader.h"
 
 namespace hapticut::scene {
 
@@ -93,7 +93,6 @@ HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Han
 }
 
 std::string formatForceLog(const std::vector<haptics::StepOutput>& log) {
-    using mesh::io::formatDouble;
     const bool two = !log.empty() && log.front().handCount > 1;
     std::string out = "t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut";
     out += two ? ",device_x2,device_y2,device_z2,proxy_x2,proxy_y2,proxy_z2,fx2,fy2,fz2,contact2,face2\n" : "\n";

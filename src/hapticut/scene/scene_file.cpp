@@ -105,12 +105,12 @@ SceneFile defaultScene() {
     return s;
 }
 
-Result<SceneFile, mesh::io::LoadError> parseScene(std::string_view source, const std::filesystem::path& file, const std::filesystem::path& directory) {
+Result<SceneFile, Error> parseScene(std::string_view source, const std::filesystem::path& file, const std::filesystem::path& directory) {
     toml::table root;
     try {
         root = toml::parse(source, file.string());
     } catch (const toml::parse_error& e) {
-        return unexpected(mesh::io::LoadError{file, static_cast<int>(e.source().begin.line), std::string(e.description())});
+        return unexpected(Error{file, static_cast<int>(e.source().begin.line), std::string(e.description())});
     }
     try {
         SceneFile s = defaultScene();
@@ -182,14 +182,13 @@ Result<SceneFile, mesh::io::LoadError> parseScene(std::string_view source, const
         }
         return s;
     } catch (const SceneError& e) {
-        return unexpected(mesh::io::LoadError{file, e.line, e.message});
+        return unexpected(Error{file, e.line, e.message});
     }
 }
 
-Result<SceneFile, mesh::io::LoadError> readScene(const std::filesystem::path& file) {
-    mesh::io::LoadError error;
-    const auto contents = mesh::io::readTextFile(file, error, std::size_t{16} << 20);
-    if (!contents) return unexpected(error);
+Result<SceneFile, Error> readScene(const std::filesystem::path& file) {
+    const auto contents = readTextFile(file, std::size_t{16} << 20);
+    if (!contents) return unexpected(contents.error());
     return parseScene(*contents, file, file.parent_path());
 }
 

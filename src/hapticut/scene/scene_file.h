@@ -8,7 +8,7 @@
 
 #include "hapticut/common/result.h"
 #include "hapticut/haptics/device.h"
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/text_file.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/material.h"
 
@@ -52,9 +52,9 @@ SceneFile defaultScene();
 
 /// Parses a scene; relative paths are resolved against `directory`. Errors name the file, the line,
 /// the key's path and what is allowed.
-Result<SceneFile, mesh::io::LoadError> parseScene(std::string_view text, const std::filesystem::path& file_for_errors,
+Result<SceneFile, Error> parseScene(std::string_view text, const std::filesystem::path& file_for_errors,
                                                   const std::filesystem::path& directory);
-Result<SceneFile, mesh::io::LoadError> readScene(const std::filesystem::path& file);
+Result<SceneFile, Error> readScene(const std::filesystem::path& file);
 
 /// Moves, turns and scales positions by the scene's placement (scale, then rotation, then translation).
 void applyPlacement(const SceneFile& scene, std::span<Vec3> positions);

@@ -43,7 +43,7 @@ TEST(ObjFormat, ReadsPolygonsNegativeIndicesAndIgnoresOtherStatements) {
 
 TEST(ObjFormat, ErrorsNameTheLine) {
     auto expectError = [](const std::string& text, int line, const std::string& fragment) {
-        test::expectLoadError(parseObj(text, "bad.obj"), line, fragment);
+        test::expectError(parseObj(text, "bad.obj"), line, fragment);
     };
     expectError("v 0 0 0\nv 1 0 0\nf 1 2 3\n", 3, "vertex index 3 is out of range: 2 defined so far");
     expectError("v 0 0 nan\n", 1, "expected a finite number for z");

@@ -38,7 +38,7 @@ std::string firstLines(const std::string& text, int lines) {
 
 void expectError(const std::string& text, int line, const std::string& fragment) {
     const auto r = parseModel(text, "organ.txt");
-    test::expectLoadError(r, line, fragment);
+    test::expectError(r, line, fragment);
     if (!r.has_value()) {
         EXPECT_EQ(r.error().file, "organ.txt");
     }

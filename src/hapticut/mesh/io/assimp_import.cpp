@@ -16,15 +16,15 @@ bool assimpCanImport(const std::filesystem::path& file) {
     return importer.IsExtensionSupported(ext);
 }
 
-Result<ImportedMesh, LoadError> importWithAssimp(const std::filesystem::path& file) {
+Result<ImportedMesh, Error> importWithAssimp(const std::filesystem::path& file) {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) return unexpected(LoadError{file, 0, "cannot open: no such file"});
+    if (!std::filesystem::is_regular_file(file, ec)) return unexpected(Error{file, 0, "cannot open: no such file"});
     try {
         Assimp::Importer importer;
         // No vertex joining here: welding is ours, with a tolerance the user controls.
         const aiScene* scene = importer.ReadFile(file.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
         if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
-            return unexpected(LoadError{file, 0, std::string("cannot import: ") + (importer.GetErrorString()[0] ? importer.GetErrorString() : "unknown error")});
+            return unexpected(Error{file, 0, std::string("cannot import: ") + (importer.GetErrorString()[0] ? importer.GetErrorString() : "unknown error")});
         ImportedMesh out;
         SurfaceMesh& m = out.mesh;
         std::size_t skippedPrimitives = 0, nonFinite = 0;
@@ -50,13 +50,13 @@ Result<ImportedMesh, LoadError> importWithAssimp(const std::filesystem::path& fi
                 m.uvs.push_back(corners);
             }
         }
-        if (nonFinite > 0) return unexpected(LoadError{file, 0, std::to_string(nonFinite) + " vertex coordinate(s) are NaN or infinite"});
-        if (m.faces.empty()) return unexpected(LoadError{file, 0, "no triangles found (" + std::to_string(scene->mNumMeshes) + " mesh(es) in the file)"});
+        if (nonFinite > 0) return unexpected(Error{file, 0, std::to_string(nonFinite) + " vertex coordinate(s) are NaN or infinite"});
+        if (m.faces.empty()) return unexpected(Error{file, 0, "no triangles found (" + std::to_string(scene->mNumMeshes) + " mesh(es) in the file)"});
         if (skippedPrimitives > 0) out.warnings.push_back({file, 0, "skipped " + std::to_string(skippedPrimitives) + " point or line primitive(s)"});
         completeMesh(m);
         return out;
     } catch (const std::exception& e) {
-        return unexpected(LoadError{file, 0, std::string("cannot import: ") + e.what()});
+        return unexpected(Error{file, 0, std::string("cannot import: ") + e.what()});
     }
 }
 

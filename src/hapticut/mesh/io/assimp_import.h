@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "hapticut/common/result.h"
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/text_file.h"
 #include "hapticut/mesh/io/obj_format.h"
 
 namespace hapticut::mesh::io {
@@ -15,6 +15,6 @@ bool assimpCanImport(const std::filesystem::path& file);
 
 /// Imports every triangle of the file. Assimp gives each mesh its own vertices (STL even one per
 /// corner), so the result is not welded yet: see repair.h.
-Result<ImportedMesh, LoadError> importWithAssimp(const std::filesystem::path& file);
+Result<ImportedMesh, Error> importWithAssimp(const std::filesystem::path& file);
 
 }  // namespace hapticut::mesh::io

@@ -20,7 +20,7 @@ std::optional<MeshFormat> formatFromExtension(const std::filesystem::path& file)
     return std::nullopt;
 }
 
-Result<LoadedMesh, LoadError> loadMesh(const std::filesystem::path& file) {
+Result<LoadedMesh, Error> loadMesh(const std::filesystem::path& file) {
     const auto format = formatFromExtension(file);
     if (!format && assimpCanImport(file)) {
         auto imported = importWithAssimp(file);
@@ -33,11 +33,10 @@ Result<LoadedMesh, LoadError> loadMesh(const std::filesystem::path& file) {
         return out;
     }
     if (!format)
-        return unexpected(LoadError{file, 0, "unknown mesh format '" + file.extension().string() +
+        return unexpected(Error{file, 0, "unknown mesh format '" + file.extension().string() +
                                                  "': expected .txt (thesis format), .obj, .ply, or a format Assimp imports (.stl, .gltf, .glb, .3ds, .fbx, .dae, ...)"});
-    LoadError error;
-    const auto text = readTextFile(file, error);
-    if (!text) return unexpected(error);
+    const auto text = readTextFile(file);
+    if (!text) return unexpected(text.error());
 
     LoadedMesh out;
     if (*format == MeshFormat::Thesis) {
@@ -66,13 +65,13 @@ Result<LoadedMesh, LoadError> loadMesh(const std::filesystem::path& file) {
 
 WriteStatus saveMesh(const std::filesystem::path& file, const SurfaceMesh& mesh, const ThesisPhysics& physics) {
     const auto format = formatFromExtension(file);
-    if (!format) return LoadError{file, 0, "unknown mesh format '" + file.extension().string() + "': expected .txt, .obj or .ply"};
+    if (!format) return Error{file, 0, "unknown mesh format '" + file.extension().string() + "': expected .txt, .obj or .ply"};
     switch (*format) {
         case MeshFormat::Thesis: return writeModelFile(file, mesh, physics);
         case MeshFormat::Obj: return writeTextFileAtomically(file, formatObj(mesh));
         case MeshFormat::Ply: return writeTextFileAtomically(file, formatPly(mesh));
     }
-    return LoadError{file, 0, "unreachable"};
+    return Error{file, 0, "unreachable"};
 }
 
 }  // namespace hapticut::mesh::io

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "hapticut/common/result.h"
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/text_file.h"
 #include "hapticut/mesh/io/thesis_format.h"
 
 namespace hapticut::mesh::io {
@@ -17,14 +17,14 @@ struct LoadedMesh {
     SurfaceMesh mesh;
     std::optional<ThesisPhysics> physics;    // present for thesis model files
     std::optional<double> toolThreshold_N;   // present for thesis tool files
-    std::vector<LoadWarning> warnings;
+    std::vector<Warning> warnings;
 };
 
 /// The format an extension names (.txt, .obj, .ply, any case); empty when unknown.
 std::optional<MeshFormat> formatFromExtension(const std::filesystem::path& file);
 
 /// Loads a model or tool file; a thesis file starting with `threshold` is read as a tool.
-Result<LoadedMesh, LoadError> loadMesh(const std::filesystem::path& file);
+Result<LoadedMesh, Error> loadMesh(const std::filesystem::path& file);
 
 /// Saves in the format the extension names. Thesis model files need `physics`.
 [[nodiscard]] WriteStatus saveMesh(const std::filesystem::path& file, const SurfaceMesh& mesh, const ThesisPhysics& physics);

@@ -3,7 +3,7 @@
 #include "hapticut/mesh/io/obj_format.h"
 
 #include "hapticut/geometry/triangle.h"
-#include "hapticut/mesh/io/line_reader.h"
+#include "hapticut/common/line_reader.h"
 
 namespace hapticut::mesh::io {
 
@@ -21,7 +21,7 @@ std::size_t resolveIndex(const LineReader& r, std::string_view token, std::size_
 
 }  // namespace
 
-Result<ImportedMesh, LoadError> parseObj(std::string_view text, const std::filesystem::path& file) {
+Result<ImportedMesh, Error> parseObj(std::string_view text, const std::filesystem::path& file) {
     try {
         LineReader r(text);
         ImportedMesh out;
@@ -66,12 +66,12 @@ Result<ImportedMesh, LoadError> parseObj(std::string_view text, const std::files
             }
             // vn, g, o, s, usemtl, mtllib, l and the rest carry nothing the simulation uses.
         }
-        if (m.faces.empty()) return unexpected(LoadError{file, 0, "no faces found: expected 'f' lines with at least 3 vertex indices"});
+        if (m.faces.empty()) return unexpected(Error{file, 0, "no faces found: expected 'f' lines with at least 3 vertex indices"});
         if (degenerate > 0) out.warnings.push_back({file, 0, "dropped " + std::to_string(degenerate) + " degenerate face(s)"});
         completeMesh(m);
         return out;
     } catch (const ParseFailure& failure) {
-        return unexpected(LoadError{file, failure.line, failure.message});
+        return unexpected(Error{file, failure.line, failure.message});
     }
 }
 

@@ -6,17 +6,17 @@
 #include <string_view>
 
 #include "hapticut/common/result.h"
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/text_file.h"
 #include "hapticut/mesh/surface_mesh.h"
 
 namespace hapticut::mesh::io {
 
 struct ImportedMesh {
     SurfaceMesh mesh;  // edges from the faces, normals computed
-    std::vector<LoadWarning> warnings;
+    std::vector<Warning> warnings;
 };
 
-Result<ImportedMesh, LoadError> parseObj(std::string_view text, const std::filesystem::path& file_for_errors);
+Result<ImportedMesh, Error> parseObj(std::string_view text, const std::filesystem::path& file_for_errors);
 std::string formatObj(const SurfaceMesh& mesh);
 
 }  // namespace hapticut::mesh::io

@@ -7,7 +7,7 @@
 #include <cstring>
 
 #include "hapticut/geometry/triangle.h"
-#include "hapticut/mesh/io/line_reader.h"
+#include "hapticut/common/line_reader.h"
 
 namespace hapticut::mesh::io {
 
@@ -104,7 +104,7 @@ std::uint32_t asIndex(double v, std::size_t vertex_count, int line) {
 
 }  // namespace
 
-Result<ImportedMesh, LoadError> parsePly(std::string_view bytes, const std::filesystem::path& file) {
+Result<ImportedMesh, Error> parsePly(std::string_view bytes, const std::filesystem::path& file) {
     try {
         const std::size_t headerEnd = bytes.find("end_header");
         if (bytes.substr(0, 3) != "ply") throw ParseFailure{1, "expected 'ply' as the first line"};
@@ -211,12 +211,12 @@ Result<ImportedMesh, LoadError> parsePly(std::string_view bytes, const std::file
                 }
             }
         }
-        if (m.faces.empty()) return unexpected(LoadError{file, 0, "no faces found: expected a 'face' element with vertex_indices"});
+        if (m.faces.empty()) return unexpected(Error{file, 0, "no faces found: expected a 'face' element with vertex_indices"});
         if (degenerate > 0) out.warnings.push_back({file, 0, "dropped " + std::to_string(degenerate) + " degenerate face(s)"});
         completeMesh(m);
         return out;
     } catch (const ParseFailure& failure) {
-        return unexpected(LoadError{file, failure.line, failure.message});
+        return unexpected(Error{file, failure.line, failure.message});
     }
 }
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "hapticut/geometry/triangle.h"
-#include "hapticut/mesh/io/line_reader.h"
+#include "hapticut/common/line_reader.h"
 
 namespace hapticut::mesh::io {
 
@@ -53,7 +53,7 @@ std::uint32_t vertexIndex(const LineReader& r, std::size_t i, std::size_t vertex
     return static_cast<std::uint32_t>(v);
 }
 
-void readGeometry(LineReader& r, SurfaceMesh& mesh, std::vector<LoadWarning>& warnings, const std::filesystem::path& file) {
+void readGeometry(LineReader& r, SurfaceMesh& mesh, std::vector<Warning>& warnings, const std::filesystem::path& file) {
     const std::size_t nv = readCount(r, "vertices", 1, "");
     mesh.positions.resize(nv);
     for (std::size_t i = 0; i < nv; ++i) {
@@ -134,9 +134,9 @@ auto guarded(const std::filesystem::path& file, Parse&& parse) -> decltype(parse
     try {
         return parse();
     } catch (const ParseFailure& failure) {
-        return unexpected(LoadError{file, failure.line, failure.message});
+        return unexpected(Error{file, failure.line, failure.message});
     } catch (const std::bad_alloc&) {
-        return unexpected(LoadError{file, 0, "out of memory while reading"});
+        return unexpected(Error{file, 0, "out of memory while reading"});
     }
 }
 
@@ -164,8 +164,8 @@ SurfaceMesh completed(SurfaceMesh mesh) {
 
 }  // namespace
 
-Result<ModelFile, LoadError> parseModel(std::string_view text, const std::filesystem::path& file) {
-    return guarded(file, [&]() -> Result<ModelFile, LoadError> {
+Result<ModelFile, Error> parseModel(std::string_view text, const std::filesystem::path& file) {
+    return guarded(file, [&]() -> Result<ModelFile, Error> {
         requireText(text);
         LineReader r(text);
         ModelFile model;
@@ -189,8 +189,8 @@ Result<ModelFile, LoadError> parseModel(std::string_view text, const std::filesy
     });
 }
 
-Result<ToolFile, LoadError> parseTool(std::string_view text, const std::filesystem::path& file) {
-    return guarded(file, [&]() -> Result<ToolFile, LoadError> {
+Result<ToolFile, Error> parseTool(std::string_view text, const std::filesystem::path& file) {
+    return guarded(file, [&]() -> Result<ToolFile, Error> {
         requireText(text);
         LineReader r(text);
         ToolFile tool;
@@ -205,17 +205,15 @@ Result<ToolFile, LoadError> parseTool(std::string_view text, const std::filesyst
     });
 }
 
-Result<ModelFile, LoadError> readModelFile(const std::filesystem::path& file) {
-    LoadError error;
-    const auto text = readTextFile(file, error);
-    if (!text) return unexpected(error);
+Result<ModelFile, Error> readModelFile(const std::filesystem::path& file) {
+    const auto text = readTextFile(file);
+    if (!text) return unexpected(text.error());
     return parseModel(*text, file);
 }
 
-Result<ToolFile, LoadError> readToolFile(const std::filesystem::path& file) {
-    LoadError error;
-    const auto text = readTextFile(file, error);
-    if (!text) return unexpected(error);
+Result<ToolFile, Error> readToolFile(const std::filesystem::path& file) {
+    const auto text = readTextFile(file);
+    if (!text) return unexpected(text.error());
     return parseTool(*text, file);
 }
 

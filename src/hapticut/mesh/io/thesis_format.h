@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "hapticut/common/result.h"
-#include "hapticut/mesh/io/load_error.h"
+#include "hapticut/common/text_file.h"
 #include "hapticut/mesh/surface_mesh.h"
 
 namespace hapticut::mesh::io {
@@ -24,19 +24,19 @@ struct ThesisPhysics {
 struct ModelFile {
     SurfaceMesh mesh;
     ThesisPhysics physics;
-    std::vector<LoadWarning> warnings;
+    std::vector<Warning> warnings;
 };
 
 struct ToolFile {
     SurfaceMesh mesh;
     double threshold_N = 0;  // how hard the tool must press before it cuts
-    std::vector<LoadWarning> warnings;
+    std::vector<Warning> warnings;
 };
 
-Result<ModelFile, LoadError> parseModel(std::string_view text, const std::filesystem::path& file_for_errors);
-Result<ToolFile, LoadError> parseTool(std::string_view text, const std::filesystem::path& file_for_errors);
-Result<ModelFile, LoadError> readModelFile(const std::filesystem::path& file);
-Result<ToolFile, LoadError> readToolFile(const std::filesystem::path& file);
+Result<ModelFile, Error> parseModel(std::string_view text, const std::filesystem::path& file_for_errors);
+Result<ToolFile, Error> parseTool(std::string_view text, const std::filesystem::path& file_for_errors);
+Result<ModelFile, Error> readModelFile(const std::filesystem::path& file);
+Result<ToolFile, Error> readToolFile(const std::filesystem::path& file);
 
 /// Every double is written in its shortest exact form, so read(format(m)) == m bit for bit.
 std::string formatModel(const SurfaceMesh& mesh, const ThesisPhysics& physics);

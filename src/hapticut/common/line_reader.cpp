@@ -1,11 +1,11 @@
 // LineReader and locale-independent number parsing and formatting.
-#include "hapticut/mesh/io/line_reader.h"
+#include "hapticut/common/line_reader.h"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 
-namespace hapticut::mesh::io {
+namespace hapticut {
 
 namespace {
 constexpr std::size_t kMaxLineLength = 64 * 1024;
@@ -84,4 +84,4 @@ std::string formatDouble(double value) {
     return std::string(buf, ec == std::errc() ? ptr : buf);
 }
 
-}  // namespace hapticut::mesh::io
+}  // namespace hapticut

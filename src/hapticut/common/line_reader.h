@@ -7,9 +7,9 @@
 #include <string_view>
 #include <vector>
 
-namespace hapticut::mesh::io {
+namespace hapticut {
 
-/// Thrown inside parsers only; every public parser catches it and returns a LoadError.
+/// Thrown inside parsers only; every public parser catches it and returns an Error.
 struct ParseFailure {
     int line;
     std::string message;
@@ -50,4 +50,4 @@ bool parseUnsigned(std::string_view s, std::uint64_t& out);
 /// Shortest text that reads back to exactly the same double (round-trip exact, no locale).
 std::string formatDouble(double value);
 
-}  // namespace hapticut::mesh::io
+}  // namespace hapticut
