@@ -11,7 +11,7 @@
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/repair.h"
 #include "hapticut/physics/material.h"
-#include "model_source.h"
+#include "terminal.h"
 
 namespace hapticut::app {
 

@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "commands.h"
-#include "device_setup.h"
+#include "hapticut/scene/open_device.h"
 #include "hapticut/haptics/openhaptics_device.h"
 #include "terminal.h"
 
@@ -99,12 +99,11 @@ int selfTest(const DevicesOptions& o) {
         std::cerr << "hapticut devices: " << spec.error() << "\n";
         return 2;
     }
-    DeviceSetup setup;
+    scene::DeviceSetup setup;
     setup.hdLibrary = o.hdLibrary;
     setup.fitWorkspace = false;  // device units as the device reports them, scaled to metres
-    std::string error;
-    auto opened = openDevice(*spec, setup, error);
-    checks.push_back({"open", opened.has_value(), opened ? opened->description : error});
+    auto opened = scene::openDevice(*spec, setup);
+    checks.push_back({"open", opened.has_value(), opened ? opened->description : opened.error().toString()});
     if (!opened) return finish();
     haptics::Device& device = *opened->device;
     // Opening an OpenHaptics device checks its calibration and refuses one that needs the user.

@@ -6,7 +6,7 @@
 
 #include "commands.h"
 #include "hapticut/mesh/mesh_report.h"
-#include "model_source.h"
+#include "terminal.h"
 #include "terminal.h"
 
 namespace hapticut::app {

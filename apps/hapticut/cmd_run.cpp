@@ -7,19 +7,16 @@
 #include <iostream>
 
 #include "commands.h"
-#include "hapticut/mesh/io/mesh_file.h"
-#include "hapticut/mesh/io/thesis_format.h"
-#include "hapticut/mesh/mesh_report.h"
 #include "hapticut/common/line_reader.h"
+#include "hapticut/common/stop_signal.h"
 #include "hapticut/common/text_file.h"
-#include "hapticut/mesh/procedural/tools.h"
+#include "hapticut/haptics/replay_device.h"
+#include "hapticut/mesh/io/mesh_file.h"
+#include "hapticut/mesh/mesh_report.h"
 #include "hapticut/scene/haptic_run.h"
 #include "hapticut/scene/headless_run.h"
-#include "hapticut/scene/scene_file.h"
-#include "device_setup.h"
-#include "hapticut/haptics/replay_device.h"
-#include "model_source.h"
-#include "stop_signal.h"
+#include "hapticut/scene/open_device.h"
+#include "hapticut/scene/scene.h"
 #include "terminal.h"
 
 namespace hapticut::app {
@@ -48,30 +45,38 @@ struct RunOptions {
     std::string friction;  // "static,dynamic"
     std::string scene;
     std::set<std::string> given;  // options given on the command line: they override the scene
-    std::optional<scene::SceneFile> sceneFile;
 };
 
-/// Takes the scene's values for every option the command line did not give.
-bool applyScene(RunOptions& o) {
-    if (o.scene.empty()) return true;
-    auto sceneFile = scene::readScene(o.scene);
-    if (!sceneFile) {
-        std::cerr << sceneFile.error().toString() << "\n";
-        return false;
+/// The scene file (or the built-in default) with every option the command line gave set over it.
+/// Nothing (with the reason printed) when an option's value is malformed: exit 2.
+std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
+    scene::SceneRequest request;
+    request.file = o.scene;
+    scene::SceneOverrides& over = request.overrides;
+    auto given = [&](const char* option) { return o.given.count(option) > 0; };
+    if (given("--model")) over.model = o.model;
+    if (given("--triangles")) over.triangles = o.triangles;
+    if (given("--integrator")) {
+        over.scheme = physics::parseScheme(o.integrator);
+        if (!over.scheme) {
+            std::cerr << "hapticut run: unknown integrator '" << o.integrator << "': expected euler, midpoint, rk4 or symplectic\n";
+            return std::nullopt;
+        }
     }
-    const scene::SceneFile& s = *sceneFile;
-    auto take = [&](const char* option) { return !o.given.count(option); };
-    if (take("--model")) o.model = s.model;
-    if (take("--triangles")) o.triangles = s.triangles;
-    if (take("--integrator")) o.integrator = std::string(physics::schemeName(s.scheme));
-    if (take("--rate")) o.rate_hz = s.rate_hz;
-    if (take("--coupling-stiffness")) o.couplingStiffness_N_per_m = s.couplingStiffness_N_per_m;
-    if (take("--friction") && (s.staticFriction > 0 || s.dynamicFriction > 0))
-        o.friction = formatDouble(s.staticFriction) + "," + formatDouble(s.dynamicFriction);
-    if (take("--trajectory") && s.deviceBackend == "replay") o.trajectory = s.trajectory;
-    if (take("--dt") && !o.given.count("--rate")) o.dt_s = 1 / s.rate_hz;
-    o.sceneFile = s;
-    return true;
+    if (given("--rate")) over.rate_hz = o.rate_hz;
+    if (given("--coupling-stiffness")) over.couplingStiffness_N_per_m = o.couplingStiffness_N_per_m;
+    if (given("--friction")) {
+        const auto comma = o.friction.find(',');
+        double mus = 0, mud = 0;
+        if (comma == std::string::npos || !parseFiniteDouble(o.friction.substr(0, comma), mus) ||
+            !parseFiniteDouble(o.friction.substr(comma + 1), mud) || mus < 0 || mud < 0 || mud > mus) {
+            std::cerr << "hapticut run: --friction takes 'STATIC,DYNAMIC' with 0 <= DYNAMIC <= STATIC, found '" << o.friction << "'\n";
+            return std::nullopt;
+        }
+        over.friction = std::array<double, 2>{mus, mud};
+    }
+    if (given("--trajectory")) over.trajectory = o.trajectory;
+    return request;
 }
 
 /// Writes `text` to `file` if a file was asked for and says so; false on failure (already reported).
@@ -86,7 +91,7 @@ bool writeOutput(const std::string& file, const std::string& text, const char* w
 }
 
 /// The fields every run report starts with: what was simulated, with which integrator.
-nlohmann::ordered_json reportHeader(const ModelSource& source, const physics::MassSpringModel& model, physics::Scheme scheme) {
+nlohmann::ordered_json reportHeader(const scene::ModelSource& source, const physics::MassSpringModel& model, physics::Scheme scheme) {
     nlohmann::ordered_json j;
     j["model"] = source.name;
     j["vertices"] = source.mesh.positions.size();
@@ -97,7 +102,7 @@ nlohmann::ordered_json reportHeader(const ModelSource& source, const physics::Ma
 }
 
 /// Writes the deformed mesh (rest mesh `rest` at the model's positions), if asked; false on failure (already reported).
-bool exportDeformed(const std::string& file, const mesh::SurfaceMesh& rest, const ModelSource& source, const physics::MassSpringModel& model) {
+bool exportDeformed(const std::string& file, const mesh::SurfaceMesh& rest, const scene::ModelSource& source, const physics::MassSpringModel& model) {
     if (file.empty()) return true;
     mesh::SurfaceMesh deformed = rest;
     deformed.positions = model.nodes.position;
@@ -110,46 +115,25 @@ bool exportDeformed(const std::string& file, const mesh::SurfaceMesh& rest, cons
     return true;
 }
 
-/// The scene's placement, applied to the rest shape.
-void placeBySceneFile(const RunOptions& o, ModelSource& source) {
-    if (!o.sceneFile) return;
-    scene::applyPlacement(*o.sceneFile, source.mesh.positions);
-    mesh::computeFaceNormals(source.mesh);
+/// The cut threshold of --tool or --second-tool; nothing (with the reason printed, and `status` set to
+/// the exit code) for an unknown name (2) or a tool file that does not load (1).
+std::optional<double> toolThreshold(const scene::SceneFile& settings, const std::string& name, int& status) {
+    auto threshold = scene::toolThreshold(settings, name);
+    if (threshold) return *threshold;
+    const bool unknownName = threshold.error().file.empty();
+    std::cerr << (unknownName ? "hapticut run: " : "") << threshold.error().toString() << "\n";
+    status = unknownName ? 2 : 1;
+    return std::nullopt;
 }
 
-/// The model with the scene's material when the scene gives one, else the source's own constants.
-physics::MassSpringModel buildModelFor(const RunOptions& o, const ModelSource& source) {
-    if (o.sceneFile && o.sceneFile->materialGiven) return physics::buildModel(source.mesh, o.sceneFile->material);
-    return buildSimulationModel(source);
-}
-
-/// The cut threshold of --tool: the procedural probe's or scalpel's, a scene tool's of that name, or a
-/// thesis tool file's. Nothing (with the reason printed, and `status` set to the exit code) for an
-/// unknown name (2) or a bad file (1).
-std::optional<double> toolThreshold(const RunOptions& o, const std::string& name, int& status) {
-    if (o.sceneFile)
-        for (const scene::SceneTool& t : o.sceneFile->tools)
-            if (t.name == name) return t.threshold_N;
-    if (name == "probe") return mesh::procedural::kProbeThreshold_N;
-    if (name == "scalpel") return mesh::procedural::kScalpelThreshold_N;
-    if (name.find('.') == std::string::npos) {
-        std::cerr << "hapticut run: unknown tool '" << name << "': expected probe, scalpel or a tool file (thesis format)\n";
-        status = 2;
-        return std::nullopt;
-    }
-    const auto tool = mesh::io::readToolFile(name);
-    if (!tool) {
-        std::cerr << tool.error().toString() << "\n";
-        status = 1;
-        return std::nullopt;
-    }
-    return tool->threshold_N;
-}
-
-int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
-    // The hands: --trajectory is the first hand's replay; each --device adds one.
+int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, scene::SceneFile settings) {
+    // The hands: the trajectory (--trajectory, or the scene's replay device) is the first hand's replay;
+    // each --device adds one.
+    const std::string trajectory = settings.deviceBackend == "replay" ? settings.trajectory : "";
+    const physics::Scheme scheme = settings.scheme;
+    const double rate_hz = settings.rate_hz;
     std::vector<haptics::DeviceSpec> specs;
-    if (!o.trajectory.empty()) specs.push_back({haptics::DeviceKind::Replay, o.trajectory});
+    if (!trajectory.empty()) specs.push_back({haptics::DeviceKind::Replay, trajectory});
     for (const std::string& text : o.devices) {
         auto spec = haptics::parseDeviceSpec(text);
         if (!spec) {
@@ -168,39 +152,32 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
         return 2;
     }
     int toolStatus = 0;
-    const auto threshold_N = toolThreshold(o, o.tool, toolStatus);
+    const auto threshold_N = toolThreshold(settings, o.tool, toolStatus);
     if (!threshold_N) return toolStatus;
-    const auto secondThreshold_N = toolThreshold(o, o.secondTool, toolStatus);
+    const auto secondThreshold_N = toolThreshold(settings, o.secondTool, toolStatus);
     if (!secondThreshold_N) return toolStatus;
     if (o.sdlControl != "position" && o.sdlControl != "rate") {
         std::cerr << "hapticut run: --sdl-control takes position or rate, found '" << o.sdlControl << "'\n";
         return 2;
     }
-    auto source = loadModelSource(o.model, o.triangles);
-    if (!source) return 1;
-    placeBySceneFile(o, *source);
-    cutting::CutModel organ(source->mesh, buildModelFor(o, *source));
+    const auto scene = app::assembleScene(sceneFile, std::move(settings));
+    if (!scene) return 1;
+    const scene::ModelSource* source = &scene->source;
+    cutting::CutModel organ = scene->makeOrgan();
     const physics::MassSpringModel& model = organ.model();
 
     // Open the devices; a live one (not a replay) means real time, until --steps or Ctrl-C.
-    DeviceSetup setup;
-    setup.modelBox = geometry::boundsOf(organ.mesh().positions);
-    setup.fitWorkspace = !o.noWorkspaceFit;
-    setup.hdLibrary = o.hdLibrary;
-    setup.sdlControl = o.sdlControl == "rate" ? haptics::SdlControl::Rate : haptics::SdlControl::Position;
-    if (o.sceneFile) {
-        setup.maxForce_N = o.sceneFile->maxForce_N;
-        setup.sceneWorkspace = o.sceneFile->workspace;
-        setup.sceneWorkspaceGiven = true;
-    }
-    std::vector<OpenedDevice> opened;
+    scene::DeviceOptions deviceOptions;
+    deviceOptions.fitWorkspace = !o.noWorkspaceFit;
+    deviceOptions.hdLibrary = o.hdLibrary;
+    deviceOptions.sdlControl = o.sdlControl == "rate" ? haptics::SdlControl::Rate : haptics::SdlControl::Position;
+    std::vector<scene::OpenedDevice> opened;
     double replayDuration_s = 0;
     bool live = false;
     for (const haptics::DeviceSpec& spec : specs) {
-        std::string error;
-        auto device = openDevice(spec, setup, error);
+        auto device = scene::openDeviceFor(*scene, spec, deviceOptions);
         if (!device) {
-            std::cerr << "hapticut run: " << error << "\n";
+            std::cerr << "hapticut run: " << device.error().toString() << "\n";
             return 1;
         }
         if (const auto* replay = dynamic_cast<const haptics::ReplayDevice*>(device->device.get()))
@@ -215,30 +192,19 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
         haptics::Hand hand;
         hand.device = opened[h].device.get();
         hand.cutThreshold_N = h == 0 ? *threshold_N : *secondThreshold_N;
-        hand.maxForce_N = setup.maxForce_N;
+        hand.maxForce_N = scene->settings.maxForce_N;
         hands.push_back(hand);
     }
 
     scene::HapticRunConfig config;
     config.loop.scheme = scheme;
-    config.loop.rate_hz = o.rate_hz;
-    config.loop.couplingStiffness_N_per_m = o.couplingStiffness_N_per_m;
-    if (o.sceneFile) {
-        config.loop.couplingDamping_Ns_per_m = o.sceneFile->couplingDamping_Ns_per_m;
-        config.loop.activeRegion = o.sceneFile->activeRegion;
-    }
-    if (!o.friction.empty()) {
-        const auto comma = o.friction.find(',');
-        double mus = 0, mud = 0;
-        if (comma == std::string::npos || !parseFiniteDouble(o.friction.substr(0, comma), mus) ||
-            !parseFiniteDouble(o.friction.substr(comma + 1), mud) || mus < 0 || mud < 0 || mud > mus) {
-            std::cerr << "hapticut run: --friction takes 'STATIC,DYNAMIC' with 0 <= DYNAMIC <= STATIC, found '" << o.friction << "'\n";
-            return 2;
-        }
-        config.loop.proxy.staticFriction = mus;
-        config.loop.proxy.dynamicFriction = mud;
-    }
-    config.steps = o.stepsGiven ? o.steps : live ? -1 : std::lround(replayDuration_s * o.rate_hz) + 1;
+    config.loop.rate_hz = rate_hz;
+    config.loop.couplingStiffness_N_per_m = scene->settings.couplingStiffness_N_per_m;
+    config.loop.couplingDamping_Ns_per_m = scene->settings.couplingDamping_Ns_per_m;
+    config.loop.activeRegion = scene->settings.activeRegion;
+    config.loop.proxy.staticFriction = scene->settings.staticFriction;
+    config.loop.proxy.dynamicFriction = scene->settings.dynamicFriction;
+    config.steps = o.stepsGiven ? o.steps : live ? -1 : std::lround(replayDuration_s * rate_hz) + 1;
     config.realtime = o.realtime || live;
     StopSignal stopSignal;
     config.stopRequested = [] { return StopSignal::requested(); };
@@ -246,7 +212,7 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
     config.tool = o.tool;
     config.loop.cutThreshold_N = *threshold_N;
     std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << o.tool << (hands.size() > 1 ? " and " + o.secondTool : "")
-              << ", " << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at " << o.rate_hz << " Hz, "
+              << ", " << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at " << rate_hz << " Hz, "
               << (config.realtime ? "real time" : "simulated time") << "\n";
     scene::HapticRunResult r;
     try {
@@ -290,14 +256,14 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
         nlohmann::ordered_json j = reportHeader(*source, model, scheme);
         j["vertices"] = organ.mesh().positions.size();
         j["faces"] = organ.mesh().faces.size();
-        j["dt"] = 1 / o.rate_hz;
+        j["dt"] = 1 / rate_hz;
         j["substeps"] = r.substeps;
         j["steps"] = r.steps;
         j["tool"] = o.tool;
         j["tool_threshold_N"] = std::isfinite(config.loop.cutThreshold_N) ? nlohmann::ordered_json(config.loop.cutThreshold_N) : nlohmann::ordered_json(nullptr);
         j["coupling_stiffness_N_per_m"] = config.loop.couplingStiffness_N_per_m;
         j["friction"] = {{"static", config.loop.proxy.staticFriction}, {"dynamic", config.loop.proxy.dynamicFriction}};
-        j["trajectory"] = o.trajectory;
+        j["trajectory"] = trajectory;
         j["realtime"] = config.realtime;
         nlohmann::ordered_json handsJson = nlohmann::ordered_json::array();
         for (int h = 0; h < r.handCount; ++h) {
@@ -346,22 +312,25 @@ int runHapticMode(const RunOptions& o, physics::Scheme scheme) {
 }
 
 int run(RunOptions& o) {
-    if (!applyScene(o)) return 1;
-    const auto scheme = physics::parseScheme(o.integrator);
-    if (!scheme) {
-        std::cerr << "hapticut run: unknown integrator '" << o.integrator << "': expected euler, midpoint, rk4 or symplectic\n";
-        return 2;
+    const auto request = sceneRequest(o);
+    if (!request) return 2;
+    auto settings = scene::sceneSettings(*request);
+    if (!settings) {
+        std::cerr << settings.error().toString() << "\n";
+        return 1;
     }
-    if (!o.trajectory.empty() || !o.devices.empty()) {
+    if (settings->deviceBackend == "replay" || !o.devices.empty()) {
         if (!o.force.empty()) {
             std::cerr << "hapticut run: --force and --trajectory do not go together: the trajectory's device presses the model\n";
             return 2;
         }
-        return runHapticMode(o, *scheme);
+        return runHapticMode(o, request->file, std::move(*settings));
     }
     scene::RunConfig config;
-    config.scheme = *scheme;
-    config.dt_s = o.dt_s;
+    config.scheme = settings->scheme;
+    // A scene file's rate sets the step unless the command line gives one.
+    const bool stepGiven = o.given.count("--dt") || o.given.count("--rate");
+    config.dt_s = !o.scene.empty() && !stepGiven ? 1 / settings->rate_hz : o.dt_s;
     config.steps = o.steps;
     if (o.forceAt.empty() != o.force.empty()) {
         std::cerr << "hapticut run: --force-at and --force go together\n";
@@ -376,10 +345,10 @@ int run(RunOptions& o) {
         config.force = scene::PointForce{*at, *force, o.forceUntil_s >= 0 ? o.forceUntil_s : 1e300};
     }
 
-    auto source = loadModelSource(o.model, o.triangles);
-    if (!source) return 1;
-    placeBySceneFile(o, *source);
-    physics::MassSpringModel model = buildModelFor(o, *source);
+    const auto scene = app::assembleScene(request->file, std::move(*settings));
+    if (!scene) return 1;
+    const scene::ModelSource* source = &scene->source;
+    physics::MassSpringModel model = scene->buildModel();
     std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes, " << model.springs.size() << " springs, "
               << physics::schemeName(config.scheme) << ", dt " << config.dt_s << " s, " << config.steps << " steps\n";
 

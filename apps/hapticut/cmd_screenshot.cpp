@@ -11,7 +11,7 @@
 #include "render/gl_context.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
-#include "scene_setup.h"
+#include "hapticut/scene/scene.h"
 #include "terminal.h"
 
 namespace hapticut::app {
@@ -19,7 +19,7 @@ namespace hapticut::app {
 namespace {
 
 struct ScreenshotOptions {
-    SceneChoice choice;
+    scene::SceneRequest scene;
     std::string model, size = "1280x1024", out, trajectory, tool, stereo = "off";
     int triangles = 1619;
     double at_s = -1;
@@ -43,7 +43,7 @@ int screenshot(ScreenshotOptions& o) {
         std::cerr << "hapticut screenshot: --at needs --trajectory: it is a time along the device's path\n";
         return 2;
     }
-    auto loaded = loadScene(o.choice);
+    auto loaded = app::loadScene(o.scene);
     if (!loaded) return 1;
 
     std::optional<std::size_t> tool;
@@ -52,14 +52,14 @@ int screenshot(ScreenshotOptions& o) {
         tool = loaded->toolIndex(name);
         if (!tool) {
             std::cerr << "hapticut screenshot: unknown tool '" << name << "': the scene has";
-            for (const LoadedTool& t : loaded->tools) std::cerr << " " << t.name;
+            for (const scene::Tool& t : loaded->tools) std::cerr << " " << t.name;
             std::cerr << "\n";
             return 2;
         }
     }
 
     // The organ as the run leaves it: at rest, or after the device's path up to --at.
-    cutting::CutModel organ(loaded->source.mesh, loaded->buildModel());
+    cutting::CutModel organ = loaded->makeOrgan();
     render::SceneFrame frame;
     frame.showDevice = false;
     if (!o.trajectory.empty()) {
@@ -109,7 +109,7 @@ int screenshot(ScreenshotOptions& o) {
         return 1;
     }
     std::vector<mesh::SurfaceMesh> toolMeshes;
-    for (const LoadedTool& t : loaded->tools) toolMeshes.push_back(t.mesh);
+    for (const scene::Tool& t : loaded->tools) toolMeshes.push_back(t.mesh);
     auto renderer = render::Renderer::create(toolMeshes, error);
     auto target = renderer ? render::OffscreenTarget::create(width, height, 4, error) : nullptr;
     if (!target) {
@@ -145,7 +145,7 @@ int screenshot(ScreenshotOptions& o) {
 Command addScreenshotCommand(CLI::App& app) {
     auto o = std::make_shared<ScreenshotOptions>();
     CLI::App* cmd = app.add_subcommand("screenshot", "Render a scene offscreen to a PNG, optionally after running a device path");
-    cmd->add_option("--scene", o->choice.scene, "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
+    cmd->add_option("--scene", o->scene.file, "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
     cmd->add_option("--model", o->model, "'heart' or a model file; overrides the scene's model");
     cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->check(CLI::Range(12, 20'000'000));
     cmd->add_option("--trajectory", o->trajectory, "Run the haptic loop along this device path (CSV t,x,y,z,button) first");
@@ -161,8 +161,8 @@ Command addScreenshotCommand(CLI::App& app) {
     cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT")->capture_default_str();
     cmd->add_option("--out", o->out, "The PNG to write")->required();
     cmd->callback([o, cmd] {
-        if (cmd->count("--model")) o->choice.model = o->model;
-        if (cmd->count("--triangles")) o->choice.triangles = o->triangles;
+        if (cmd->count("--model")) o->scene.overrides.model = o->model;
+        if (cmd->count("--triangles")) o->scene.overrides.triangles = o->triangles;
     });
     return [o] { return screenshot(*o); };
 }

@@ -5,7 +5,7 @@
 
 #include "commands.h"
 #include "hapticut/cutting/stroke_fuzzer.h"
-#include "model_source.h"
+#include "hapticut/scene/scene.h"
 #include "terminal.h"
 
 namespace hapticut::app {
@@ -20,8 +20,12 @@ struct SoakOptions {
 };
 
 int soak(SoakOptions& o) {
-    auto source = loadModelSource(o.model, o.triangles);
-    if (!source) return 1;
+    scene::SceneRequest request;
+    request.overrides.model = o.model;
+    request.overrides.triangles = o.triangles;
+    const auto scene = app::loadScene(request);
+    if (!scene) return 1;
+    const scene::ModelSource* source = &scene->source;
     o.fuzz.checkEveryOperation = !o.checkEveryStroke;
     std::cerr << "hapticut soak: " << o.fuzz.strokes << " random scalpel strokes on " << source->name << " (" << source->mesh.faces.size()
               << " faces), seed " << o.fuzz.seed << ", a fresh organ every " << o.fuzz.strokesPerOrgan << ", invariants after every "

@@ -54,7 +54,7 @@ int view(ViewCommandOptions& o) {
 Command addViewCommand(CLI::App& app) {
     auto o = std::make_shared<ViewCommandOptions>();
     CLI::App* cmd = app.add_subcommand("view", "Open the interactive viewer: press and cut the organ with the mouse (h lists the keys)");
-    cmd->add_option("--scene", o->viewer.choice.scene, "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
+    cmd->add_option("--scene", o->viewer.scene.file, "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
     cmd->add_option("--model", o->model, "'heart' or a model file; overrides the scene's model");
     cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->check(CLI::Range(12, 20'000'000));
     cmd->add_option("--device", o->viewer.devices,
@@ -80,8 +80,8 @@ Command addViewCommand(CLI::App& app) {
     cmd->add_option("--screenshot", o->viewer.screenshot, "With --frames: write the last frame (panel and all) as a PNG");
     cmd->add_option("--report", o->viewer.report, "Write a JSON report: frames, frame rate, haptic rate, renderer");
     cmd->callback([o, cmd] {
-        if (cmd->count("--model")) o->viewer.choice.model = o->model;
-        if (cmd->count("--triangles")) o->viewer.choice.triangles = o->triangles;
+        if (cmd->count("--model")) o->viewer.scene.overrides.model = o->model;
+        if (cmd->count("--triangles")) o->viewer.scene.overrides.triangles = o->triangles;
     });
     return [o] { return view(*o); };
 }

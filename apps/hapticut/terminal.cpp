@@ -65,4 +65,30 @@ bool writeJson(const std::filesystem::path& file, const nlohmann::ordered_json& 
     return true;
 }
 
+namespace {
+template <class T>
+std::optional<T> printed(Result<T, Error> loaded, const std::vector<Warning>& (*warnings)(const T&)) {
+    if (!loaded) {
+        std::cerr << loaded.error().toString() << "\n";
+        return std::nullopt;
+    }
+    for (const Warning& w : warnings(*loaded)) std::cerr << "warning: " << w.toString() << "\n";
+    return std::move(*loaded);
+}
+}  // namespace
+
+std::optional<scene::ModelSource> loadModelSource(const std::string& model, int triangles) {
+    return printed<scene::ModelSource>(scene::loadModelSource(model, triangles), [](const scene::ModelSource& s) -> const std::vector<Warning>& { return s.warnings; });
+}
+
+namespace {
+const std::vector<Warning>& sceneWarnings(const scene::Scene& s) { return s.source.warnings; }
+}  // namespace
+
+std::optional<scene::Scene> loadScene(const scene::SceneRequest& request) { return printed<scene::Scene>(scene::loadScene(request), sceneWarnings); }
+
+std::optional<scene::Scene> assembleScene(const std::filesystem::path& file, scene::SceneFile settings) {
+    return printed<scene::Scene>(scene::assembleScene(file, std::move(settings)), sceneWarnings);
+}
+
 }  // namespace hapticut::app

@@ -10,6 +10,7 @@
 
 #include "hapticut/common/stats.h"
 #include "hapticut/geometry/vec.h"
+#include "hapticut/scene/scene.h"
 
 namespace hapticut::app {
 
@@ -33,6 +34,14 @@ std::optional<std::pair<int, int>> parseSize(const std::string& text, int min, i
 
 nlohmann::ordered_json toJson(const Summary& s);
 nlohmann::ordered_json toJson(const Vec3& v);
+
+/// The model (`heart` or a file), with its warnings printed; on failure prints "file:line: message" and
+/// returns nothing.
+std::optional<scene::ModelSource> loadModelSource(const std::string& model, int triangles);
+/// The scene, with its model's warnings printed; on failure prints "file:line: message" and returns nothing.
+std::optional<scene::Scene> loadScene(const scene::SceneRequest& request);
+/// The same, for settings already read (scene::assembleScene).
+std::optional<scene::Scene> assembleScene(const std::filesystem::path& file, scene::SceneFile settings);
 
 /// Writes JSON (indented) through a temporary file; prints the error and returns false on failure.
 bool writeJson(const std::filesystem::path& file, const nlohmann::ordered_json& json);

@@ -54,12 +54,12 @@ void section(const char* title) {
     ImGui::TextColored(ImVec4(1, 0.85f, 0.4f, 1), "%s", title);
 }
 
-void materialSlider(Session& session, const char* label, MaterialKnob knob) {
+void materialSlider(scene::Simulation& session, const char* label, scene::MaterialKnob knob) {
     float scale = static_cast<float>(session.materialScale(knob));
     if (ImGui::SliderFloat(label, &scale, 0.1f, 10.0f, "x %.2f", ImGuiSliderFlags_Logarithmic)) session.setMaterialScale(knob, scale);
 }
 
-void loopSection(Session& session, const haptics::Snapshot& s, const Rates& rates) {
+void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const Rates& rates) {
     ImGui::Text("render %.0f fps   haptic %.0f Hz", rates.renderFps, rates.hapticRate_hz);
     ImGui::Text("step %.1f us (max %.1f us)   %d substep%s", s.stepTime_us, s.maxStepTime_us, s.substeps, s.substeps == 1 ? "" : "s");
     ImGui::Text("stable step %.2f ms   overruns %ld   cut events %ld", s.stableStep_s * 1e3, s.overruns, s.cutEvents);
@@ -85,7 +85,7 @@ void loopSection(Session& session, const haptics::Snapshot& s, const Rates& rate
 
 }  // namespace
 
-void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snapshot& s, const Rates& rates, const ForcePlot& plot, PanelState& state) {
+void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& s, const Rates& rates, const ForcePlot& plot, PanelState& state) {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin("Hapticut");
@@ -145,11 +145,11 @@ void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snap
         session.loop().commands().push({haptics::LoopCommand::Kind::SetMaxForceScale, state.maxForceScale});
 
     section("Tissue (x the scene's values)");
-    materialSlider(session, "mass", MaterialKnob::Mass);
-    materialSlider(session, "structural k", MaterialKnob::StructuralStiffness);
-    materialSlider(session, "structural d", MaterialKnob::StructuralDamping);
-    materialSlider(session, "positioning k", MaterialKnob::PositioningStiffness);
-    materialSlider(session, "positioning d", MaterialKnob::PositioningDamping);
+    materialSlider(session, "mass", scene::MaterialKnob::Mass);
+    materialSlider(session, "structural k", scene::MaterialKnob::StructuralStiffness);
+    materialSlider(session, "structural d", scene::MaterialKnob::StructuralDamping);
+    materialSlider(session, "positioning k", scene::MaterialKnob::PositioningStiffness);
+    materialSlider(session, "positioning d", scene::MaterialKnob::PositioningDamping);
 
     section("View");
     ImGui::Checkbox("wireframe (w)", &view.wireframe);
@@ -167,20 +167,20 @@ void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snap
     ImGui::InputText("##model", &state.modelPath);
     ImGui::SameLine();
     if (ImGui::Button("load model")) {
-        std::string error;
-        state.message = session.loadModel(state.modelPath, error) ? "loaded " + state.modelPath : error;
+        const auto error = session.loadModel(state.modelPath);
+        state.message = error ? error->toString() : "loaded " + state.modelPath;
     }
     ImGui::InputText("##tool", &state.toolPath);
     ImGui::SameLine();
     if (ImGui::Button("load tool")) {
-        std::string error;
-        state.message = session.loadTool(state.toolPath, error) ? "holding " + state.toolPath : error;
+        const auto error = session.loadTool(state.toolPath);
+        state.message = error ? error->toString() : "holding " + state.toolPath;
     }
     ImGui::InputText("##export", &state.exportPath);
     ImGui::SameLine();
     if (ImGui::Button("export mesh")) {
         const auto error = session.exportMesh(state.exportPath, s);
-        state.message = error ? *error : "wrote " + state.exportPath;
+        state.message = error ? error->toString() : "wrote " + state.exportPath;
     }
     ImGui::InputText("##record", &state.recordPath);
     ImGui::SameLine();
@@ -196,11 +196,12 @@ void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snap
     ImGui::InputText("##replay", &state.replayPath);
     ImGui::SameLine();
     if (ImGui::Button(session.replaying() ? "mouse" : "replay")) {
-        std::string error;
-        if (session.replaying())
+        if (session.replaying()) {
             session.useMouse();
-        else
-            state.message = session.replay(state.replayPath, error) ? "replaying " + state.replayPath : error;
+        } else {
+            const auto error = session.replay(state.replayPath);
+            state.message = error ? error->toString() : "replaying " + state.replayPath;
+        }
     }
     if (ImGui::Button("reset model (r)")) session.resetModel();
     if (!state.message.empty()) ImGui::TextWrapped("%s", state.message.c_str());

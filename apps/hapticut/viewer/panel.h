@@ -7,7 +7,7 @@
 #include "hapticut/haptics/haptic_loop.h"
 #include "render/renderer.h"
 #include "viewer/force_plot.h"
-#include "viewer/session.h"
+#include "hapticut/scene/simulation.h"
 
 namespace hapticut::viewer {
 
@@ -25,7 +25,7 @@ struct PanelState {
     std::vector<haptics::StepOutput> recorded;  // the device path at the display rate, while recording
 };
 
-void drawPanel(Session& session, render::ViewSettings& view, const haptics::Snapshot& snapshot, const Rates& rates, const ForcePlot& plot,
+void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& snapshot, const Rates& rates, const ForcePlot& plot,
                PanelState& state);
 
 struct KeyHelp {

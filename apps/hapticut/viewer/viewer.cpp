@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "device_setup.h"
+#include "hapticut/common/stop_signal.h"
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/common/text_file.h"
@@ -23,11 +23,11 @@
 #include "render/offscreen.h"
 #include "render/renderer.h"
 #include "render/snapshot_frame.h"
-#include "stop_signal.h"
 #include "viewer/force_plot.h"
 #include "viewer/mouse_device.h"
 #include "viewer/panel.h"
-#include "viewer/session.h"
+#include "hapticut/scene/open_device.h"
+#include "hapticut/scene/simulation.h"
 
 namespace hapticut::viewer {
 
@@ -37,7 +37,7 @@ using Clock = std::chrono::steady_clock;
 
 class Viewer {
 public:
-    Viewer(const ViewerOptions& options, std::unique_ptr<render::GlWindow> window, std::unique_ptr<render::Renderer> renderer, app::LoadedScene scene)
+    Viewer(const ViewerOptions& options, std::unique_ptr<render::GlWindow> window, std::unique_ptr<render::Renderer> renderer, scene::Scene scene)
         : options_(options), window_(std::move(window)), renderer_(std::move(renderer)), session_(std::move(scene)) {
         view_.stereo = options.stereo;
         view_.quadBufferAvailable = window_->hasQuadStereo();
@@ -63,7 +63,7 @@ private:
     ViewerOptions options_;
     std::unique_ptr<render::GlWindow> window_;
     std::unique_ptr<render::Renderer> renderer_;
-    Session session_;
+    scene::Simulation session_;
     render::ViewSettings view_;
     MouseDriver mouse_;
     ForcePlot plot_;
@@ -197,15 +197,11 @@ int Viewer::run() {
     for (std::size_t h = 0; h < options_.devices.size(); ++h) {
         const auto spec = haptics::parseDeviceSpec(options_.devices[h]);  // checked by the command
         if (!spec || spec->kind == haptics::DeviceKind::Virtual) continue;  // the mouse
-        app::DeviceSetup setup;
-        setup.modelBox = geometry::boundsOf(session_.scene().source.mesh.positions);
-        setup.fitWorkspace = options_.fitWorkspace;
-        setup.maxForce_N = session_.scene().settings.maxForce_N;
-        setup.sceneWorkspace = session_.scene().settings.workspace;
-        std::string error;
-        auto opened = app::openDevice(*spec, setup, error);
+        scene::DeviceOptions deviceOptions;
+        deviceOptions.fitWorkspace = options_.fitWorkspace;
+        auto opened = scene::openDeviceFor(session_.scene(), *spec, deviceOptions);
         if (!opened) {
-            std::cerr << "hapticut view: " << error << "\n";
+            std::cerr << "hapticut view: " << opened.error().toString() << "\n";
             return 1;
         }
         std::cerr << "hapticut view: hand " << h + 1 << ": " << opened->description << "\n";
@@ -216,9 +212,8 @@ int Viewer::run() {
         }
     }
     if (!options_.trajectory.empty()) {
-        std::string error;
-        if (!session_.replay(options_.trajectory, error)) {
-            std::cerr << error << "\n";
+        if (const auto error = session_.replay(options_.trajectory)) {
+            std::cerr << error->toString() << "\n";
             return 1;
         }
     }
@@ -252,8 +247,8 @@ int Viewer::run() {
     Rates rates;
     const auto timeIsUp = [&] { return options_.quitAfter_s >= 0 && std::chrono::duration<double>(Clock::now() - start).count() >= options_.quitAfter_s; };
     // Ctrl-C or SIGTERM closes the window like q: the loop stops and every device is left at zero force.
-    const app::StopSignal stopSignal;
-    while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames) && !timeIsUp() && !app::StopSignal::requested()) {
+    const StopSignal stopSignal;
+    while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames) && !timeIsUp() && !StopSignal::requested()) {
         glfwPollEvents();
         if (session_.scene().source.name != framedModel_) frameOrgan();  // a model loaded from the panel
         while (renderer_->toolCount() < session_.scene().tools.size()) renderer_->addTool(session_.scene().tools[renderer_->toolCount()].mesh);
@@ -350,11 +345,15 @@ int Viewer::run() {
 }  // namespace
 
 int runViewer(const ViewerOptions& options) {
-    auto scene = app::loadScene(options.choice);
-    if (!scene) return 1;
+    auto scene = scene::loadScene(options.scene);
+    if (!scene) {
+        std::cerr << scene.error().toString() << "\n";
+        return 1;
+    }
+    for (const Warning& w : scene->source.warnings) std::cerr << "warning: " << w.toString() << "\n";
     if (!scene->toolIndex(options.tool)) {
         std::cerr << "hapticut view: unknown tool '" << options.tool << "': the scene has";
-        for (const app::LoadedTool& t : scene->tools) std::cerr << " " << t.name;
+        for (const scene::Tool& t : scene->tools) std::cerr << " " << t.name;
         std::cerr << "\n";
         return 2;
     }
@@ -373,7 +372,7 @@ int runViewer(const ViewerOptions& options) {
     if (windowOptions.quadStereo && !window->hasQuadStereo())
         std::cerr << "hapticut view: this display offers no quad-buffer stereo; showing anaglyph (red-cyan) instead\n";
     std::vector<mesh::SurfaceMesh> tools;
-    for (const app::LoadedTool& t : scene->tools) tools.push_back(t.mesh);
+    for (const scene::Tool& t : scene->tools) tools.push_back(t.mesh);
     auto renderer = render::Renderer::create(tools, error);
     if (!renderer) {
         std::cerr << "hapticut view: " << error << " (" << window->rendererDescription() << ")\n";

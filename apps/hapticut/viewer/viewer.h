@@ -5,12 +5,12 @@
 #include <vector>
 
 #include "render/stereo.h"
-#include "scene_setup.h"
+#include "hapticut/scene/scene.h"
 
 namespace hapticut::viewer {
 
 struct ViewerOptions {
-    app::SceneChoice choice;
+    scene::SceneRequest scene;
     render::StereoMode stereo = render::StereoMode::Off;
     bool fullscreen = false;
     int width = 1280, height = 1024;

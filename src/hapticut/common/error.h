@@ -20,7 +20,8 @@ struct Error {
 /// A remark about input that still loaded, e.g. an edge list that disagrees with the faces.
 using Warning = Error;
 
-/// Empty on success.
-using WriteStatus = std::optional<Error>;
+/// How an operation that returns nothing went: empty on success.
+using Status = std::optional<Error>;
+using WriteStatus = Status;
 
 }  // namespace hapticut

@@ -1,15 +1,13 @@
-// Resolves `--model heart|FILE` into a mesh and a mass-spring model.
-#include "model_source.h"
-
-#include <iostream>
+// Resolves `heart` or a file into a mesh and a mass-spring model.
+#include "hapticut/scene/model_source.h"
 
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/material.h"
 
-namespace hapticut::app {
+namespace hapticut::scene {
 
-std::optional<ModelSource> loadModelSource(const std::string& model, int triangles) {
+Result<ModelSource, Error> loadModelSource(const std::string& model, int triangles) {
     ModelSource source;
     source.name = model;
     if (model == "heart") {
@@ -20,22 +18,18 @@ std::optional<ModelSource> loadModelSource(const std::string& model, int triangl
         return source;
     }
     auto loaded = mesh::io::loadMesh(model);
-    if (!loaded) {
-        std::cerr << loaded.error().toString() << "\n";
-        return std::nullopt;
-    }
-    for (const auto& w : loaded->warnings) std::cerr << "warning: " << w.toString() << "\n";
+    if (!loaded) return unexpected(loaded.error());
+    source.warnings = std::move(loaded->warnings);
     source.mesh = std::move(loaded->mesh);
     source.toolThreshold_N = loaded->toolThreshold_N;
     source.fromThesisFile = loaded->physics.has_value();
     source.physics = loaded->physics ? *loaded->physics : physics::thesisPhysicsFor(source.mesh, physics::Material{});
     // Open or non-manifold surfaces can still be simulated; say what is unusual and go on.
     const mesh::MeshReport report = mesh::validateMesh(source.mesh);
-    if (report.boundaryEdges > 0) std::cerr << "warning: " << model << ": open surface, " << report.boundaryEdges << " boundary edges\n";
-    if (report.nonManifoldEdges > 0)
-        std::cerr << "warning: " << model << ": " << report.nonManifoldEdges << " non-manifold edges (hapticut convert --repair splits them)\n";
-    if (report.misorientedEdges > 0)
-        std::cerr << "warning: " << model << ": inconsistently oriented faces (hapticut convert --repair orients them)\n";
+    auto warn = [&](std::string message) { source.warnings.push_back({model, 0, std::move(message)}); };
+    if (report.boundaryEdges > 0) warn("open surface, " + std::to_string(report.boundaryEdges) + " boundary edges");
+    if (report.nonManifoldEdges > 0) warn(std::to_string(report.nonManifoldEdges) + " non-manifold edges (hapticut convert --repair splits them)");
+    if (report.misorientedEdges > 0) warn("inconsistently oriented faces (hapticut convert --repair orients them)");
     return source;
 }
 
@@ -44,4 +38,4 @@ physics::MassSpringModel buildSimulationModel(const ModelSource& source) {
     return physics::buildModel(source.mesh, physics::Material{});
 }
 
-}  // namespace hapticut::app
+}  // namespace hapticut::scene

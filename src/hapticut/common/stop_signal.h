@@ -2,7 +2,7 @@
 // and writes what it has, instead of dying with a motor still pushing.
 #pragma once
 
-namespace hapticut::app {
+namespace hapticut {
 
 class StopSignal {
 public:
@@ -18,4 +18,4 @@ public:
     static int signalNumber();
 };
 
-}  // namespace hapticut::app
+}  // namespace hapticut

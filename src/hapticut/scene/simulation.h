@@ -1,5 +1,6 @@
-// What the viewer simulates: the scene, the organ being cut, the device (the mouse or a replayed
-// path) and the haptic loop running in its own thread; rebuilt when the user resets or reloads.
+// Simulation: a scene brought to life. It owns the organ being cut, the hands with their devices
+// (a virtual device each, moved by a program or the viewer's mouse; a replayed path; a hardware
+// device) and the haptic loop stepping on the wall clock; the user's changes rebuild what they must.
 #pragma once
 
 #include <array>
@@ -7,21 +8,24 @@
 #include <optional>
 #include <string>
 
+#include "hapticut/common/error.h"
 #include "hapticut/cutting/cut_model.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/haptics/virtual_device.h"
-#include "scene_setup.h"
+#include "hapticut/scene/scene.h"
 
-namespace hapticut::viewer {
+namespace hapticut::scene {
 
 enum class MaterialKnob { Mass, StructuralStiffness, StructuralDamping, PositioningStiffness, PositioningDamping };
 inline constexpr int kMaterialKnobs = 5;
 
-class Session {
+class Simulation {
 public:
-    explicit Session(app::LoadedScene scene);
-    ~Session();
+    explicit Simulation(Scene scene);
+    ~Simulation();
+    Simulation(const Simulation&) = delete;
+    Simulation& operator=(const Simulation&) = delete;
 
     /// Starts the loop on a fresh copy of the scene's organ.
     void resetModel();
@@ -49,21 +53,21 @@ public:
     bool hardware() const { return hardwareDevice() != nullptr; }
     /// The active hand's hardware device, if it has one.
     const haptics::Device* hardwareDevice() const;
-    /// Replays a trajectory file in the first hand instead of the mouse; false with `error` when it does not load.
-    bool replay(const std::string& file, std::string& error);
+    /// Replays a trajectory file in the first hand instead of its virtual device.
+    Status replay(const std::string& file);
     void useMouse();
     /// Whether the mouse drives the active hand (no replay, no hardware there).
     bool mouseDrives() const;
 
-    /// Loads another model into the same scene; false (message printed) when it does not load.
-    bool loadModel(const std::string& model, std::string& error);
+    /// Loads another model into the same scene.
+    Status loadModel(const std::string& model);
     /// Adds a tool from a tool file (thesis format: its mesh and cut threshold), named after the file,
-    /// and takes it in hand; false with `error` when it does not load.
-    bool loadTool(const std::string& file, std::string& error);
+    /// and takes it in hand.
+    Status loadTool(const std::string& file);
     /// Sets a material knob to `scale` times the scene's value, live through the loop's queue.
     void setMaterialScale(MaterialKnob knob, double scale);
     /// Writes the organ as the snapshot shows it (deformed, with every cut).
-    std::optional<std::string> exportMesh(const std::string& file, const haptics::Snapshot& snapshot) const;
+    WriteStatus exportMesh(const std::string& file, const haptics::Snapshot& snapshot) const;
 
     haptics::HapticLoop& loop() { return *loop_; }
     haptics::LoopConfig& config() { return config_; }
@@ -71,7 +75,7 @@ public:
     haptics::VirtualDevice& mouseDevice() { return *mice_[static_cast<std::size_t>(activeHand_)]; }
     bool replaying() const { return replay_ != nullptr; }
     const std::string& replayFile() const { return replayFile_; }
-    const app::LoadedScene& scene() const { return scene_; }
+    const Scene& scene() const { return scene_; }
     double materialScale(MaterialKnob knob) const { return materialScale_[static_cast<int>(knob)]; }
     long resets() const { return resets_; }
     /// Why the loop could not start (a device's servo refused), or empty.
@@ -83,7 +87,7 @@ private:
     void stopLoop();
     haptics::Device& deviceOf(int hand);
 
-    app::LoadedScene scene_;
+    Scene scene_;
     haptics::LoopConfig config_;
     std::array<std::unique_ptr<haptics::VirtualDevice>, haptics::kMaxHands> mice_;
     std::unique_ptr<haptics::ReplayDevice> replay_;  // in the first hand
@@ -100,4 +104,4 @@ private:
     long resets_ = 0;
 };
 
-}  // namespace hapticut::viewer
+}  // namespace hapticut::scene

@@ -1,13 +1,16 @@
-// Resolves `--model heart|FILE [--triangles N]` into a mesh and a ready-to-step mass-spring model.
+// Resolves a model name (`heart` or a file) into a mesh and the physics a thesis file carries.
 #pragma once
 
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "hapticut/common/error.h"
+#include "hapticut/common/result.h"
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/physics/mass_spring_model.h"
 
-namespace hapticut::app {
+namespace hapticut::scene {
 
 struct ModelSource {
     std::string name;                   // "heart" or the file path
@@ -15,13 +18,14 @@ struct ModelSource {
     mesh::io::ThesisPhysics physics;    // as loaded, or the thesis equivalent of the default material
     std::optional<double> toolThreshold_N;
     bool fromThesisFile = false;
+    /// What is unusual about the file but did not stop it loading (open or non-manifold surfaces too).
+    std::vector<Warning> warnings;
 };
 
-/// Loads the model; on failure prints "file:line: message" to stderr and returns nothing.
-/// Warnings are printed to stderr and loading goes on.
-std::optional<ModelSource> loadModelSource(const std::string& model, int triangles);
+/// The procedural heart with `triangles` triangles, or the model file `model`.
+Result<ModelSource, Error> loadModelSource(const std::string& model, int triangles);
 
 /// The simulation model: a thesis file's own constants, otherwise the default resolution-independent material.
 physics::MassSpringModel buildSimulationModel(const ModelSource& source);
 
-}  // namespace hapticut::app
+}  // namespace hapticut::scene

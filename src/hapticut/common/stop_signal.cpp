@@ -1,10 +1,10 @@
 // Stop requests from signals.
-#include "stop_signal.h"
+#include "hapticut/common/stop_signal.h"
 
 #include <atomic>
 #include <csignal>
 
-namespace hapticut::app {
+namespace hapticut {
 
 namespace {
 std::atomic<int> caught{0};
@@ -29,4 +29,4 @@ StopSignal::~StopSignal() {
 bool StopSignal::requested() { return caught.load(std::memory_order_relaxed) != 0; }
 int StopSignal::signalNumber() { return caught.load(std::memory_order_relaxed); }
 
-}  // namespace hapticut::app
+}  // namespace hapticut

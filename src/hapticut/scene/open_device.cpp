@@ -1,5 +1,5 @@
 // Opening devices by name.
-#include "device_setup.h"
+#include "hapticut/scene/open_device.h"
 
 #include <cstdio>
 
@@ -8,7 +8,7 @@
 #include "hapticut/haptics/virtual_device.h"
 #include "hapticut/haptics/workspace_fit.h"
 
-namespace hapticut::app {
+namespace hapticut::scene {
 
 namespace {
 
@@ -39,7 +39,9 @@ bool sdlBackendBuilt() {
 #endif
 }
 
-std::optional<OpenedDevice> openDevice(const haptics::DeviceSpec& spec, const DeviceSetup& setup, std::string& error) {
+Result<OpenedDevice, Error> openDevice(const haptics::DeviceSpec& spec, const DeviceSetup& setup) {
+    auto fail = [](std::string message) { return unexpected(Error{{}, 0, std::move(message)}); };
+    std::string error;
     OpenedDevice opened;
     switch (spec.kind) {
         case haptics::DeviceKind::Virtual:
@@ -48,10 +50,7 @@ std::optional<OpenedDevice> openDevice(const haptics::DeviceSpec& spec, const De
             return opened;
         case haptics::DeviceKind::Replay: {
             auto trajectory = haptics::readTrajectory(spec.argument);
-            if (!trajectory) {
-                error = trajectory.error().toString();
-                return std::nullopt;
-            }
+            if (!trajectory) return unexpected(trajectory.error());
             opened.description = "replay of " + spec.argument;
             opened.device = std::make_unique<haptics::ReplayDevice>(std::move(*trajectory), setup.maxForce_N);
             return opened;
@@ -63,7 +62,7 @@ std::optional<OpenedDevice> openDevice(const haptics::DeviceSpec& spec, const De
             // Without a fit: device millimetres round the organ's centre, where a Touch holds a heart at 1:1.
             if (!setup.modelBox.empty()) hd.workspace.offset_m = setup.modelBox.center();
             auto device = haptics::OpenHapticsDevice::open(hd, error);
-            if (!device) return std::nullopt;
+            if (!device) return fail(error);
             const std::string mapping = mapWorkspace(*device, setup);
             opened.description = device->model() + " (serial " + device->serial() + ") through " + device->libraryPath() + ", " + mapping;
             opened.device = std::move(device);
@@ -77,7 +76,7 @@ std::optional<OpenedDevice> openDevice(const haptics::DeviceSpec& spec, const De
             options.maxForce_N = setup.maxForce_N;
             if (!setup.modelBox.empty()) options.workspace.offset_m = setup.modelBox.center();
             auto device = haptics::SdlDevice::open(options, error);
-            if (!device) return std::nullopt;
+            if (!device) return fail(error);
             const std::string mapping = mapWorkspace(*device, setup);
             opened.description = "'" + device->info().name + "' (joystick " + std::to_string(options.index) + ", " +
                                  (options.control == haptics::SdlControl::Rate ? "rate" : "position") + " control, feedback: " +
@@ -85,13 +84,23 @@ std::optional<OpenedDevice> openDevice(const haptics::DeviceSpec& spec, const De
             opened.device = std::move(device);
             return opened;
 #else
-            error = "this build has no SDL backend: install libsdl2-dev (scripts/install-deps does) and build again";
-            return std::nullopt;
+            return fail("this build has no SDL backend: install libsdl2-dev (scripts/install-deps does) and build again");
 #endif
         }
     }
-    error = "unknown device kind";
-    return std::nullopt;
+    return fail("unknown device kind");
 }
 
-}  // namespace hapticut::app
+Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceSpec& spec, const DeviceOptions& options) {
+    DeviceSetup setup;
+    setup.modelBox = geometry::boundsOf(scene.source.mesh.positions);
+    setup.fitWorkspace = options.fitWorkspace;
+    setup.hdLibrary = options.hdLibrary;
+    setup.sdlControl = options.sdlControl;
+    setup.maxForce_N = scene.settings.maxForce_N;
+    setup.sceneWorkspace = scene.settings.workspace;
+    setup.sceneWorkspaceGiven = !scene.file.empty();  // the built-in scene has no mapping of its own
+    return openDevice(spec, setup);
+}
+
+}  // namespace hapticut::scene

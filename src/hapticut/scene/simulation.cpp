@@ -1,5 +1,5 @@
-// The viewer's simulation: organ, device and loop, and the user's changes to them.
-#include "viewer/session.h"
+// A live simulation: organ, hands and loop, and the user's changes to them.
+#include "hapticut/scene/simulation.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -9,7 +9,7 @@
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/physics/material.h"
 
-namespace hapticut::viewer {
+namespace hapticut::scene {
 
 namespace {
 
@@ -27,7 +27,7 @@ haptics::LoopCommand::Kind commandFor(MaterialKnob knob) {
 
 }  // namespace
 
-Session::Session(app::LoadedScene scene) : scene_(std::move(scene)) {
+Simulation::Simulation(Scene scene) : scene_(std::move(scene)) {
     for (auto& mouse : mice_) {
         mouse = std::make_unique<haptics::VirtualDevice>(scene_.settings.maxForce_N);
         mouse->setFollowTime(0.015);  // about a frame: the cursor's jumps reach the hand as motion
@@ -44,21 +44,21 @@ Session::Session(app::LoadedScene scene) : scene_(std::move(scene)) {
     resetModel();
 }
 
-Session::~Session() { stopLoop(); }
+Simulation::~Simulation() { stopLoop(); }
 
-void Session::stopLoop() {
+void Simulation::stopLoop() {
     clock_.reset();
     loop_.reset();
 }
 
-haptics::Device& Session::deviceOf(int hand) {
+haptics::Device& Simulation::deviceOf(int hand) {
     const auto h = static_cast<std::size_t>(hand);
     if (hardware_[h]) return *hardware_[h];
     if (hand == 0 && replay_) return *replay_;
     return *mice_[h];
 }
 
-void Session::startLoop() {
+void Simulation::startLoop() {
     std::array<haptics::Hand, haptics::kMaxHands> hands{};
     for (int h = 0; h < handCount_; ++h) {
         haptics::Hand& hand = hands[static_cast<std::size_t>(h)];
@@ -71,7 +71,7 @@ void Session::startLoop() {
     clock_->start(-1, {}, loopError_);
 }
 
-void Session::setHandCount(int hands) {
+void Simulation::setHandCount(int hands) {
     hands = std::clamp(hands, 1, haptics::kMaxHands);
     if (hands == handCount_) return;
     stopLoop();
@@ -86,19 +86,19 @@ void Session::setHandCount(int hands) {
     startLoop();
 }
 
-void Session::setActiveHand(int hand) { activeHand_ = std::clamp(hand, 0, handCount_ - 1); }
+void Simulation::setActiveHand(int hand) { activeHand_ = std::clamp(hand, 0, handCount_ - 1); }
 
-std::array<int, haptics::kMaxHands> Session::toolsInHands() const {
+std::array<int, haptics::kMaxHands> Simulation::toolsInHands() const {
     std::array<int, haptics::kMaxHands> tools{};
     for (std::size_t h = 0; h < tools.size(); ++h) tools[h] = static_cast<int>(tool_[h]);
     return tools;
 }
 
-const haptics::Device* Session::hardwareDevice() const { return hardware_[static_cast<std::size_t>(activeHand_)].get(); }
+const haptics::Device* Simulation::hardwareDevice() const { return hardware_[static_cast<std::size_t>(activeHand_)].get(); }
 
-bool Session::mouseDrives() const { return !hardware_[static_cast<std::size_t>(activeHand_)] && !(activeHand_ == 0 && replay_); }
+bool Simulation::mouseDrives() const { return !hardware_[static_cast<std::size_t>(activeHand_)] && !(activeHand_ == 0 && replay_); }
 
-void Session::useDevice(std::unique_ptr<haptics::Device> device, int hand) {
+void Simulation::useDevice(std::unique_ptr<haptics::Device> device, int hand) {
     hand = std::clamp(hand, 0, haptics::kMaxHands - 1);
     stopLoop();
     if (hand == 0) replay_.reset();
@@ -107,7 +107,7 @@ void Session::useDevice(std::unique_ptr<haptics::Device> device, int hand) {
     startLoop();
 }
 
-void Session::resetModel() {
+void Simulation::resetModel() {
     stopLoop();  // before the organ it steps goes away
     organ_ = std::make_unique<cutting::CutModel>(scene_.source.mesh, scene_.buildModel());
     startLoop();
@@ -117,37 +117,34 @@ void Session::resetModel() {
     ++resets_;
 }
 
-void Session::restartLoop() {
+void Simulation::restartLoop() {
     stopLoop();
     startLoop();
 }
 
-void Session::setTool(std::size_t index) {
+void Simulation::setTool(std::size_t index) {
     if (index >= scene_.tools.size()) return;
     tool_[static_cast<std::size_t>(activeHand_)] = index;
     setCutThreshold(scene_.tools[index].threshold_N);
 }
 
-void Session::setCutThreshold(double threshold_N) {
+void Simulation::setCutThreshold(double threshold_N) {
     threshold_[static_cast<std::size_t>(activeHand_)] = threshold_N;
     loop_->commands().push({haptics::LoopCommand::Kind::SetCutThreshold, threshold_N, activeHand_});
 }
 
-bool Session::replay(const std::string& file, std::string& error) {
+Status Simulation::replay(const std::string& file) {
     auto trajectory = haptics::readTrajectory(file);
-    if (!trajectory) {
-        error = trajectory.error().toString();
-        return false;
-    }
+    if (!trajectory) return trajectory.error();
     stopLoop();
     replay_ = std::make_unique<haptics::ReplayDevice>(std::move(*trajectory), scene_.settings.maxForce_N);
     hardware_[0].reset();
     replayFile_ = file;
     startLoop();
-    return true;
+    return std::nullopt;
 }
 
-void Session::useMouse() {
+void Simulation::useMouse() {
     const auto h = static_cast<std::size_t>(activeHand_);
     if (!(activeHand_ == 0 && replay_) && !hardware_[h]) return;
     stopLoop();
@@ -159,38 +156,32 @@ void Session::useMouse() {
     startLoop();
 }
 
-bool Session::loadModel(const std::string& model, std::string& error) {
-    app::SceneChoice choice;
-    choice.model = model;
-    auto loaded = app::loadScene(choice);
-    if (!loaded) {
-        error = "could not load " + model + " (the terminal says why)";
-        return false;
-    }
+Status Simulation::loadModel(const std::string& model) {
+    SceneRequest request;
+    request.overrides.model = model;
+    auto loaded = loadScene(request);
+    if (!loaded) return loaded.error();
     scene_.source = std::move(loaded->source);
     resetModel();
-    return true;
+    return std::nullopt;
 }
 
-bool Session::loadTool(const std::string& file, std::string& error) {
+Status Simulation::loadTool(const std::string& file) {
     auto tool = mesh::io::readToolFile(file);
-    if (!tool) {
-        error = tool.error().toString();
-        return false;
-    }
+    if (!tool) return tool.error();
     scene_.tools.push_back({std::filesystem::path(file).stem().string(), std::move(tool->mesh), tool->threshold_N});
     setTool(scene_.tools.size() - 1);
-    return true;
+    return std::nullopt;
 }
 
-void Session::setMaterialScale(MaterialKnob knob, double scale) {
+void Simulation::setMaterialScale(MaterialKnob knob, double scale) {
     double& current = materialScale_[static_cast<int>(knob)];
     if (!(scale > 0) || scale == current) return;
     loop_->commands().push({commandFor(knob), scale / current});
     current = scale;
 }
 
-std::optional<std::string> Session::exportMesh(const std::string& file, const haptics::Snapshot& snapshot) const {
+WriteStatus Simulation::exportMesh(const std::string& file, const haptics::Snapshot& snapshot) const {
     mesh::SurfaceMesh m;
     m.positions = snapshot.positions;
     m.faces = snapshot.faces;
@@ -198,8 +189,7 @@ std::optional<std::string> Session::exportMesh(const std::string& file, const ha
     m.uvs.resize(m.faces.size());
     m.edges = mesh::edgesOfFaces(m.faces);
     mesh::computeFaceNormals(m);
-    if (const auto error = mesh::io::saveMesh(file, m, scene_.source.physics)) return error->toString();
-    return std::nullopt;
+    return mesh::io::saveMesh(file, m, scene_.source.physics);
 }
 
-}  // namespace hapticut::viewer
+}  // namespace hapticut::scene

@@ -1,0 +1,88 @@
+// Assembling a scene: settings, overrides, the placed model and the tools.
+#include "hapticut/scene/scene.h"
+
+#include "hapticut/mesh/io/thesis_format.h"
+#include "hapticut/mesh/procedural/tools.h"
+#include "hapticut/physics/material.h"
+
+namespace hapticut::scene {
+
+physics::MassSpringModel Scene::buildModel() const {
+    if (settings.materialGiven) return physics::buildModel(source.mesh, settings.material);
+    return buildSimulationModel(source);
+}
+
+std::optional<std::size_t> Scene::toolIndex(std::string_view name) const {
+    for (std::size_t i = 0; i < tools.size(); ++i)
+        if (tools[i].name == name) return i;
+    return std::nullopt;
+}
+
+Result<double, Error> toolThreshold(const SceneFile& settings, const std::string& name) {
+    for (const SceneTool& t : settings.tools)
+        if (t.name == name) return t.threshold_N;
+    if (name == "probe") return mesh::procedural::kProbeThreshold_N;
+    if (name == "scalpel") return mesh::procedural::kScalpelThreshold_N;
+    if (name.find('.') == std::string::npos)
+        return unexpected(Error{{}, 0, "unknown tool '" + name + "': expected probe, scalpel or a tool file (thesis format)"});
+    auto tool = mesh::io::readToolFile(name);
+    if (!tool) return unexpected(tool.error());
+    return tool->threshold_N;
+}
+
+void applyOverrides(const SceneOverrides& o, SceneFile& s) {
+    if (o.model) s.model = *o.model;
+    if (o.triangles) s.triangles = *o.triangles;
+    if (o.scheme) s.scheme = *o.scheme;
+    if (o.rate_hz) s.rate_hz = *o.rate_hz;
+    if (o.couplingStiffness_N_per_m) s.couplingStiffness_N_per_m = *o.couplingStiffness_N_per_m;
+    if (o.friction) s.staticFriction = (*o.friction)[0], s.dynamicFriction = (*o.friction)[1];
+    if (o.trajectory) {
+        s.deviceBackend = "replay";
+        s.trajectory = *o.trajectory;
+    }
+}
+
+Result<SceneFile, Error> sceneSettings(const SceneRequest& request) {
+    SceneFile settings;
+    if (request.file.empty()) {
+        settings = defaultScene();
+    } else {
+        auto file = readScene(request.file);
+        if (!file) return unexpected(file.error());
+        settings = std::move(*file);
+    }
+    applyOverrides(request.overrides, settings);
+    return settings;
+}
+
+Result<Scene, Error> assembleScene(std::filesystem::path file, SceneFile settings) {
+    Scene scene;
+    scene.file = std::move(file);
+    scene.settings = std::move(settings);
+    auto source = loadModelSource(scene.settings.model, scene.settings.triangles);
+    if (!source) return unexpected(source.error());
+    scene.source = std::move(*source);
+    applyPlacement(scene.settings, scene.source.mesh.positions);
+    mesh::computeFaceNormals(scene.source.mesh);
+    for (const SceneTool& t : scene.settings.tools) {
+        Tool tool{t.name, {}, t.threshold_N};
+        if (!t.file.empty()) {
+            auto toolFile = mesh::io::readToolFile(t.file);
+            if (!toolFile) return unexpected(toolFile.error());
+            tool.mesh = std::move(toolFile->mesh);
+        } else {
+            tool.mesh = t.name == "scalpel" ? mesh::procedural::makeScalpel() : mesh::procedural::makeProbe();
+        }
+        scene.tools.push_back(std::move(tool));
+    }
+    return scene;
+}
+
+Result<Scene, Error> loadScene(const SceneRequest& request) {
+    auto settings = sceneSettings(request);
+    if (!settings) return unexpected(settings.error());
+    return assembleScene(request.file, std::move(*settings));
+}
+
+}  // namespace hapticut::scene

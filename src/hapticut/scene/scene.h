@@ -1,0 +1,71 @@
+// Scene = organ model + tools + devices + settings (DESIGN "Layers"): the one place a scene is
+// assembled, from a scene file or the built-in default, with a command line's overrides applied.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hapticut/common/error.h"
+#include "hapticut/common/result.h"
+#include "hapticut/cutting/cut_model.h"
+#include "hapticut/scene/model_source.h"
+#include "hapticut/scene/scene_file.h"
+
+namespace hapticut::scene {
+
+/// What a command line (or a script) sets over the scene file; an empty field keeps the file's value.
+struct SceneOverrides {
+    std::optional<std::string> model;
+    std::optional<int> triangles;
+    std::optional<physics::Scheme> scheme;
+    std::optional<double> rate_hz;
+    std::optional<double> couplingStiffness_N_per_m;
+    std::optional<std::array<double, 2>> friction;  // static, dynamic
+    std::optional<std::string> trajectory;          // the first device replays it
+};
+
+struct SceneRequest {
+    std::filesystem::path file;  // a scene file; empty: the built-in default (the heart, a probe and a scalpel)
+    SceneOverrides overrides;
+};
+
+struct Tool {
+    std::string name;
+    mesh::SurfaceMesh mesh;  // tip at the origin, handle along +z
+    double threshold_N = 1e9;
+};
+
+struct Scene {
+    std::filesystem::path file;  // empty for the built-in default
+    SceneFile settings;          // the file's, with the overrides applied
+    ModelSource source;          // its mesh placed by the scene
+    std::vector<Tool> tools;
+
+    /// The organ's mass-spring model: the scene's material when it gives one, else the model's own.
+    physics::MassSpringModel buildModel() const;
+    /// A fresh organ to simulate and cut, at rest.
+    cutting::CutModel makeOrgan() const { return cutting::CutModel(source.mesh, buildModel()); }
+    /// The tool of that name, or nothing (the caller names the choices).
+    std::optional<std::size_t> toolIndex(std::string_view name) const;
+};
+
+/// The cut threshold of the tool a command line names: the scene's tool of that name, the procedural
+/// probe's or scalpel's, or a thesis tool file's. A name with no '.' that is none of these is an
+/// unknown tool (an error without a file); anything else is a file that did not load.
+Result<double, Error> toolThreshold(const SceneFile& settings, const std::string& name);
+
+/// Sets the overrides over `settings`.
+void applyOverrides(const SceneOverrides& overrides, SceneFile& settings);
+
+/// The scene's settings: the file's (or the built-in default's) with the overrides applied. Reads
+/// only the scene file, so a command can check its arguments before a large model loads.
+Result<SceneFile, Error> sceneSettings(const SceneRequest& request);
+/// Loads and places the model and loads the tools that `settings` (from `file`, or the default) name.
+Result<Scene, Error> assembleScene(std::filesystem::path file, SceneFile settings);
+/// Both: the whole scene. Errors name the file and line.
+Result<Scene, Error> loadScene(const SceneRequest& request);
+
+}  // namespace hapticut::scene
