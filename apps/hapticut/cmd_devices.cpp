@@ -72,7 +72,7 @@ StreamResult streamDevice(haptics::Device& device, double seconds, bool pulse) {
         }
     }
     device.commandForce(Vec3::Zero());
-    r.rate_hz = r.samples / seconds;
+    r.rate_hz = static_cast<double>(r.samples) / seconds;
     return r;
 }
 

@@ -11,6 +11,7 @@
 #include "hapticut/common/stop_signal.h"
 #include "hapticut/common/text_file.h"
 #include "hapticut/haptics/replay_device.h"
+#include "hapticut/haptics/step_log.h"
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/scene/haptic_run.h"
@@ -249,8 +250,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     int status = r.watchdogTripped ? 3 : 0;
     // Ctrl-C is how a run with a live device and no --steps ends; a run with a set length was cut short.
     if (StopSignal::requested() && o.stepsGiven) status = 128 + StopSignal::signalNumber();
-    if (!o.forceLog.empty() && !writeOutput(o.forceLog, scene::formatForceLog(r.log), "the force log")) status = 1;
-    if (!o.record.empty() && !writeOutput(o.record, haptics::formatRecording(r.log), "the recording")) status = 1;
+    if (!o.forceLog.empty() && !writeOutput(o.forceLog, haptics::formatStepLog(r.log, haptics::StepLogColumns::ForceLog), "the force log")) status = 1;
+    if (!o.record.empty() && !writeOutput(o.record, haptics::formatStepLog(r.log, haptics::StepLogColumns::Recording), "the recording")) status = 1;
     if (!exportDeformed(o.exportMesh, organ.mesh(), *source, model)) status = 1;
     if (!o.report.empty()) {
         nlohmann::ordered_json j = reportHeader(*source, model, scheme);

@@ -1,7 +1,7 @@
 // Trajectory CSV: round trips, recordings that replay, interpolation, and clear errors.
 #include <gtest/gtest.h>
 
-#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/step_log.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/haptics/trajectory.h"
 
@@ -29,7 +29,7 @@ TEST(Trajectory, ARecordingReplaysAsATrajectory) {
         log[i].hands[0].force_N = Vec3(0, 0, 0.5 * i);
         log[i].hands[0].buttons = 1;
     }
-    const std::string text = formatRecording(log);
+    const std::string text = formatStepLog(log, StepLogColumns::Recording);
     EXPECT_EQ(text.substr(0, text.find('\n')), "t,x,y,z,button,fx,fy,fz");
     const auto t = parseTrajectory(text, "recording.csv");
     ASSERT_TRUE(t.has_value()) << t.error().toString();

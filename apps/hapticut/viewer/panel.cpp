@@ -5,6 +5,7 @@
 #include <imgui_stdlib.h>
 
 #include "hapticut/haptics/openhaptics_device.h"
+#include "hapticut/haptics/step_log.h"
 #include "hapticut/common/text_file.h"
 
 namespace hapticut::viewer {
@@ -190,7 +191,7 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
         state.message = "recording the device path";
     } else if (state.recording && ImGui::Button("stop")) {
         state.recording = false;
-        const auto error = writeTextFileAtomically(state.recordPath, haptics::formatRecording(state.recorded));
+        const auto error = writeTextFileAtomically(state.recordPath, haptics::formatStepLog(state.recorded, haptics::StepLogColumns::Recording));
         state.message = error ? error->toString() : "wrote " + std::to_string(state.recorded.size()) + " samples to " + state.recordPath;
     }
     ImGui::InputText("##replay", &state.replayPath);

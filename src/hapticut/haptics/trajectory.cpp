@@ -1,7 +1,6 @@
 // Device trajectories as CSV.
 #include "hapticut/haptics/trajectory.h"
 
-#include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/common/line_reader.h"
 
 namespace hapticut::haptics {
@@ -74,18 +73,6 @@ Result<Trajectory, Error> readTrajectory(const std::filesystem::path& file) {
     const auto text = readTextFile(file, std::size_t{1} << 30);
     if (!text) return unexpected(text.error());
     return parseTrajectory(*text, file);
-}
-
-std::string formatRecording(std::span<const StepOutput> log) {
-    std::string out = "t,x,y,z,button,fx,fy,fz\n";
-    for (const StepOutput& s : log) {
-        out += formatDouble(s.t_s);
-        for (int k = 0; k < 3; ++k) out += "," + formatDouble(s.hand().device_m[k]);
-        out += "," + std::to_string(s.hand().buttons & 1u);
-        for (int k = 0; k < 3; ++k) out += "," + formatDouble(s.hand().force_N[k]);
-        out += "\n";
-    }
-    return out;
 }
 
 std::string formatTrajectory(const Trajectory& trajectory) {

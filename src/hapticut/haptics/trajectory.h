@@ -28,9 +28,5 @@ Result<Trajectory, Error> parseTrajectory(std::string_view text, const std::file
 Result<Trajectory, Error> readTrajectory(const std::filesystem::path& file);
 std::string formatTrajectory(const Trajectory& trajectory);
 
-struct StepOutput;
-/// A recording of a haptic run: the trajectory format with the rendered force appended,
-/// `t,x,y,z,button,fx,fy,fz`. It replays as a trajectory (the forces are ignored).
-std::string formatRecording(std::span<const StepOutput> log);
 
 }  // namespace hapticut::haptics

@@ -18,12 +18,6 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
 }
-
-bool traversesForward(const Face& f, std::uint32_t a, std::uint32_t b) {
-    for (int k = 0; k < 3; ++k)
-        if (f[k] == a && f[(k + 1) % 3] == b) return true;
-    return false;
-}
 }  // namespace
 
 MeshReport validateMesh(const SurfaceMesh& mesh) {

@@ -96,12 +96,6 @@ void flip(SurfaceMesh& m, std::size_t f) {
     std::swap(m.uvs[f][1], m.uvs[f][2]);
 }
 
-bool traversesForward(const Face& f, std::uint32_t a, std::uint32_t b) {
-    for (int k = 0; k < 3; ++k)
-        if (f[k] == a && f[(k + 1) % 3] == b) return true;
-    return false;
-}
-
 /// Faces beyond the first two on an edge get their own copies of the edge's two vertices.
 std::size_t splitNonManifoldEdges(SurfaceMesh& m) {
     const MeshAdjacency adj = buildAdjacency(m.faces);

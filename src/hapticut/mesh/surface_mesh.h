@@ -40,6 +40,14 @@ void computeFaceNormals(SurfaceMesh& mesh);
 /// Fills missing UVs (zero), normals (computed) and edges (from faces) so the mesh is complete.
 void completeMesh(SurfaceMesh& mesh);
 
+/// Whether face f's winding runs from a straight to b (a and b are consecutive corners in that order).
+/// Two faces on an edge are consistently oriented when exactly one of them runs a -> b.
+inline bool traversesForward(const Face& f, std::uint32_t a, std::uint32_t b) {
+    for (int k = 0; k < 3; ++k)
+        if (f[k] == a && f[(k + 1) % 3] == b) return true;
+    return false;
+}
+
 /// Total surface area in m^2.
 double surfaceArea(const SurfaceMesh& mesh);
 

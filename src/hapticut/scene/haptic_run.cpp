@@ -92,25 +92,4 @@ HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Han
     return r;
 }
 
-std::string formatForceLog(const std::vector<haptics::StepOutput>& log) {
-    const bool two = !log.empty() && log.front().handCount > 1;
-    std::string out = "t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut";
-    out += two ? ",device_x2,device_y2,device_z2,proxy_x2,proxy_y2,proxy_z2,fx2,fy2,fz2,contact2,face2\n" : "\n";
-    out.reserve(out.size() + log.size() * (two ? 300 : 160));
-    auto hand = [&](const haptics::HandStep& h) {
-        for (const Vec3* v : {&h.device_m, &h.proxy_m, &h.force_N})
-            for (int k = 0; k < 3; ++k) out += "," + formatDouble((*v)[k]);
-        out += h.contact ? ",1," : ",0,";
-        out += std::to_string(h.face);
-    };
-    for (const haptics::StepOutput& s : log) {
-        out += formatDouble(s.t_s);
-        hand(s.hands[0]);
-        out += s.cut ? ",1" : ",0";
-        if (two) hand(s.hands[1]);
-        out += "\n";
-    }
-    return out;
-}
-
 }  // namespace hapticut::scene

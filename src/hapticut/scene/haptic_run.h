@@ -63,9 +63,5 @@ HapticRunResult runHaptic(cutting::CutModel& organ, const haptics::Trajectory& t
 /// run is real time and config.stopRequested ends it.
 HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands, const HapticRunConfig& config);
 
-/// The force log as CSV: t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut
-/// (cut: 1 when the scalpel changed the mesh in that step); with two hands the second hand's columns
-/// follow, suffixed 2.
-std::string formatForceLog(const std::vector<haptics::StepOutput>& log);
 
 }  // namespace hapticut::scene

@@ -2,7 +2,6 @@
 // vertices per corner, which would merge or lose the coincident vertices an opened cut creates.
 #include "hapticut/mesh/io/obj_format.h"
 
-#include "hapticut/geometry/triangle.h"
 #include "hapticut/common/line_reader.h"
 
 namespace hapticut::mesh::io {
@@ -24,10 +23,9 @@ std::size_t resolveIndex(const LineReader& r, std::string_view token, std::size_
 Result<ImportedMesh, Error> parseObj(std::string_view text, const std::filesystem::path& file) {
     try {
         LineReader r(text);
-        ImportedMesh out;
-        SurfaceMesh& m = out.mesh;
+        ImportedMeshBuilder out;
+        SurfaceMesh& m = out.mesh();
         std::vector<Vec2> texcoords;
-        std::size_t degenerate = 0;
         std::vector<std::size_t> vi, ti;
         while (r.next()) {
             const std::string_view key = r.token(0);
@@ -54,22 +52,13 @@ Result<ImportedMesh, Error> parseObj(std::string_view text, const std::filesyste
                 if (!ti.empty() && ti.size() != vi.size()) r.fail("some corners of this face have texture coordinates and some do not");
                 for (std::size_t c = 1; c + 1 < vi.size(); ++c) {  // fan triangulation of polygons
                     const Face f{static_cast<std::uint32_t>(vi[0]), static_cast<std::uint32_t>(vi[c]), static_cast<std::uint32_t>(vi[c + 1])};
-                    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] ||
-                        geometry::areaNormal(m.positions[f[0]], m.positions[f[1]], m.positions[f[2]]).squaredNorm() == 0) {
-                        ++degenerate;
-                        continue;
-                    }
-                    m.faces.push_back(f);
-                    if (ti.empty()) m.uvs.push_back({Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
-                    else m.uvs.push_back({texcoords[ti[0]], texcoords[ti[c]], texcoords[ti[c + 1]]});
+                    if (ti.empty()) out.addFace(f, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+                    else out.addFace(f, {texcoords[ti[0]], texcoords[ti[c]], texcoords[ti[c + 1]]});
                 }
             }
             // vn, g, o, s, usemtl, mtllib, l and the rest carry nothing the simulation uses.
         }
-        if (m.faces.empty()) return unexpected(Error{file, 0, "no faces found: expected 'f' lines with at least 3 vertex indices"});
-        if (degenerate > 0) out.warnings.push_back({file, 0, "dropped " + std::to_string(degenerate) + " degenerate face(s)"});
-        completeMesh(m);
-        return out;
+        return out.finish(file, "'f' lines with at least 3 vertex indices");
     } catch (const ParseFailure& failure) {
         return unexpected(Error{file, failure.line, failure.message});
     }

@@ -6,15 +6,11 @@
 #include <string_view>
 
 #include "hapticut/common/result.h"
-#include "hapticut/common/text_file.h"
+#include "hapticut/common/error.h"
+#include "hapticut/mesh/io/imported_mesh.h"
 #include "hapticut/mesh/surface_mesh.h"
 
 namespace hapticut::mesh::io {
-
-struct ImportedMesh {
-    SurfaceMesh mesh;  // edges from the faces, normals computed
-    std::vector<Warning> warnings;
-};
 
 Result<ImportedMesh, Error> parseObj(std::string_view text, const std::filesystem::path& file_for_errors);
 std::string formatObj(const SurfaceMesh& mesh);

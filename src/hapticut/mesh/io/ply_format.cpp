@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "hapticut/geometry/triangle.h"
 #include "hapticut/common/line_reader.h"
 
 namespace hapticut::mesh::io {
@@ -158,10 +157,9 @@ Result<ImportedMesh, Error> parsePly(std::string_view bytes, const std::filesyst
             if (!hasIndices) throw ParseFailure{0, "the face element needs a list property 'vertex_indices'"};
         }
 
-        ImportedMesh out;
-        SurfaceMesh& m = out.mesh;
+        ImportedMeshBuilder out;
+        SurfaceMesh& m = out.mesh();
         ValueSource src(bytes.substr(bodyStart), format, header.line());
-        std::size_t degenerate = 0;
         for (const Element& el : elements) {
             const bool isVertex = el.name == "vertex", isFace = el.name == "face";
             if (isVertex) {
@@ -175,7 +173,6 @@ Result<ImportedMesh, Error> parsePly(std::string_view bytes, const std::filesyst
                 Vec3 p = Vec3::Zero();
                 Face f{};
                 FaceUvs uv{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
-                bool faceOk = true;
                 for (const Property& prop : el.properties) {
                     if (prop.countType.empty()) {
                         const double v = src.read(prop.type, prop.name);
@@ -197,24 +194,13 @@ Result<ImportedMesh, Error> parsePly(std::string_view bytes, const std::filesyst
                         if (indices) f[k] = asIndex(v, m.positions.size(), src.line());
                         if (isFace && prop.name == "texcoord") uv[k / 2][static_cast<Eigen::Index>(k % 2)] = v;
                     }
-                    faceOk = faceOk && (!isFace || !indices || (f[0] != f[1] && f[1] != f[2] && f[0] != f[2]));
                 }
                 src.endElement();
                 if (isVertex) m.positions.push_back(p);
-                if (isFace) {
-                    if (faceOk && geometry::areaNormal(m.positions[f[0]], m.positions[f[1]], m.positions[f[2]]).squaredNorm() > 0) {
-                        m.faces.push_back(f);
-                        m.uvs.push_back(uv);
-                    } else {
-                        ++degenerate;
-                    }
-                }
+                if (isFace) out.addFace(f, uv);
             }
         }
-        if (m.faces.empty()) return unexpected(Error{file, 0, "no faces found: expected a 'face' element with vertex_indices"});
-        if (degenerate > 0) out.warnings.push_back({file, 0, "dropped " + std::to_string(degenerate) + " degenerate face(s)"});
-        completeMesh(m);
-        return out;
+        return out.finish(file, "a 'face' element with vertex_indices");
     } catch (const ParseFailure& failure) {
         return unexpected(Error{file, failure.line, failure.message});
     }
