@@ -94,9 +94,9 @@ int selfTest(const DevicesOptions& o) {
         }
         return ok ? 0 : 1;
     };
-    const auto spec = haptics::parseDeviceSpec(o.selfTest);
+    const auto spec = haptics::parseDeviceName(o.selfTest);
     if (!spec) {
-        std::cerr << "hapticut devices: " << spec.error() << "\n";
+        std::cerr << "hapticut devices: " << spec.error().toString() << "\n";
         return 2;
     }
     scene::DeviceSetup setup;
@@ -145,17 +145,16 @@ int devices(const DevicesOptions& o) {
     backends.push_back({"replay", true, "a recorded device path (CSV t,x,y,z,button): run --trajectory FILE, view --trajectory FILE"});
     haptics::OpenHapticsOptions hd;
     if (!o.hdLibrary.empty()) hd.libraryNames = {o.hdLibrary};
-    std::string error;
-    if (const auto path = haptics::OpenHapticsDevice::probeLibrary(hd, error))
+    if (const auto path = haptics::OpenHapticsDevice::probeLibrary(hd))
         backends.push_back({"openhaptics", true, "Phantom / Touch through " + *path});
     else
-        backends.push_back({"openhaptics", false, error});
+        backends.push_back({"openhaptics", false, path.error().message});
     nlohmann::ordered_json joysticks = nlohmann::ordered_json::array();
 #ifdef HAPTICUT_HAVE_SDL
-    std::string sdlError;
-    const auto found = haptics::SdlDevice::list(sdlError);
-    if (!sdlError.empty()) {
-        backends.push_back({"sdl", false, sdlError});
+    const auto listed = haptics::SdlDevice::list();
+    const std::vector<haptics::SdlJoystickInfo> found = listed ? *listed : std::vector<haptics::SdlJoystickInfo>{};
+    if (!listed) {
+        backends.push_back({"sdl", false, listed.error().message});
     } else if (found.empty()) {
         backends.push_back({"sdl", false, "SDL sees no joystick or gamepad (plugged in? may this user read /dev/input/event*? On Debian: the 'input' group)"});
     } else {

@@ -133,12 +133,12 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     const std::string trajectory = settings.deviceBackend == "replay" ? settings.trajectory : "";
     const physics::Scheme scheme = settings.scheme;
     const double rate_hz = settings.rate_hz;
-    std::vector<haptics::DeviceSpec> specs;
+    std::vector<haptics::DeviceName> specs;
     if (!trajectory.empty()) specs.push_back({haptics::DeviceKind::Replay, trajectory});
     for (const std::string& text : o.devices) {
-        auto spec = haptics::parseDeviceSpec(text);
+        auto spec = haptics::parseDeviceName(text);
         if (!spec) {
-            std::cerr << "hapticut run: " << spec.error() << "\n";
+            std::cerr << "hapticut run: " << spec.error().toString() << "\n";
             return 2;
         }
         if (spec->kind == haptics::DeviceKind::Virtual) {
@@ -175,7 +175,7 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     std::vector<scene::OpenedDevice> opened;
     double replayDuration_s = 0;
     bool live = false;
-    for (const haptics::DeviceSpec& spec : specs) {
+    for (const haptics::DeviceName& spec : specs) {
         auto device = scene::openDeviceFor(*scene, spec, deviceOptions);
         if (!device) {
             std::cerr << "hapticut run: " << device.error().toString() << "\n";
@@ -215,13 +215,12 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << o.tool << (hands.size() > 1 ? " and " + o.secondTool : "")
               << ", " << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at " << rate_hz << " Hz, "
               << (config.realtime ? "real time" : "simulated time") << "\n";
-    scene::HapticRunResult r;
-    try {
-        r = scene::runHaptic(organ, hands, config);
-    } catch (const std::exception& e) {
-        std::cerr << "hapticut run: " << e.what() << "\n";
+    auto run = scene::runHaptic(organ, hands, config);
+    if (!run) {
+        std::cerr << "hapticut run: " << run.error().toString() << "\n";
         return 1;
     }
+    const scene::HapticRunResult& r = *run;
     if (StopSignal::requested()) std::cerr << "\nhapticut run: stopped by signal " << StopSignal::signalNumber() << "; the devices were left at zero force\n";
 
     std::cout << r.steps << " haptic steps (" << r.simTime_s << " s simulated) in " << r.wallTime_s << " s wall: " << r.hapticRate_hz

@@ -80,7 +80,12 @@ int screenshot(ScreenshotOptions& o) {
         config.loop.couplingDamping_Ns_per_m = loaded->settings.couplingDamping_Ns_per_m;
         config.loop.cutThreshold_N = loaded->tools[*tool].threshold_N;
         config.steps = std::lround((o.at_s >= 0 ? o.at_s : end_s) * config.loop.rate_hz) + 1;
-        const scene::HapticRunResult r = scene::runHaptic(organ, *trajectory, config);
+        auto run = scene::runHaptic(organ, *trajectory, config);
+        if (!run) {
+            std::cerr << "hapticut screenshot: " << run.error().toString() << "\n";
+            return 1;
+        }
+        const scene::HapticRunResult& r = *run;
         if (!r.log.empty()) {
             const haptics::StepOutput& last = r.log.back();
             frame.hands[0].proxy_m = last.hand().proxy_m;

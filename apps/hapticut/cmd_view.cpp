@@ -5,7 +5,7 @@
 #include <tuple>
 
 #include "commands.h"
-#include "hapticut/haptics/device_spec.h"
+#include "hapticut/haptics/device_name.h"
 #include "terminal.h"
 #include "viewer/viewer.h"
 
@@ -37,8 +37,8 @@ int view(ViewCommandOptions& o) {
         return 2;
     }
     for (const std::string& device : o.viewer.devices)
-        if (const auto spec = haptics::parseDeviceSpec(device); !spec) {
-            std::cerr << "hapticut view: " << spec.error() << "\n";
+        if (const auto spec = haptics::parseDeviceName(device); !spec) {
+            std::cerr << "hapticut view: " << spec.error().toString() << "\n";
             return 2;
         }
     o.viewer.hands = std::max(o.viewer.hands, static_cast<int>(o.viewer.devices.size()));

@@ -24,7 +24,10 @@ std::string traceOf(const std::string& trajectory_name) {
     EXPECT_TRUE(trajectory.has_value());
     const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
     cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
-    const HapticRunResult r = runHaptic(organ, *trajectory, {});
+    const auto run = runHaptic(organ, *trajectory, {});
+    EXPECT_TRUE(run.has_value());
+    if (!run) return {};
+    const HapticRunResult& r = *run;
     std::string out = "t,fx,fy,fz,contact\n";
     for (std::size_t i = 0; i < r.log.size(); i += kEvery) {
         const haptics::StepOutput& s = r.log[i];

@@ -8,7 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "hapticut/haptics/device_spec.h"
+#include "hapticut/haptics/device_name.h"
 #include "hapticut/haptics/force_safety.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
@@ -25,6 +25,13 @@ struct Heart {
     mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
     cutting::CutModel organ{mesh, physics::buildModel(mesh, physics::Material{})};
 };
+
+/// A loop that must build: the hands here are always valid.
+std::unique_ptr<HapticLoop> makeLoop(cutting::CutModel& organ, std::span<const Hand> hands, LoopConfig config = {}) {
+    auto loop = HapticLoop::create(organ, hands, config);
+    EXPECT_TRUE(loop.has_value()) << loop.error().toString();
+    return std::move(loop.value());
+}
 
 /// The front-most rest point of the heart near (x, y).
 Vec3 frontAt(const mesh::SurfaceMesh& mesh, double x, double y) {
@@ -70,7 +77,8 @@ TEST(TwoHands, BothPressTheHeartInTheSameStepAndEachFeelsItsOwnForce) {
     const Vec3 right = frontAt(h.mesh, 0.012, 0.0), left = frontAt(h.mesh, -0.012, 0.005);
     ReplayDevice a(pressAt(right, 0.004)), b(pressAt(left, 0.008));
     const std::array<Hand, 2> hands{Hand{&a}, Hand{&b}};
-    HapticLoop loop(h.organ, hands, {});
+    auto made = makeLoop(h.organ, hands);
+    HapticLoop& loop = *made;
     ASSERT_EQ(loop.handCount(), 2);
     StepOutput last;
     Vec3 sentA, sentB;  // what the devices were told in the last step (the run's end zeroes them)
@@ -116,7 +124,8 @@ TEST(TwoHands, AProbeHoldsTheTissueWhileTheScalpelInTheOtherHandCuts) {
     }
     ReplayDevice scalpel(cut);
     const std::array<Hand, 2> hands{Hand{&probe}, Hand{&scalpel, mesh::procedural::kScalpelThreshold_N}};
-    HapticLoop loop(h.organ, hands, {});
+    auto made = makeLoop(h.organ, hands);
+    HapticLoop& loop = *made;
     double probeForceWhileCutting = std::numeric_limits<double>::infinity();
     runSimulated(loop, 2400, [&](const StepOutput& s) {
         if (s.cut) probeForceWhileCutting = std::min(probeForceWhileCutting, s.hands[0].force_N.norm());
@@ -130,11 +139,20 @@ TEST(TwoHands, AProbeHoldsTheTissueWhileTheScalpelInTheOtherHandCuts) {
 TEST(TwoHands, ALoopTakesOneOrTwoHandsWithDevices) {
     Heart h;
     VirtualDevice d;
-    EXPECT_THROW(HapticLoop(h.organ, std::span<const Hand>{}, {}), std::invalid_argument);
+    const auto noHands = HapticLoop::create(h.organ, std::span<const Hand>{});
+    ASSERT_FALSE(noHands);
+    EXPECT_NE(noHands.error().message.find("1 to 2 hands, not 0"), std::string::npos) << noHands.error().message;
     const std::array<Hand, 3> three{Hand{&d}, Hand{&d}, Hand{&d}};
-    EXPECT_THROW(HapticLoop(h.organ, three, {}), std::invalid_argument);
+    EXPECT_FALSE(HapticLoop::create(h.organ, three));
     const std::array<Hand, 1> none{Hand{nullptr}};
-    EXPECT_THROW(HapticLoop(h.organ, none, {}), std::invalid_argument);
+    const auto noDevice = HapticLoop::create(h.organ, none);
+    ASSERT_FALSE(noDevice);
+    EXPECT_EQ(noDevice.error().message, "a hand without a device");
+    const std::array<Hand, 1> one{Hand{&d}};
+    LoopConfig zeroRate;
+    zeroRate.rate_hz = 0;
+    EXPECT_FALSE(HapticLoop::create(h.organ, one, zeroRate)) << "a zero rate would divide every step by zero";
+    EXPECT_TRUE(HapticLoop::create(h.organ, one));
 }
 
 TEST(ForceSafety, TheForceSentGrowsNoFasterThanTheHandsLimitAndEasesOffAtOnce) {
@@ -151,7 +169,8 @@ TEST(ForceSafety, TheForceSentGrowsNoFasterThanTheHandsLimitAndEasesOffAtOnce) {
     device.position = front + Vec3(0, 0, 0.002);
     Hand hand{&device};
     hand.maxForceRate_N_per_s = 500;  // 0.5 N per 1 ms step
-    HapticLoop loop(h.organ, std::span<const Hand>(&hand, 1), {});
+    auto made = makeLoop(h.organ, std::span<const Hand>(&hand, 1));
+    HapticLoop& loop = *made;
     runSimulated(loop, 600);
     device.position = front - Vec3(0, 0, 0.01);
     double previous = 0, largestRise = 0;
@@ -221,12 +240,13 @@ TEST(ForceSafety, TheLoopLeavesEveryHandAtZeroForceWhenItGoesAwayEvenByAnExcepti
     a.position = b.position = front + Vec3(0, 0, 0.02);
     try {
         const std::array<Hand, 2> hands{Hand{&a}, Hand{&b}};
-        HapticLoop loop(h.organ, hands, {});
+        auto made = makeLoop(h.organ, hands);
+    HapticLoop& loop = *made;
         runSimulated(loop, 600);
         a.position = front - Vec3(0, 0, 0.004);
         b.position = frontAt(h.mesh, 0.01, 0) - Vec3(0, 0, 0.004);
         RealTimeScheduler clock(loop);
-        clock.start(-1);
+        ASSERT_FALSE(clock.start());
         for (int i = 0; i < 500 && (a.force.norm() < 0.5 || b.force.norm() < 0.5); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
         clock.stop();
         // Pushing again, on the caller's thread this time, then something throws mid-run.
@@ -240,28 +260,28 @@ TEST(ForceSafety, TheLoopLeavesEveryHandAtZeroForceWhenItGoesAwayEvenByAnExcepti
     EXPECT_EQ(b.force, Vec3::Zero());
 }
 
-TEST(DeviceSpec, ParsesEveryBackendAndSaysWhatIsWrongWithTheRest) {
-    const auto virt = parseDeviceSpec("virtual");
+TEST(DeviceName, ParsesEveryBackendAndSaysWhatIsWrongWithTheRest) {
+    const auto virt = parseDeviceName("virtual");
     ASSERT_TRUE(virt);
     EXPECT_EQ(virt->kind, DeviceKind::Virtual);
-    const auto replay = parseDeviceSpec("replay:paths/cut front.csv");
+    const auto replay = parseDeviceName("replay:paths/cut front.csv");
     ASSERT_TRUE(replay);
     EXPECT_EQ(replay->kind, DeviceKind::Replay);
     EXPECT_EQ(replay->argument, "paths/cut front.csv");
     EXPECT_EQ(replay->toString(), "replay:paths/cut front.csv");
-    const auto touch = parseDeviceSpec("openhaptics:Left Touch");
+    const auto touch = parseDeviceName("openhaptics:Left Touch");
     ASSERT_TRUE(touch);
     EXPECT_EQ(touch->kind, DeviceKind::OpenHaptics);
     EXPECT_EQ(touch->argument, "Left Touch");
-    EXPECT_TRUE(parseDeviceSpec("openhaptics")->argument.empty());
-    EXPECT_EQ(parseDeviceSpec("sdl:1")->argument, "1");
-    EXPECT_EQ(parseDeviceSpec("sdl")->kind, DeviceKind::Sdl);
+    EXPECT_TRUE(parseDeviceName("openhaptics")->argument.empty());
+    EXPECT_EQ(parseDeviceName("sdl:1")->argument, "1");
+    EXPECT_EQ(parseDeviceName("sdl")->kind, DeviceKind::Sdl);
     for (const char* bad : {"", "phantom", "replay", "replay:", "sdl:one", "sdl:-1", "virtual:2", "openhaptics:"}) {
-        const auto r = parseDeviceSpec(bad);
+        const auto r = parseDeviceName(bad);
         ASSERT_FALSE(r) << bad;
-        EXPECT_NE(r.error().find("expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX]"), std::string::npos) << r.error();
+        EXPECT_NE(r.error().message.find("expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX]"), std::string::npos) << r.error().message;
     }
-    EXPECT_NE(parseDeviceSpec("sdl:one").error().find("whole number"), std::string::npos);
+    EXPECT_NE(parseDeviceName("sdl:one").error().message.find("whole number"), std::string::npos);
 }
 
 TEST(WorkspaceFit, TheDevicesReachCoversTheModelWithItsMarginAtOneScale) {

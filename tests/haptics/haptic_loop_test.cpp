@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "hapticut/collision/inside_test.h"
+#include "hapticut/collision/point_inside.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/haptics/virtual_device.h"
@@ -159,7 +159,7 @@ TEST(HapticLoop, RunsInItsOwnThreadAtTheConfiguredRate) {
     HapticLoop loop(h.organ, device);
     long observed = 0;
     RealTimeScheduler clock(loop);
-    clock.start(300, [&](const StepOutput&) { ++observed; });
+    ASSERT_FALSE(clock.start(300, [&](const StepOutput&) { ++observed; }));
     // Move the device in from this thread while the loop runs: the force appears.
     for (int i = 0; i < 100; ++i) {
         device.setPosition(frontPoint(h) + Vec3(0, 0, 0.01 - 0.00015 * i));

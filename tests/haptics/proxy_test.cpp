@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "hapticut/collision/inside_test.h"
+#include "hapticut/collision/point_inside.h"
 #include "hapticut/haptics/proxy.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"

@@ -142,7 +142,9 @@ TEST_F(Rendering, AScalpelStrokeChangesTheImageAlongTheCut) {
     ASSERT_TRUE(trajectory);
     scene::HapticRunConfig config;
     config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
-    const scene::HapticRunResult r = scene::runHaptic(cut, *trajectory, config);
+    const auto run = scene::runHaptic(cut, *trajectory, config);
+    ASSERT_TRUE(run.has_value()) << run.error().toString();
+    const scene::HapticRunResult& r = *run;
     ASSERT_TRUE(r.cut.opened);
     SceneFrame frame;
     frame.organPositions = cut.model().nodes.position;

@@ -195,7 +195,7 @@ int Viewer::run() {
     // The devices first: a missing one ends the run before the UI starts.
     if (options_.hands > 1) session_.setHandCount(options_.hands);
     for (std::size_t h = 0; h < options_.devices.size(); ++h) {
-        const auto spec = haptics::parseDeviceSpec(options_.devices[h]);  // checked by the command
+        const auto spec = haptics::parseDeviceName(options_.devices[h]);  // checked by the command
         if (!spec || spec->kind == haptics::DeviceKind::Virtual) continue;  // the mouse
         scene::DeviceOptions deviceOptions;
         deviceOptions.fitWorkspace = options_.fitWorkspace;

@@ -3,8 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <new>
 
+#include "hapticut/common/assert.h"
 #include "hapticut/haptics/force_safety.h"
 #include "hapticut/mesh/adjacency.h"
 
@@ -36,13 +37,27 @@ HapticLoop::HapticLoop(cutting::CutModel& organ, std::span<const Hand> hands, Lo
     initialise(hands);
 }
 
-void HapticLoop::initialise(std::span<const Hand> hands) {
+Result<std::unique_ptr<HapticLoop>, Error> HapticLoop::create(cutting::CutModel& organ, std::span<const Hand> hands, LoopConfig config) {
+    auto fail = [](std::string message) { return unexpected(Error{{}, 0, std::move(message)}); };
     if (hands.empty() || hands.size() > static_cast<std::size_t>(kMaxHands))
-        throw std::invalid_argument("a haptic loop takes 1 to " + std::to_string(kMaxHands) + " hands, not " + std::to_string(hands.size()));
+        return fail("a haptic loop takes 1 to " + std::to_string(kMaxHands) + " hands, not " + std::to_string(hands.size()));
+    for (const Hand& h : hands)
+        if (!h.device) return fail("a hand without a device");
+    if (!(config.rate_hz >= 1 && config.rate_hz <= 1e5)) return fail("a haptic rate of " + std::to_string(config.rate_hz) + " Hz: expected 1 Hz to 100 kHz");
+    if (organ.mesh().faces.empty()) return fail("an organ without faces: nothing to touch");
+    try {
+        return std::unique_ptr<HapticLoop>(new HapticLoop(organ, hands, config));
+    } catch (const std::bad_alloc&) {
+        return fail("out of memory preparing the haptic loop for " + std::to_string(organ.model().nodes.size()) + " nodes");
+    }
+}
+
+void HapticLoop::initialise(std::span<const Hand> hands) {
+    HAPTICUT_ASSERT(!hands.empty() && hands.size() <= static_cast<std::size_t>(kMaxHands));
     const ProxyParams proxyParams = withClosedFlag(config_.proxy, faces_);
     hands_.reserve(hands.size());
     for (const Hand& h : hands) {
-        if (!h.device) throw std::invalid_argument("a hand without a device");
+        HAPTICUT_ASSERT(h.device != nullptr);
         HandState& state = hands_.emplace_back(HandState{h, GodObjectProxy(proxyParams)});
         state.stiffnessCap_N_per_m = stiffnessCapAt(h.device->maxStiffness_N_per_m(), config_.rate_hz);
     }

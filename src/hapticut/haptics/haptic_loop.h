@@ -7,11 +7,14 @@
 #include <chrono>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "hapticut/collision/bvh.h"
+#include "hapticut/common/error.h"
 #include "hapticut/common/latency_histogram.h"
+#include "hapticut/common/result.h"
 #include "hapticut/common/spsc_queue.h"
 #include "hapticut/cutting/progressive_cutter.h"
 #include "hapticut/haptics/device.h"
@@ -86,13 +89,14 @@ struct LoopCommand {
 
 class HapticLoop {
 public:
-    /// One device on an organ, with config.cutThreshold_N as its tool's threshold.
+    /// One device on an organ, with config.cutThreshold_N as its tool's threshold. The loop keeps
+    /// references to the organ and the device; they must outlive it. Cut events change the organ's
+    /// arrays, so nothing else may read them while the loop runs: the renderer reads snapshots.
     HapticLoop(cutting::CutModel& organ, Device& device, LoopConfig config = {});
     /// One or two hands on an organ, each with its own tool, proxy and limits. Only one tool cuts at a
-    /// time: a cut in progress belongs to the hand that started it. The loop keeps references to the
-    /// organ and the devices; they must outlive it. Cut events change the organ's arrays, so nothing
-    /// else may read them while the loop runs: the renderer reads snapshots.
-    HapticLoop(cutting::CutModel& organ, std::span<const Hand> hands, LoopConfig config = {});
+    /// time: a cut in progress belongs to the hand that started it. An error for no hands, too many, a
+    /// hand without a device, or a rate outside 1 Hz - 100 kHz.
+    static Result<std::unique_ptr<HapticLoop>, Error> create(cutting::CutModel& organ, std::span<const Hand> hands, LoopConfig config = {});
     /// Leaves every device at zero force.
     ~HapticLoop();
     HapticLoop(const HapticLoop&) = delete;
@@ -128,6 +132,8 @@ public:
     std::vector<ServoClock*> servoClocks() const;
 
 private:
+    HapticLoop(cutting::CutModel& organ, std::span<const Hand> hands, LoopConfig config);
+
     /// A hand's state in the loop; the vector holding them is sized once, at construction.
     struct HandState {
         Hand setup;

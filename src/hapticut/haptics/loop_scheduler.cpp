@@ -16,23 +16,18 @@ void runSimulated(HapticLoop& loop, long steps, const StepObserver& observer) {
     loop.zeroAllForces();
 }
 
-bool RealTimeScheduler::start(long max_steps, StepObserver observer) {
-    std::string error;
-    return start(max_steps, std::move(observer), error);
-}
-
-bool RealTimeScheduler::start(long max_steps, StepObserver observer, std::string& error) {
+Status RealTimeScheduler::start(long max_steps, StepObserver observer) {
     stop();
     stopRequested_ = false;
     running_ = true;
     loop_.setRealtime(true);
     std::vector<ServoClock*> servos = loop_.servoClocks();
-    if (!servos.empty()) return startServos(std::move(servos), max_steps, std::move(observer), error);
+    if (!servos.empty()) return startServos(std::move(servos), max_steps, std::move(observer));
     thread_ = std::thread([this, max_steps, observer = std::move(observer)] { threadMain(max_steps, observer); });
-    return true;
+    return std::nullopt;
 }
 
-bool RealTimeScheduler::startServos(std::vector<ServoClock*> servos, long max_steps, StepObserver observer, std::string& error) {
+Status RealTimeScheduler::startServos(std::vector<ServoClock*> servos, long max_steps, StepObserver observer) {
     // The first device's servo thread calls the step at its own rate: no thread of ours, no sleeping.
     servoSteps_ = 0;
     servoMaxSteps_ = max_steps;
@@ -58,15 +53,14 @@ bool RealTimeScheduler::startServos(std::vector<ServoClock*> servos, long max_st
         std::string servoError;
         const bool started = i == 0 ? servos[i]->startServo(drive, servoError) : servos[i]->startServo(follow, servoError);
         if (!started) {
-            error = servoError;
             for (std::size_t k = 0; k < i; ++k) servos[k]->stopServo();
             running_ = false;
             loop_.zeroAllForces();
-            return false;
+            return Error{{}, 0, servoError};
         }
     }
     servos_ = std::move(servos);
-    return true;
+    return std::nullopt;
 }
 
 void RealTimeScheduler::stop() {

@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "hapticut/common/error.h"
 #include "hapticut/haptics/haptic_loop.h"
 
 namespace hapticut::haptics {
@@ -32,17 +33,16 @@ public:
     /// loop (Device::servoClock) steps the loop from its servo thread at its own rate; otherwise a
     /// thread of ours does, at the loop's rate. With two servo devices the first one's servo steps the
     /// loop and the second's only exchanges its frame (OpenHaptics runs both in one scheduler).
-    /// `observer` runs on the stepping thread: it must not block or allocate. False (with `error`)
-    /// when a servo cannot start.
-    bool start(long max_steps, StepObserver observer, std::string& error);
-    bool start(long max_steps = -1, StepObserver observer = {});
+    /// `observer` runs on the stepping thread: it must not block or allocate. An error when a servo
+    /// cannot start.
+    Status start(long max_steps = -1, StepObserver observer = {});
     /// Stops stepping and leaves the devices at zero force.
     void stop();
     bool running() const { return running_.load(std::memory_order_acquire); }
 
 private:
     using Clock = std::chrono::steady_clock;
-    bool startServos(std::vector<ServoClock*> servos, long max_steps, StepObserver observer, std::string& error);
+    Status startServos(std::vector<ServoClock*> servos, long max_steps, StepObserver observer);
     void threadMain(long max_steps, StepObserver observer);
 
     HapticLoop& loop_;

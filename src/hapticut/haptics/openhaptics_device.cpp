@@ -118,14 +118,22 @@ bool OpenHapticsDevice::load(std::string& error) {
     return true;
 }
 
-std::optional<std::string> OpenHapticsDevice::probeLibrary(const OpenHapticsOptions& options, std::string& error) {
+Result<std::string, Error> OpenHapticsDevice::probeLibrary(const OpenHapticsOptions& options) {
     OpenHapticsDevice d;
     d.options_ = options;
-    if (!d.load(error)) return std::nullopt;
+    std::string error;
+    if (!d.load(error)) return unexpected(Error{{}, 0, error});
     return d.library_->path();
 }
 
-std::unique_ptr<OpenHapticsDevice> OpenHapticsDevice::open(const OpenHapticsOptions& options, std::string& error) {
+Result<std::unique_ptr<OpenHapticsDevice>, Error> OpenHapticsDevice::open(const OpenHapticsOptions& options) {
+    std::string error;
+    auto device = openOrExplain(options, error);
+    if (!device) return unexpected(Error{{}, 0, error});
+    return device;
+}
+
+std::unique_ptr<OpenHapticsDevice> OpenHapticsDevice::openOrExplain(const OpenHapticsOptions& options, std::string& error) {
     auto d = std::unique_ptr<OpenHapticsDevice>(new OpenHapticsDevice);
     d->options_ = options;
     if (!d->load(error)) return nullptr;

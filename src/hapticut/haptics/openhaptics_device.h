@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "hapticut/common/error.h"
+#include "hapticut/common/result.h"
 #include "hapticut/haptics/device.h"
 #include "hapticut/haptics/hd_api.h"
 #include "hapticut/haptics/shared_library.h"
@@ -35,11 +37,11 @@ std::vector<std::string> defaultHdSearchFolders();
 class OpenHapticsDevice final : public Device, public ServoClock {
 public:
     /// Opens the library, resolves the functions, initialises and calibrates the device, enables force
-    /// output. Nothing on failure, with `error` saying what is missing and what to do.
-    static std::unique_ptr<OpenHapticsDevice> open(const OpenHapticsOptions& options, std::string& error);
+    /// output; an error saying what is missing and what to do.
+    static Result<std::unique_ptr<OpenHapticsDevice>, Error> open(const OpenHapticsOptions& options);
     /// Whether the HD library can be opened and has every function, without touching a device: its
-    /// path, or nothing with `error` saying why not.
-    static std::optional<std::string> probeLibrary(const OpenHapticsOptions& options, std::string& error);
+    /// path, or an error saying why not.
+    static Result<std::string, Error> probeLibrary(const OpenHapticsOptions& options);
     ~OpenHapticsDevice() override;
 
     std::string_view name() const override { return "openhaptics"; }
@@ -70,6 +72,7 @@ public:
     std::string faultMessage() const;
 
 private:
+    static std::unique_ptr<OpenHapticsDevice> openOrExplain(const OpenHapticsOptions& options, std::string& error);
     struct Api;
     OpenHapticsDevice() = default;
     static hd::HDCallbackCode servoCallback(void* self);

@@ -7,7 +7,7 @@
 
 #include <Eigen/Dense>
 
-#include "hapticut/collision/inside_test.h"
+#include "hapticut/collision/point_inside.h"
 #include "hapticut/geometry/triangle.h"
 #include "hapticut/geometry/triangle_queries.h"
 

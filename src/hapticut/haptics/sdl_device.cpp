@@ -59,9 +59,9 @@ struct SdlDevice::Sdl {
     int effect = -1;
 };
 
-std::vector<SdlJoystickInfo> SdlDevice::list(std::string& error) {
+Result<std::vector<SdlJoystickInfo>, Error> SdlDevice::list() {
     std::vector<SdlJoystickInfo> found;
-    if (!initSdl(error)) return found;
+    if (std::string error; !initSdl(error)) return unexpected(Error{{}, 0, error});
     for (int i = 0; i < SDL_NumJoysticks(); ++i) {
         SDL_Joystick* joystick = SDL_JoystickOpen(i);
         if (!joystick) continue;
@@ -74,7 +74,7 @@ std::vector<SdlJoystickInfo> SdlDevice::list(std::string& error) {
     return found;
 }
 
-std::unique_ptr<SdlDevice> SdlDevice::open(const SdlOptions& options, std::string& error) {
+Result<std::unique_ptr<SdlDevice>, Error> SdlDevice::open(const SdlOptions& options) {
     auto d = std::unique_ptr<SdlDevice>(new SdlDevice);
     d->options_ = options;
     d->sdl_ = std::make_unique<Sdl>();
@@ -85,8 +85,7 @@ std::unique_ptr<SdlDevice> SdlDevice::open(const SdlOptions& options, std::strin
     while (started.load(std::memory_order_acquire) == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     if (started.load() < 0) {
         d->thread_.join();
-        error = threadError;
-        return nullptr;
+        return unexpected(Error{{}, 0, threadError});
     }
     return d;
 }

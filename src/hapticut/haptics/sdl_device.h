@@ -11,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include "hapticut/common/error.h"
+#include "hapticut/common/result.h"
 #include "hapticut/common/triple_buffer.h"
 #include "hapticut/haptics/device.h"
 
@@ -48,11 +50,11 @@ struct SdlJoystickInfo {
 
 class SdlDevice final : public Device {
 public:
-    /// Opens joystick `options.index` on a thread of its own. Nothing on failure, with `error` saying
-    /// what SDL saw (no joystick, which indices exist) and what to check.
-    static std::unique_ptr<SdlDevice> open(const SdlOptions& options, std::string& error);
-    /// Every joystick SDL sees now; empty with `error` when SDL's joystick support does not start.
-    static std::vector<SdlJoystickInfo> list(std::string& error);
+    /// Opens joystick `options.index` on a thread of its own; an error saying what SDL saw (no
+    /// joystick, which indices exist) and what to check.
+    static Result<std::unique_ptr<SdlDevice>, Error> open(const SdlOptions& options);
+    /// Every joystick SDL sees now; an error when SDL's joystick support does not start.
+    static Result<std::vector<SdlJoystickInfo>, Error> list();
     ~SdlDevice() override;
 
     std::string_view name() const override { return "sdl"; }

@@ -3,10 +3,9 @@
 
 #include <chrono>
 #include <cmath>
-#include <stdexcept>
 #include <thread>
 
-#include "hapticut/collision/inside_test.h"
+#include "hapticut/collision/point_inside.h"
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
@@ -14,7 +13,7 @@
 
 namespace hapticut::scene {
 
-HapticRunResult runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory, const HapticRunConfig& config) {
+Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory, const HapticRunConfig& config) {
     haptics::ReplayDevice device(trajectory);
     haptics::Hand hand;
     hand.device = &device;
@@ -24,13 +23,16 @@ HapticRunResult runHaptic(cutting::CutModel& organ, const haptics::Trajectory& t
     return runHaptic(organ, std::span<const haptics::Hand>(&hand, 1), c);
 }
 
-HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands, const HapticRunConfig& config) {
+Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands, const HapticRunConfig& config) {
     HapticRunResult r;
     const long steps = config.steps;
-    if (steps < 0 && !(config.realtime && config.stopRequested)) throw std::invalid_argument("an open-ended haptic run needs real time and a way to stop");
+    if (steps < 0 && !(config.realtime && config.stopRequested))
+        return unexpected(Error{{}, 0, "an open-ended haptic run needs real time and a way to stop"});
     const double mass_kg = physics::totalMass(organ.model());
     physics::MassSpringModel& model = organ.model();
-    haptics::HapticLoop loop(organ, hands, config.loop);
+    auto created = haptics::HapticLoop::create(organ, hands, config.loop);
+    if (!created) return unexpected(created.error());
+    haptics::HapticLoop& loop = **created;
     r.handCount = loop.handCount();
     const long tenMinutes = std::lround(600 * config.loop.rate_hz);
     r.log.reserve(static_cast<std::size_t>(steps >= 0 ? steps : tenMinutes));
@@ -52,9 +54,8 @@ HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Han
         r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model));
     };
     if (config.realtime) {
-        std::string error;
         haptics::RealTimeScheduler clock(loop);
-        if (!clock.start(steps, observe, error)) throw std::runtime_error(error);
+        if (auto error = clock.start(steps, observe)) return unexpected(std::move(*error));
         auto lastProgress = std::chrono::steady_clock::now();
         while (clock.running()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(2));

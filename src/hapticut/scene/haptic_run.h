@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "hapticut/common/error.h"
+#include "hapticut/common/result.h"
 #include "hapticut/common/stats.h"
 #include "hapticut/cutting/cut_model.h"
 #include "hapticut/haptics/haptic_loop.h"
@@ -58,10 +60,11 @@ struct HapticRunResult {
 
 /// Replays the trajectory through the haptic loop on the organ, which the tool cuts when
 /// config.loop.cutThreshold_N is below the force it presses with.
-HapticRunResult runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory, const HapticRunConfig& config);
+Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory, const HapticRunConfig& config);
 /// Any devices, one per hand, each with its tool's threshold. config.steps must be given unless the
-/// run is real time and config.stopRequested ends it.
-HapticRunResult runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands, const HapticRunConfig& config);
+/// run is real time and config.stopRequested ends it. An error when the loop cannot be built or a
+/// device's servo cannot start.
+Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands, const HapticRunConfig& config);
 
 
 }  // namespace hapticut::scene

@@ -39,9 +39,8 @@ bool sdlBackendBuilt() {
 #endif
 }
 
-Result<OpenedDevice, Error> openDevice(const haptics::DeviceSpec& spec, const DeviceSetup& setup) {
+Result<OpenedDevice, Error> openDevice(const haptics::DeviceName& spec, const DeviceSetup& setup) {
     auto fail = [](std::string message) { return unexpected(Error{{}, 0, std::move(message)}); };
-    std::string error;
     OpenedDevice opened;
     switch (spec.kind) {
         case haptics::DeviceKind::Virtual:
@@ -61,8 +60,9 @@ Result<OpenedDevice, Error> openDevice(const haptics::DeviceSpec& spec, const De
             if (!setup.hdLibrary.empty()) hd.libraryNames = {setup.hdLibrary};
             // Without a fit: device millimetres round the organ's centre, where a Touch holds a heart at 1:1.
             if (!setup.modelBox.empty()) hd.workspace.offset_m = setup.modelBox.center();
-            auto device = haptics::OpenHapticsDevice::open(hd, error);
-            if (!device) return fail(error);
+            auto result = haptics::OpenHapticsDevice::open(hd);
+            if (!result) return unexpected(result.error());
+            auto device = std::move(*result);
             const std::string mapping = mapWorkspace(*device, setup);
             opened.description = device->model() + " (serial " + device->serial() + ") through " + device->libraryPath() + ", " + mapping;
             opened.device = std::move(device);
@@ -71,12 +71,13 @@ Result<OpenedDevice, Error> openDevice(const haptics::DeviceSpec& spec, const De
         case haptics::DeviceKind::Sdl: {
 #ifdef HAPTICUT_HAVE_SDL
             haptics::SdlOptions options;
-            options.index = spec.argument.empty() ? 0 : std::stoi(spec.argument);  // parseDeviceSpec checked it
+            options.index = spec.argument.empty() ? 0 : std::stoi(spec.argument);  // parseDeviceName checked it
             options.control = setup.sdlControl;
             options.maxForce_N = setup.maxForce_N;
             if (!setup.modelBox.empty()) options.workspace.offset_m = setup.modelBox.center();
-            auto device = haptics::SdlDevice::open(options, error);
-            if (!device) return fail(error);
+            auto result = haptics::SdlDevice::open(options);
+            if (!result) return unexpected(result.error());
+            auto device = std::move(*result);
             const std::string mapping = mapWorkspace(*device, setup);
             opened.description = "'" + device->info().name + "' (joystick " + std::to_string(options.index) + ", " +
                                  (options.control == haptics::SdlControl::Rate ? "rate" : "position") + " control, feedback: " +
@@ -91,7 +92,7 @@ Result<OpenedDevice, Error> openDevice(const haptics::DeviceSpec& spec, const De
     return fail("unknown device kind");
 }
 
-Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceSpec& spec, const DeviceOptions& options) {
+Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceName& spec, const DeviceOptions& options) {
     DeviceSetup setup;
     setup.modelBox = geometry::boundsOf(scene.source.mesh.positions);
     setup.fitWorkspace = options.fitWorkspace;

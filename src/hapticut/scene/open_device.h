@@ -9,7 +9,7 @@
 #include "hapticut/common/result.h"
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/haptics/device.h"
-#include "hapticut/haptics/device_spec.h"
+#include "hapticut/haptics/device_name.h"
 #include "hapticut/haptics/sdl_device.h"
 #include "hapticut/scene/scene.h"
 
@@ -32,7 +32,7 @@ struct OpenedDevice {
 };
 
 /// The device, opened and mapped, or an error saying what is missing and what to do.
-Result<OpenedDevice, Error> openDevice(const haptics::DeviceSpec& spec, const DeviceSetup& setup);
+Result<OpenedDevice, Error> openDevice(const haptics::DeviceName& spec, const DeviceSetup& setup);
 
 /// What a command line changes in how a scene's devices open.
 struct DeviceOptions {
@@ -42,7 +42,7 @@ struct DeviceOptions {
 };
 
 /// Opens a device for a hand on the scene's organ: mapped onto it and limited to the scene's maximum force.
-Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceSpec& spec, const DeviceOptions& options);
+Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceName& spec, const DeviceOptions& options);
 
 /// Whether this build has the SDL backend (Debian's libsdl2 at build time).
 bool sdlBackendBuilt();

@@ -1,6 +1,8 @@
 // A live simulation: organ, hands and loop, and the user's changes to them.
 #include "hapticut/scene/simulation.h"
 
+#include "hapticut/common/assert.h"
+
 #include <algorithm>
 #include <filesystem>
 #include <span>
@@ -65,10 +67,14 @@ void Simulation::startLoop() {
         hand.device = &deviceOf(h);
         hand.cutThreshold_N = threshold_[static_cast<std::size_t>(h)];
     }
-    loop_ = std::make_unique<haptics::HapticLoop>(*organ_, std::span<const haptics::Hand>(hands.data(), static_cast<std::size_t>(handCount_)), config_);
+    // One or two hands, each with a device, on an organ with faces at a scene's checked rate: the loop
+    // can only fail to build if memory runs out, and then nothing here could go on.
+    auto created = haptics::HapticLoop::create(*organ_, std::span<const haptics::Hand>(hands.data(), static_cast<std::size_t>(handCount_)), config_);
+    HAPTICUT_ASSERT(created.has_value());
+    loop_ = std::move(created.value());
     loopError_.clear();
     clock_ = std::make_unique<haptics::RealTimeScheduler>(*loop_);
-    clock_->start(-1, {}, loopError_);
+    if (const auto error = clock_->start()) loopError_ = error->message;
 }
 
 void Simulation::setHandCount(int hands) {

@@ -5,13 +5,14 @@
 #include <string>
 #include <string_view>
 
+#include "hapticut/common/error.h"
 #include "hapticut/common/result.h"
 
 namespace hapticut::haptics {
 
 enum class DeviceKind { Virtual, Replay, OpenHaptics, Sdl };
 
-struct DeviceSpec {
+struct DeviceName {
     DeviceKind kind = DeviceKind::Virtual;
     std::string argument;  // replay: the trajectory file; openhaptics: the device's name; sdl: the joystick index
 
@@ -22,6 +23,6 @@ struct DeviceSpec {
 std::string_view deviceKindName(DeviceKind kind);
 
 /// Parses a device name; the error says what was found and what is accepted.
-Result<DeviceSpec, std::string> parseDeviceSpec(std::string_view text);
+Result<DeviceName, Error> parseDeviceName(std::string_view text);
 
 }  // namespace hapticut::haptics

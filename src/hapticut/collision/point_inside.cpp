@@ -1,5 +1,5 @@
 // Ray-parity inside test.
-#include "hapticut/collision/inside_test.h"
+#include "hapticut/collision/point_inside.h"
 
 namespace hapticut::collision {
 

@@ -1,5 +1,5 @@
 // Device names.
-#include "hapticut/haptics/device_spec.h"
+#include "hapticut/haptics/device_name.h"
 
 #include <charconv>
 
@@ -15,22 +15,22 @@ std::string_view deviceKindName(DeviceKind kind) {
     return "virtual";
 }
 
-std::string DeviceSpec::toString() const {
+std::string DeviceName::toString() const {
     std::string text(deviceKindName(kind));
     if (!argument.empty()) text += ":" + argument;
     return text;
 }
 
-Result<DeviceSpec, std::string> parseDeviceSpec(std::string_view text) {
+Result<DeviceName, Error> parseDeviceName(std::string_view text) {
     const auto colon = text.find(':');
     const std::string_view kind = text.substr(0, colon);
     const std::string_view argument = colon == std::string_view::npos ? std::string_view() : text.substr(colon + 1);
     const bool hasArgument = colon != std::string_view::npos;
     auto fail = [&](const std::string& why) {
-        return Unexpected<std::string>{"device '" + std::string(text) + "': " + why +
-                                       "; expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX] (hapticut devices lists what works here)"};
+        return unexpected(Error{{}, 0, "device '" + std::string(text) + "': " + why +
+                                           "; expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX] (hapticut devices lists what works here)"});
     };
-    DeviceSpec spec;
+    DeviceName spec;
     spec.argument = std::string(argument);
     if (kind == "virtual" || kind == "mouse") {
         if (hasArgument) return fail("the virtual device takes no argument");
