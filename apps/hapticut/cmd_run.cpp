@@ -129,11 +129,12 @@ std::optional<double> toolThreshold(const scene::SceneFile& settings, const std:
 
 int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, scene::SceneFile settings) {
     // The hands: the trajectory (--trajectory, or the scene's replay device) is the first hand's replay;
-    // each --device adds one.
+    // each --device adds one. Without either, the scene's [[devices]] are the hands.
     const std::string trajectory = settings.deviceBackend == "replay" ? settings.trajectory : "";
     const physics::Scheme scheme = settings.scheme;
     const double rate_hz = settings.rate_hz;
     std::vector<haptics::DeviceName> specs;
+    std::vector<const scene::SceneDevice*> fromScene;  // per hand: its [[devices]] entry, if it has one
     if (!trajectory.empty()) specs.push_back({haptics::DeviceKind::Replay, trajectory});
     for (const std::string& text : o.devices) {
         auto spec = haptics::parseDeviceName(text);
@@ -141,22 +142,38 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
             std::cerr << "hapticut run: " << spec.error().toString() << "\n";
             return 2;
         }
-        if (spec->kind == haptics::DeviceKind::Virtual) {
+        specs.push_back(*spec);
+    }
+    if (specs.empty())
+        for (const scene::SceneDevice& d : settings.devices) specs.push_back(d.device), fromScene.push_back(&d);
+    fromScene.resize(specs.size(), nullptr);
+    for (const haptics::DeviceName& spec : specs)
+        if (spec.kind == haptics::DeviceKind::Virtual) {
             std::cerr << "hapticut run: the virtual device is moved by a program or the viewer's mouse, and nothing moves it in a headless run: "
                          "give replay:FILE, openhaptics[:NAME] or sdl[:INDEX]\n";
             return 2;
         }
-        specs.push_back(*spec);
-    }
     if (specs.size() > static_cast<std::size_t>(haptics::kMaxHands)) {
         std::cerr << "hapticut run: " << specs.size() << " devices (--trajectory counts as one): at most " << haptics::kMaxHands << ", one per hand\n";
         return 2;
     }
+    // Each hand's tool: the command line's when it names one, else its [[devices]] entry's, else the probe.
+    std::vector<std::string> toolOf(specs.size());
+    for (std::size_t h = 0; h < specs.size(); ++h) {
+        const char* option = h == 0 ? "--tool" : "--second-tool";
+        const std::string& given = h == 0 ? o.tool : o.secondTool;
+        toolOf[h] = !o.given.count(option) && fromScene[h] && !fromScene[h]->tool.empty() ? fromScene[h]->tool : given;
+    }
     int toolStatus = 0;
-    const auto threshold_N = toolThreshold(settings, o.tool, toolStatus);
-    if (!threshold_N) return toolStatus;
-    const auto secondThreshold_N = toolThreshold(settings, o.secondTool, toolStatus);
-    if (!secondThreshold_N) return toolStatus;
+    std::vector<double> thresholdOf;
+    for (const std::string& name : {o.tool, o.secondTool})  // both checked, used or not: a typo is an error either way
+        if (!toolThreshold(settings, name, toolStatus)) return toolStatus;
+    for (const std::string& name : toolOf) {
+        const auto threshold_N = toolThreshold(settings, name, toolStatus);
+        if (!threshold_N) return toolStatus;
+        thresholdOf.push_back(*threshold_N);
+    }
+    const std::string& firstTool = toolOf.empty() ? o.tool : toolOf[0];
     if (o.sdlControl != "position" && o.sdlControl != "rate") {
         std::cerr << "hapticut run: --sdl-control takes position or rate, found '" << o.sdlControl << "'\n";
         return 2;
@@ -175,8 +192,11 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     std::vector<scene::OpenedDevice> opened;
     double replayDuration_s = 0;
     bool live = false;
-    for (const haptics::DeviceName& spec : specs) {
-        auto device = scene::openDeviceFor(*scene, spec, deviceOptions);
+    for (std::size_t h = 0; h < specs.size(); ++h) {
+        const haptics::DeviceName& spec = specs[h];
+        const scene::DeviceOptions options =
+            fromScene[h] ? scene::deviceOptionsFor(*fromScene[h], !o.noWorkspaceFit, o.hdLibrary) : deviceOptions;
+        auto device = scene::openDeviceFor(*scene, spec, options);
         if (!device) {
             std::cerr << "hapticut run: " << device.error().toString() << "\n";
             return 1;
@@ -192,8 +212,14 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     for (std::size_t h = 0; h < opened.size(); ++h) {
         haptics::Hand hand;
         hand.device = opened[h].device.get();
-        hand.cutThreshold_N = h == 0 ? *threshold_N : *secondThreshold_N;
+        hand.cutThreshold_N = thresholdOf[h];
         hand.maxForce_N = scene->settings.maxForce_N;
+        if (const scene::SceneDevice* d = fromScene[h]) {
+            hand.maxForce_N = d->maxForce_N;
+            hand.maxForceRate_N_per_s = d->maxForceRate_N_per_s;
+            hand.couplingStiffness_N_per_m = d->couplingStiffness_N_per_m;
+            hand.couplingDamping_Ns_per_m = d->couplingDamping_Ns_per_m;
+        }
         hands.push_back(hand);
     }
 
@@ -210,9 +236,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     StopSignal stopSignal;
     config.stopRequested = [] { return StopSignal::requested(); };
     config.progress = [&](long steps) { std::cerr << "\rhapticut run: " << steps << " steps (Ctrl-C ends the run)" << std::flush; };
-    config.tool = o.tool;
-    config.loop.cutThreshold_N = *threshold_N;
-    std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << o.tool << (hands.size() > 1 ? " and " + o.secondTool : "")
+    config.tool = firstTool;
+    config.loop.cutThreshold_N = thresholdOf[0];
+    std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << firstTool << (hands.size() > 1 ? " and " + toolOf[1] : "")
               << ", " << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at " << rate_hz << " Hz, "
               << (config.realtime ? "real time" : "simulated time") << "\n";
     auto run = scene::runHaptic(organ, hands, config);
@@ -232,7 +258,7 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
               << " m; max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, " << r.finalMaxDisplacement_m * 1e3 << " mm at the end\n";
     if (r.handCount > 1)
         for (int h = 0; h < r.handCount; ++h)
-            std::cout << "hand " << h + 1 << " (" << specs[static_cast<std::size_t>(h)].toString() << ", " << (h == 0 ? o.tool : o.secondTool) << "): max force "
+            std::cout << "hand " << h + 1 << " (" << specs[static_cast<std::size_t>(h)].toString() << ", " << toolOf[static_cast<std::size_t>(h)] << "): max force "
                       << r.hands[static_cast<std::size_t>(h)].maxForce_N << " N, contact in " << r.hands[static_cast<std::size_t>(h)].contactSteps << " steps\n";
     if (r.watchdogTripped) std::cout << "watchdog tripped: " << r.nonFiniteEvents << " non-finite value(s); force was zeroed\n";
     const mesh::MeshReport after = mesh::validateMesh(organ.mesh());
@@ -243,7 +269,7 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
                   << "; " << after.boundaryEdges << " boundary edges now; cut event " << r.cutTime_us.p50 << " us p50, " << r.cutTime_us.max
                   << " us max\n";
     else if (std::isfinite(config.loop.cutThreshold_N))
-        std::cout << "no cut: the " << o.tool << " never pressed harder than its " << config.loop.cutThreshold_N << " N threshold\n";
+        std::cout << "no cut: the " << firstTool << " never pressed harder than its " << config.loop.cutThreshold_N << " N threshold\n";
     if (!r.invariantProblems.empty()) std::cout << "the cut broke the organ: " << r.invariantProblems.front() << "\n";
 
     int status = r.watchdogTripped ? 3 : 0;
@@ -259,7 +285,7 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["dt"] = 1 / rate_hz;
         j["substeps"] = r.substeps;
         j["steps"] = r.steps;
-        j["tool"] = o.tool;
+        j["tool"] = firstTool;
         j["tool_threshold_N"] = std::isfinite(config.loop.cutThreshold_N) ? nlohmann::ordered_json(config.loop.cutThreshold_N) : nlohmann::ordered_json(nullptr);
         j["coupling_stiffness_N_per_m"] = config.loop.couplingStiffness_N_per_m;
         j["friction"] = {{"static", config.loop.proxy.staticFriction}, {"dynamic", config.loop.proxy.dynamicFriction}};
@@ -268,10 +294,10 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         nlohmann::ordered_json handsJson = nlohmann::ordered_json::array();
         for (int h = 0; h < r.handCount; ++h) {
             const auto k = static_cast<std::size_t>(h);
-            const double threshold = h == 0 ? *threshold_N : *secondThreshold_N;
+            const double threshold = thresholdOf[k];
             handsJson.push_back({{"device", specs[k].toString()},
                                  {"description", opened[k].description},
-                                 {"tool", h == 0 ? o.tool : o.secondTool},
+                                 {"tool", toolOf[k]},
                                  {"tool_threshold_N", std::isfinite(threshold) && threshold < 1e8 ? nlohmann::ordered_json(threshold) : nlohmann::ordered_json(nullptr)},
                                  {"max_force_N", r.hands[k].maxForce_N},
                                  {"contact_steps", r.hands[k].contactSteps}});
@@ -319,7 +345,7 @@ int run(RunOptions& o) {
         std::cerr << settings.error().toString() << "\n";
         return 1;
     }
-    if (settings->deviceBackend == "replay" || !o.devices.empty()) {
+    if (settings->deviceBackend == "replay" || !o.devices.empty() || !settings->devices.empty()) {
         if (!o.force.empty()) {
             std::cerr << "hapticut run: --force and --trajectory do not go together: the trajectory's device presses the model\n";
             return 2;

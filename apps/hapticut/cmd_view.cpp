@@ -82,6 +82,7 @@ Command addViewCommand(CLI::App& app) {
     cmd->callback([o, cmd] {
         if (cmd->count("--model")) o->viewer.scene.overrides.model = o->model;
         if (cmd->count("--triangles")) o->viewer.scene.overrides.triangles = o->triangles;
+        o->viewer.devicesGiven = cmd->count("--device") > 0;
     });
     return [o] { return view(*o); };
 }

@@ -257,6 +257,30 @@ TEST_F(Cli, DevicesListsEveryBackendAndWhyOneIsMissing) {
     }
 }
 
+TEST_F(Cli, ASceneDescribesEachHandsDeviceAndTheCommandLineOverridesIt) {
+    const std::string scene = std::string(HAPTICUT_SOURCE_DIR) + "/assets/scenes/two-hands.toml";
+    const CliResult r = run("run --scene " + scene + " --report " + path("scene.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(path("scene.json")));
+    ASSERT_EQ(j["hands"].size(), 2u);
+    EXPECT_EQ(j["hands"][0]["tool"], "scalpel") << "each [[devices]] entry brings its tool";
+    EXPECT_EQ(j["hands"][1]["tool"], "probe");
+    EXPECT_NE(j["hands"][0]["device"].get<std::string>().find("cut-front.csv"), std::string::npos);
+    EXPECT_GT(j["cut_points"].get<int>(), 5) << "the scalpel in the first hand cut";
+    EXPECT_LE(j["hands"][1]["max_force_N"].get<double>(), 2.0 + 1e-9) << "the second device's own force limit";
+    EXPECT_GT(j["hands"][1]["max_force_N"].get<double>(), 0.5);
+
+    const std::string trajectories = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/";
+    const CliResult cli = run("run --scene " + scene + " --trajectory " + trajectories + "press-front.csv --report " + path("cli.json"));
+    ASSERT_EQ(cli.exitCode, 0) << cli.err;
+    const auto k = nlohmann::json::parse(slurp(path("cli.json")));
+    ASSERT_EQ(k["hands"].size(), 1u) << "devices on the command line replace the scene's";
+    EXPECT_EQ(k["hands"][0]["tool"], "probe");
+    const CliResult tool = run("run --scene " + scene + " --tool probe --report " + path("tool.json"));
+    ASSERT_EQ(tool.exitCode, 0) << tool.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(path("tool.json")))["hands"][0]["tool"], "probe") << "--tool overrides the first hand's";
+}
+
 TEST_F(Cli, RunTakesADevicePerHandAndReportsEachHand) {
     const std::string trajectories = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/";
     const CliResult r = run("run --trajectory " + trajectories + "cut-front.csv --tool scalpel --device replay:" + trajectories +

@@ -136,6 +136,39 @@ TEST(TwoHands, AProbeHoldsTheTissueWhileTheScalpelInTheOtherHandCuts) {
     for (const Vec3& p : h.organ.mesh().positions) EXPECT_TRUE(p.allFinite());
 }
 
+TEST(TwoHands, EachHandCanHaveItsOwnCouplingAndTheSofterOneFeelsTheSeriesSpring) {
+    // The hand's spring k_h and the tissue k_t act in series: F = d / (1/k_h + 1/k_t), so halving k_h
+    // lowers the force, but by less than half.
+    auto holdForce = [](std::optional<double> coupling) {
+        Heart h;
+        ReplayDevice device(pressAt(frontAt(h.mesh, 0, 0), 0.003));
+        Hand hand{&device};
+        hand.couplingStiffness_N_per_m = coupling;
+        auto made = makeLoop(h.organ, std::span<const Hand>(&hand, 1));
+        double force = 0;
+        runSimulated(*made, 1900, [&](const StepOutput& s) { force = s.hand().force_N.norm(); });
+        return std::pair{force, made->couplingStiffness_N_per_m(0)};
+    };
+    const auto [own, ownK] = holdForce(200.0);
+    const auto [loops, loopsK] = holdForce(std::nullopt);
+    EXPECT_EQ(ownK, 200);
+    EXPECT_EQ(loopsK, LoopConfig{}.couplingStiffness_N_per_m);
+    EXPECT_GT(own, 0.1);
+    EXPECT_LT(own, loops) << "a softer hand spring presses less";
+    EXPECT_GT(own, 0.5 * loops) << "but the tissue's spring in series keeps it above half";
+
+    Heart h;
+    VirtualDevice a, b;
+    Hand first{&a}, second{&b};
+    first.couplingStiffness_N_per_m = 150;
+    const std::array<Hand, 2> hands{first, second};
+    auto made = makeLoop(h.organ, hands);
+    made->commands().push({LoopCommand::Kind::SetCouplingStiffness, 250});
+    made->step();
+    EXPECT_EQ(made->couplingStiffness_N_per_m(0), 150) << "its own value is not the panel's";
+    EXPECT_EQ(made->couplingStiffness_N_per_m(1), 250);
+}
+
 TEST(TwoHands, ALoopTakesOneOrTwoHandsWithDevices) {
     Heart h;
     VirtualDevice d;

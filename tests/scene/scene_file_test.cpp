@@ -41,7 +41,7 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     auto expectError = [](const std::string& text, int line, const std::string& fragment) {
         test::expectError(parseScene(text, "s.toml", "."), line, fragment);
     };
-    expectError("[modle]\n", 1, "modle: unknown key; allowed here: device, material, model, rendering, simulation, tools");
+    expectError("[modle]\n", 1, "modle: unknown key; allowed here: device, devices, material, model, rendering, simulation, tools");
     expectError("[model]\ntriangle = 5\n", 2, "model.triangle: unknown key; allowed here: rotate_deg, scale, source, translate_m, triangles");
     expectError("[device]\nstiffness_N_per_m = \"hard\"\n", 2, "device.stiffness_N_per_m: expected a number");
     expectError("[simulation]\nrate_hz = 50\n", 2, "simulation.rate_hz: 50 is out of range; allowed: 100 to 10000");
@@ -68,6 +68,49 @@ TEST(SceneFile, PlacementScalesThenRotatesThenTranslates) {
     std::vector<Vec3> p = {Vec3(1, 0, 0)};
     applyPlacement(s, p);
     EXPECT_LT((p[0] - Vec3(1, 2, 0)).norm(), 1e-12);
+}
+
+TEST(SceneFile, EachDeviceHasItsOwnTableWithItsToolCouplingLimitsAndMapping) {
+    const auto s = readScene(fs::path(HAPTICUT_SOURCE_DIR) / "assets/scenes/two-hands.toml");
+    ASSERT_TRUE(s.has_value()) << s.error().toString();
+    ASSERT_EQ(s->devices.size(), 2u);
+    const SceneDevice& first = s->devices[0];
+    EXPECT_EQ(first.device.kind, haptics::DeviceKind::Replay);
+    EXPECT_EQ(fs::path(first.device.argument).lexically_normal(),
+              (fs::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories/cut-front.csv").lexically_normal());
+    EXPECT_EQ(first.tool, "scalpel");
+    EXPECT_EQ(first.couplingStiffness_N_per_m, 400);
+    EXPECT_TRUE(first.fitWorkspace);
+    const SceneDevice& second = s->devices[1];
+    EXPECT_EQ(second.tool, "probe");
+    EXPECT_EQ(second.couplingStiffness_N_per_m, 300);
+    EXPECT_FALSE(second.couplingDamping_Ns_per_m) << "not given: the loop's";
+    EXPECT_EQ(second.maxForce_N, 2.0);
+
+    const auto mapped = parseScene("[[devices]]\ndevice = \"openhaptics:Left Touch\"\nworkspace = \"mapped\"\nworkspace_scale = 0.5\n"
+                                   "workspace_offset_m = [0, 0, 0.1]\nsdl_control = \"rate\"\n",
+                                   "s.toml", ".");
+    ASSERT_TRUE(mapped.has_value()) << mapped.error().toString();
+    EXPECT_EQ(mapped->devices[0].device.argument, "Left Touch");
+    EXPECT_FALSE(mapped->devices[0].fitWorkspace);
+    EXPECT_EQ(mapped->devices[0].workspace.scale, 0.5);
+    EXPECT_EQ(mapped->devices[0].workspace.offset_m, Vec3(0, 0, 0.1));
+    EXPECT_EQ(mapped->devices[0].sdlControl, "rate");
+}
+
+TEST(SceneFile, DeviceTablesWithMistakesNameTheKeyAndLine) {
+    auto expectError = [](const std::string& text, int line, const std::string& fragment) {
+        test::expectError(parseScene(text, "s.toml", "."), line, fragment);
+    };
+    const std::string one = "[[devices]]\ndevice = \"virtual\"\n";
+    expectError(one + one + one, 1, "devices: 3 devices; at most 2, one per hand");
+    expectError("[device]\nbackend = \"virtual\"\n" + one, 3, "either one [device] table or [[devices]] tables, not both");
+    expectError("[[devices]]\ntool = \"probe\"\n", 1, "devices[0].device: every device needs a name");
+    expectError("[[devices]]\ndevice = \"phantom\"\n", 2, "devices[0].device: device 'phantom': unknown kind");
+    expectError(one + "tool = \"chisel\"\n", 3, "devices[0].tool: 'chisel' is not one of the scene's tools: probe, scalpel");
+    expectError(one + "workspace = \"stretched\"\n", 3, "'stretched' is not allowed; allowed: fit, mapped");
+    expectError(one + "max_force_N = 80\n", 3, "devices[0].max_force_N: 80 is out of range");
+    expectError(one + "colour = \"red\"\n", 3, "devices[0].colour: unknown key");
 }
 
 TEST(SceneFile, MissingFileIsAClearError) {

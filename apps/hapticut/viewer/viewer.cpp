@@ -193,12 +193,33 @@ void Viewer::updateDevice(const haptics::Snapshot& snapshot) {
 int Viewer::run() {
     GLFWwindow* w = window_->handle();
     // The devices first: a missing one ends the run before the UI starts.
-    if (options_.hands > 1) session_.setHandCount(options_.hands);
-    for (std::size_t h = 0; h < options_.devices.size(); ++h) {
-        const auto spec = haptics::parseDeviceName(options_.devices[h]);  // checked by the command
-        if (!spec || spec->kind == haptics::DeviceKind::Virtual) continue;  // the mouse
+    // The command line's devices, or else the scene's [[devices]] with their tools and limits.
+    std::vector<haptics::DeviceName> names;
+    std::vector<scene::SceneDevice> fromScene;
+    if (!options_.devicesGiven && !session_.scene().settings.devices.empty()) {
+        fromScene = session_.scene().settings.devices;
+        for (const scene::SceneDevice& d : fromScene) names.push_back(d.device);
+    } else {
+        for (const std::string& text : options_.devices)
+            if (const auto spec = haptics::parseDeviceName(text)) names.push_back(*spec);  // checked by the command
+    }
+    const int hands = std::max(options_.hands, static_cast<int>(names.size()));
+    if (hands > 1) session_.setHandCount(hands);
+    for (std::size_t h = 0; h < fromScene.size(); ++h) {
+        session_.setHandSettings(static_cast<int>(h), fromScene[h]);
+        if (const auto tool = session_.scene().toolIndex(fromScene[h].tool)) {
+            session_.setActiveHand(static_cast<int>(h));
+            session_.setTool(*tool);
+        }
+    }
+    session_.setActiveHand(0);
+    if (!fromScene.empty()) session_.restartLoop();  // with each hand's limits and coupling
+    for (std::size_t h = 0; h < names.size(); ++h) {
+        const haptics::DeviceName* spec = &names[h];
+        if (spec->kind == haptics::DeviceKind::Virtual) continue;  // the mouse
         scene::DeviceOptions deviceOptions;
         deviceOptions.fitWorkspace = options_.fitWorkspace;
+        if (h < fromScene.size()) deviceOptions = scene::deviceOptionsFor(fromScene[h], options_.fitWorkspace, "");
         auto opened = scene::openDeviceFor(session_.scene(), *spec, deviceOptions);
         if (!opened) {
             std::cerr << "hapticut view: " << opened.error().toString() << "\n";

@@ -20,6 +20,7 @@ struct ViewerOptions {
     std::string trajectory;      // replay this device path instead of following the mouse
     std::string tool = "probe";
     std::vector<std::string> devices{"virtual"};  // one per hand: virtual (the mouse), replay:FILE, openhaptics[:NAME], sdl[:INDEX]
+    bool devicesGiven = false;    // --device was given: it replaces the scene's [[devices]]
     int hands = 1;                // two: a second hand (Tab switches the one the mouse drives)
     bool fitWorkspace = true;     // fit each hardware device's reach to the organ
     std::string report;          // JSON: frames, frame rate, haptic rate, renderer

@@ -63,7 +63,9 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
     }
     // The stable step allows for every hand pressing the same node at its full coupling.
     preparedCouplingStiffness_ = config_.couplingStiffness_N_per_m;
-    stepper_.setToolStiffness(preparedCouplingStiffness_ * static_cast<double>(hands_.size()));
+    double allHands_N_per_m = 0;
+    for (const HandState& hand : hands_) allHands_N_per_m += hand.setup.couplingStiffness_N_per_m.value_or(preparedCouplingStiffness_);
+    stepper_.setToolStiffness(allHands_N_per_m);
     stepper_.setActiveRegion(config_.activeRegion);
     stepper_.prepare(model_);
     bvh_.build(surface());
@@ -80,7 +82,8 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
 HapticLoop::~HapticLoop() { zeroAllForces(); }  // a real device must never be left pushing
 
 double HapticLoop::couplingStiffness_N_per_m(int hand) const {
-    return std::min(config_.couplingStiffness_N_per_m, hands_[static_cast<std::size_t>(hand)].stiffnessCap_N_per_m);
+    const HandState& h = hands_[static_cast<std::size_t>(hand)];
+    return std::min(h.setup.couplingStiffness_N_per_m.value_or(config_.couplingStiffness_N_per_m), h.stiffnessCap_N_per_m);
 }
 
 std::vector<ServoClock*> HapticLoop::servoClocks() const {
@@ -208,7 +211,7 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         // Anchor so that at this instant the spring reads k (proxy - device): the proxy sits a small
         // offset off the contact point.
         tool.anchor_m = f.sample.position_m - (hand.proxy.position() - pointOnFace(view, contact.face, contact.bary));
-        tool.bias_N = config_.couplingDamping_Ns_per_m * f.sample.velocity_m_per_s;
+        tool.bias_N = hand.setup.couplingDamping_Ns_per_m.value_or(config_.couplingDamping_Ns_per_m) * f.sample.velocity_m_per_s;
         tool.stiffness_N_per_m = couplingStiffness_N_per_m(static_cast<int>(h));
         tool.maxForce_N = std::min(hand.setup.device->maxForce_N(), hand.setup.maxForce_N) * maxForceScale_;
         tool.scale = ramp;

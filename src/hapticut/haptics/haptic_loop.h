@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -50,6 +51,9 @@ struct Hand {
     double cutThreshold_N = std::numeric_limits<double>::infinity();  // the tool's (R14); infinite: it never cuts
     double maxForce_N = std::numeric_limits<double>::infinity();      // below the device's own maximum, if lower
     double maxForceRate_N_per_s = kDefaultMaxForceRate_N_per_s;      // how fast the force sent may grow
+    /// This hand's coupling k_h and b_h (a scene's [[devices]] entry); empty: the loop's, which the
+    /// panel changes live.
+    std::optional<double> couplingStiffness_N_per_m{}, couplingDamping_Ns_per_m{};
 };
 
 /// What one step did, for logs and tests.
@@ -111,7 +115,7 @@ public:
     const LoopStats& stats() const { return stats_; }
     const GodObjectProxy& proxy(int hand = 0) const { return hands_[static_cast<std::size_t>(hand)].proxy; }
     int handCount() const { return static_cast<int>(hands_.size()); }
-    /// The coupling stiffness hand `hand` gets: the loop's, capped by its device's maximum stiffness.
+    /// The coupling stiffness hand `hand` gets: its own or the loop's, capped by its device's maximum stiffness.
     double couplingStiffness_N_per_m(int hand) const;
     const collision::Bvh& bvh() const { return bvh_; }
     collision::SurfaceView surface() const { return {model_.nodes.position, faces_}; }

@@ -98,10 +98,20 @@ Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::Dev
     setup.fitWorkspace = options.fitWorkspace;
     setup.hdLibrary = options.hdLibrary;
     setup.sdlControl = options.sdlControl;
-    setup.maxForce_N = scene.settings.maxForce_N;
-    setup.sceneWorkspace = scene.settings.workspace;
+    setup.maxForce_N = options.maxForce_N.value_or(scene.settings.maxForce_N);
+    setup.sceneWorkspace = options.workspace.value_or(scene.settings.workspace);
     setup.sceneWorkspaceGiven = !scene.file.empty();  // the built-in scene has no mapping of its own
     return openDevice(spec, setup);
+}
+
+DeviceOptions deviceOptionsFor(const SceneDevice& device, bool fit_workspace, const std::string& hd_library) {
+    DeviceOptions options;
+    options.fitWorkspace = fit_workspace && device.fitWorkspace;
+    options.hdLibrary = hd_library;
+    options.sdlControl = device.sdlControl == "rate" ? haptics::SdlControl::Rate : haptics::SdlControl::Position;
+    options.workspace = device.workspace;
+    options.maxForce_N = device.maxForce_N;
+    return options;
 }
 
 }  // namespace hapticut::scene

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "hapticut/common/error.h"
@@ -39,7 +40,13 @@ struct DeviceOptions {
     bool fitWorkspace = true;  // fit each device's reach to the organ; else the scene file's mapping, or the device's own
     std::string hdLibrary;     // openhaptics: the HD library to try first
     haptics::SdlControl sdlControl = haptics::SdlControl::Position;
+    /// A [[devices]] entry's own mapping and force limit, instead of the [device] table's.
+    std::optional<haptics::WorkspaceTransform> workspace;
+    std::optional<double> maxForce_N;
 };
+
+/// The options a scene's [[devices]] entry sets, with `fit_workspace` false when the command line says so.
+DeviceOptions deviceOptionsFor(const SceneDevice& device, bool fit_workspace, const std::string& hd_library);
 
 /// Opens a device for a hand on the scene's organ: mapped onto it and limited to the scene's maximum force.
 Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceName& spec, const DeviceOptions& options);

@@ -97,6 +97,40 @@ Eigen::Quaterniond rotationFromDegrees(const Vec3& deg) {
     return Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) * Eigen::AngleAxisd(r.x(), Vec3::UnitX());
 }
 
+/// One [[devices]] table; the scene's tools are already read.
+SceneDevice parseDevice(const toml::node& node, std::size_t index, const SceneFile& s, const std::filesystem::path& directory) {
+    const std::string path = "devices[" + std::to_string(index) + "]";
+    const toml::table* t = node.as_table();
+    if (!t) throw SceneError{lineOf(node), path + ": expected a table"};
+    allowOnly(*t, path, {"device", "tool", "stiffness_N_per_m", "damping_Ns_per_m", "max_force_N", "max_force_rate_N_per_s", "workspace",
+                         "workspace_scale", "workspace_offset_m", "workspace_rotate_deg", "sdl_control"});
+    SceneDevice d;
+    d.line = lineOf(*t);
+    const std::string name = text(*t, path, "device", "");
+    if (name.empty()) throw SceneError{lineOf(*t), path + ".device: every device needs a name: virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX]"};
+    auto parsed = haptics::parseDeviceName(name);
+    if (!parsed) throw SceneError{lineOf(*t->get("device")), path + ".device: " + parsed.error().message};
+    d.device = *parsed;
+    if (d.device.kind == haptics::DeviceKind::Replay) d.device.argument = resolve(d.device.argument, directory);
+    d.tool = text(*t, path, "tool", "");
+    if (!d.tool.empty()) {
+        bool known = false;
+        std::set<std::string> names;
+        for (const SceneTool& tool : s.tools) known = known || tool.name == d.tool, names.insert(tool.name);
+        if (!known) throw SceneError{lineOf(*t->get("tool")), path + ".tool: '" + d.tool + "' is not one of the scene's tools: " + join(names)};
+    }
+    if (t->get("stiffness_N_per_m")) d.couplingStiffness_N_per_m = number(*t, path, "stiffness_N_per_m", 400, 1, 5000);
+    if (t->get("damping_Ns_per_m")) d.couplingDamping_Ns_per_m = number(*t, path, "damping_Ns_per_m", 0.3, 0, 100);
+    d.maxForce_N = number(*t, path, "max_force_N", d.maxForce_N, 0, 50);
+    d.maxForceRate_N_per_s = number(*t, path, "max_force_rate_N_per_s", d.maxForceRate_N_per_s, 1, 1e6);
+    d.fitWorkspace = text(*t, path, "workspace", "fit", {"fit", "mapped"}) == "fit";
+    d.workspace.scale = number(*t, path, "workspace_scale", 1, 1e-6, 1e6);
+    d.workspace.offset_m = vector3(*t, path, "workspace_offset_m", Vec3::Zero(), 100);
+    d.workspace.rotation = rotationFromDegrees(vector3(*t, path, "workspace_rotate_deg", Vec3::Zero(), 3600));
+    d.sdlControl = text(*t, path, "sdl_control", d.sdlControl, {"position", "rate"});
+    return d;
+}
+
 }  // namespace
 
 SceneFile defaultScene() {
@@ -114,7 +148,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
     }
     try {
         SceneFile s = defaultScene();
-        allowOnly(root, "", {"model", "material", "tools", "device", "simulation", "rendering"});
+        allowOnly(root, "", {"model", "material", "tools", "device", "devices", "simulation", "rendering"});
         if (const toml::table* m = subTable(root, "model")) {
             allowOnly(*m, "model", {"source", "triangles", "translate_m", "rotate_deg", "scale"});
             s.model = resolve(text(*m, "model", "source", s.model), directory);
@@ -168,6 +202,16 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
             s.workspace.scale = number(*d, "device", "workspace_scale", 1, 1e-6, 1e6);
             s.workspace.offset_m = vector3(*d, "device", "workspace_offset_m", Vec3::Zero(), 100);
             s.workspace.rotation = rotationFromDegrees(vector3(*d, "device", "workspace_rotate_deg", Vec3::Zero(), 3600));
+        }
+        if (const toml::node* devices = root.get("devices")) {
+            const toml::array* list = devices->as_array();
+            if (!list) throw SceneError{lineOf(*devices), "devices: expected a list of [[devices]] tables, one per hand"};
+            if (root.get("device"))
+                throw SceneError{lineOf(*devices), "devices: a scene has either one [device] table or [[devices]] tables, not both"};
+            if (list->size() > static_cast<std::size_t>(haptics::kMaxHands))
+                throw SceneError{lineOf(*devices), "devices: " + std::to_string(list->size()) + " devices; at most " +
+                                                       std::to_string(haptics::kMaxHands) + ", one per hand"};
+            for (std::size_t i = 0; i < list->size(); ++i) s.devices.push_back(parseDevice((*list)[i], i, s, directory));
         }
         if (const toml::table* m = subTable(root, "simulation")) {
             allowOnly(*m, "simulation", {"integrator", "rate_hz", "active_region"});

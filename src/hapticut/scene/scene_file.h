@@ -8,6 +8,8 @@
 
 #include "hapticut/common/result.h"
 #include "hapticut/haptics/device.h"
+#include "hapticut/haptics/device_name.h"
+#include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/common/text_file.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/material.h"
@@ -18,6 +20,19 @@ struct SceneTool {
     std::string name;        // "probe", "scalpel", or any name for a tool file
     std::string file;        // a tool file (thesis format); empty: the procedural tool of that name
     double threshold_N = 1e9;
+};
+
+/// One hand's device: a [[devices]] table.
+struct SceneDevice {
+    haptics::DeviceName device;  // as --device names it; a replay's file resolved against the scene's folder
+    std::string tool;            // a [[tools]] name; empty: the command line's --tool (the probe by default)
+    std::optional<double> couplingStiffness_N_per_m, couplingDamping_Ns_per_m;  // empty: [device]'s or the defaults
+    double maxForce_N = haptics::kDefaultMaxForce_N;
+    double maxForceRate_N_per_s = haptics::kDefaultMaxForceRate_N_per_s;
+    bool fitWorkspace = true;    // workspace = "fit": the device's reach fitted to the organ; "mapped": the keys below
+    haptics::WorkspaceTransform workspace;
+    std::string sdlControl = "position";  // a joystick's axes as position or rate
+    int line = 0;                // where the table starts, for messages about it
 };
 
 struct SceneFile {
@@ -38,6 +53,8 @@ struct SceneFile {
     double couplingStiffness_N_per_m = 400, couplingDamping_Ns_per_m = 0.3, maxForce_N = haptics::kDefaultMaxForce_N;
     double staticFriction = 0, dynamicFriction = 0;
     haptics::WorkspaceTransform workspace;
+    // [[devices]]: one per hand, at most two; empty when the scene has the single [device] table (or neither)
+    std::vector<SceneDevice> devices;
     // [simulation]
     physics::Scheme scheme = physics::Scheme::RungeKutta4;
     double rate_hz = 1000;

@@ -66,6 +66,12 @@ void Simulation::startLoop() {
         haptics::Hand& hand = hands[static_cast<std::size_t>(h)];
         hand.device = &deviceOf(h);
         hand.cutThreshold_N = threshold_[static_cast<std::size_t>(h)];
+        if (const auto& s = handSettings_[static_cast<std::size_t>(h)]) {
+            hand.maxForce_N = s->maxForce_N;
+            hand.maxForceRate_N_per_s = s->maxForceRate_N_per_s;
+            hand.couplingStiffness_N_per_m = s->couplingStiffness_N_per_m;
+            hand.couplingDamping_Ns_per_m = s->couplingDamping_Ns_per_m;
+        }
     }
     // One or two hands, each with a device, on an organ with faces at a scene's checked rate: the loop
     // can only fail to build if memory runs out, and then nothing here could go on.
@@ -103,6 +109,10 @@ std::array<int, haptics::kMaxHands> Simulation::toolsInHands() const {
 const haptics::Device* Simulation::hardwareDevice() const { return hardware_[static_cast<std::size_t>(activeHand_)].get(); }
 
 bool Simulation::mouseDrives() const { return !hardware_[static_cast<std::size_t>(activeHand_)] && !(activeHand_ == 0 && replay_); }
+
+void Simulation::setHandSettings(int hand, const SceneDevice& settings) {
+    handSettings_[static_cast<std::size_t>(std::clamp(hand, 0, haptics::kMaxHands - 1))] = settings;
+}
 
 void Simulation::useDevice(std::unique_ptr<haptics::Device> device, int hand) {
     hand = std::clamp(hand, 0, haptics::kMaxHands - 1);

@@ -50,6 +50,9 @@ public:
 
     /// Drives a hand with a hardware device instead of the mouse (a servo device steps the loop).
     void useDevice(std::unique_ptr<haptics::Device> device, int hand = 0);
+    /// A hand's own limits and coupling, from the scene's [[devices]] entry for it; applied when the
+    /// loop next starts (useDevice, a reset).
+    void setHandSettings(int hand, const SceneDevice& settings);
     bool hardware() const { return hardwareDevice() != nullptr; }
     /// The active hand's hardware device, if it has one.
     const haptics::Device* hardwareDevice() const;
@@ -100,6 +103,7 @@ private:
     int handCount_ = 1, activeHand_ = 0;
     std::array<std::size_t, haptics::kMaxHands> tool_{0, 0};
     std::array<double, haptics::kMaxHands> threshold_{1e9, 1e9};
+    std::array<std::optional<SceneDevice>, haptics::kMaxHands> handSettings_{};
     std::array<double, kMaterialKnobs> materialScale_{1, 1, 1, 1, 1};
     long resets_ = 0;
 };
