@@ -2,12 +2,11 @@
 // several heart sizes.
 #include <benchmark/benchmark.h>
 
-#include <cmath>
 #include <map>
 
 #include "hapticut/collision/bvh.h"
 #include "hapticut/haptics/proxy.h"
-#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/scene/bench_scenes.h"
 
 namespace {
 
@@ -17,9 +16,7 @@ const mesh::SurfaceMesh& heart(int triangles) {
     static std::map<int, mesh::SurfaceMesh> cache;
     auto it = cache.find(triangles);
     if (it == cache.end()) {
-        mesh::procedural::HeartOptions options;
-        options.triangles = triangles;
-        it = cache.emplace(triangles, mesh::procedural::makeHeart(options)).first;
+        it = cache.emplace(triangles, scene::benchHeart(triangles).source.mesh).first;
     }
     return it->second;
 }
@@ -39,8 +36,8 @@ void BM_BvhRefit(benchmark::State& state) {
 }
 BENCHMARK(BM_BvhRefit)->Arg(1619)->Arg(9714)->Arg(100'000)->Arg(1'000'000)->Unit(benchmark::kMicrosecond);
 
-// The device circles 5 mm under the front surface, 0.2 mm a step (0.2 m/s at 1 kHz): every update
-// collides, slides and checks itself, as in contact.
+// The device slides over the front in contact (scene::slidingDevice_m): every update collides, slides
+// and checks itself.
 void BM_ProxyUpdateInContact(benchmark::State& state) {
     const mesh::SurfaceMesh& m = heart(static_cast<int>(state.range(0)));
     collision::Bvh bvh;
@@ -48,12 +45,9 @@ void BM_ProxyUpdateInContact(benchmark::State& state) {
     bvh.build(view);
     haptics::GodObjectProxy proxy(haptics::ProxyParams{.closedSurface = true});
     proxy.reset(Vec3(0, 0, 0.2));
-    double angle = 0;
-    long contacts = 0;
+    long contacts = 0, step = 0;
     for (auto _ : state) {
-        angle += 0.2e-3 / 0.01;
-        const Vec3 device(0.01 * std::cos(angle), 0.01 * std::sin(angle) - 0.01, 0.025);
-        benchmark::DoNotOptimize(proxy.update(device, view, bvh));
+        benchmark::DoNotOptimize(proxy.update(scene::slidingDevice_m(++step), view, bvh));
         contacts += proxy.contact().active;
     }
     state.counters["contact_fraction"] = static_cast<double>(contacts) / static_cast<double>(state.iterations());

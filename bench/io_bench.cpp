@@ -2,16 +2,15 @@
 #include <benchmark/benchmark.h>
 
 #include "hapticut/mesh/io/thesis_format.h"
-#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/scene/bench_scenes.h"
 
 namespace {
 
 using namespace hapticut;
 
 void BM_ParseThesisModel(benchmark::State& state) {
-    mesh::procedural::HeartOptions options;
-    options.triangles = static_cast<int>(state.range(0));
-    const std::string text = mesh::io::formatModel(mesh::procedural::makeHeart(options), {.mass = 0.3});
+    const scene::Scene heart = scene::benchHeart(static_cast<int>(state.range(0)));
+    const std::string text = mesh::io::formatModel(heart.source.mesh, heart.source.physics);
     for (auto _ : state) benchmark::DoNotOptimize(mesh::io::parseModel(text, "heart.txt"));
     state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * text.size()));
 }

@@ -5,8 +5,8 @@
 
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/integrators.h"
-#include "hapticut/physics/material.h"
 #include "hapticut/physics/spring_forces.h"
+#include "hapticut/scene/bench_scenes.h"
 
 namespace {
 
@@ -17,9 +17,7 @@ const physics::MassSpringModel& heartModel(int triangles) {
     static std::map<int, physics::MassSpringModel> cache;
     auto it = cache.find(triangles);
     if (it == cache.end()) {
-        mesh::procedural::HeartOptions options;
-        options.triangles = triangles;
-        it = cache.emplace(triangles, physics::buildModel(mesh::procedural::makeHeart(options), physics::Material{})).first;
+        it = cache.emplace(triangles, scene::benchHeart(triangles).buildModel()).first;
         auto& m = it->second;
         for (std::size_t i = 0; i < m.nodes.size(); ++i) {
             const auto x = static_cast<double>(i);  // a fixed irregular offset, so no spring sits at rest

@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "commands.h"
-#include "sample_trajectories.h"
+#include "hapticut/scene/sample_trajectories.h"
 #include "hapticut/collision/bvh.h"
 #include "hapticut/haptics/trajectory.h"
 #include "hapticut/mesh/io/thesis_format.h"
@@ -34,11 +34,11 @@ int assets(const std::filesystem::path& out) {
         {out / "tools/scalpel.txt", mesh::io::writeToolFile(out / "tools/scalpel.txt", mesh::procedural::makeScalpel(), mesh::procedural::kScalpelThreshold_N)},
         {out / "tools/probe.txt", mesh::io::writeToolFile(out / "tools/probe.txt", mesh::procedural::makeProbe(), mesh::procedural::kProbeThreshold_N)},
         {out / "trajectories/press-front.csv",
-         writeTextFileAtomically(out / "trajectories/press-front.csv", haptics::formatTrajectory(pressTrajectory(heart, bvh)))},
+         writeTextFileAtomically(out / "trajectories/press-front.csv", haptics::formatTrajectory(scene::pressTrajectory(heart, bvh)))},
         {out / "trajectories/stroke-front.csv",
-         writeTextFileAtomically(out / "trajectories/stroke-front.csv", haptics::formatTrajectory(strokeTrajectory(heart, bvh, 0.004)))},
+         writeTextFileAtomically(out / "trajectories/stroke-front.csv", haptics::formatTrajectory(scene::strokeTrajectory(heart, bvh, 0.004)))},
         {out / "trajectories/cut-front.csv",
-         writeTextFileAtomically(out / "trajectories/cut-front.csv", haptics::formatTrajectory(strokeTrajectory(heart, bvh, 0.012)))},
+         writeTextFileAtomically(out / "trajectories/cut-front.csv", haptics::formatTrajectory(scene::strokeTrajectory(heart, bvh, 0.012)))},
     };
     int status = 0;
     for (const auto& w : written) {

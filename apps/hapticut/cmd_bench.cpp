@@ -13,14 +13,13 @@
 #include "hapticut/haptics/proxy.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/mesh/procedural/tools.h"
-#include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/vertex_faces.h"
 #include "hapticut/physics/integrators.h"
-#include "hapticut/physics/material.h"
-#include "sample_trajectories.h"
+#include "hapticut/scene/bench_scenes.h"
+#include "hapticut/scene/sample_trajectories.h"
 #include "terminal.h"
 #ifdef HAPTICUT_WITH_VIEWER
-#include "render/frame_rate.h"
+#include "bench/frame_rate.h"
 #endif
 
 namespace hapticut::app {
@@ -41,11 +40,12 @@ struct BenchOptions {
 /// Cut events through the haptic loop: the scalpel's 12 mm stroke across the front (the shipped
 /// cut-front path, generated for this heart) with the physics paused, so the finest hearts' substeps do
 /// not make the run take minutes; a cut event (the cut, the tree, the stepper and the proxy) costs the same.
-nlohmann::ordered_json benchCutting(const mesh::SurfaceMesh& heart) {
+nlohmann::ordered_json benchCutting(const scene::Scene& scene) {
+    const mesh::SurfaceMesh& heart = scene.source.mesh;
     collision::Bvh bvh;
     bvh.build({heart.positions, heart.faces});
-    const haptics::Trajectory path = strokeTrajectory(heart, bvh, 0.012);
-    cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
+    const haptics::Trajectory path = scene::strokeTrajectory(heart, bvh, 0.012);
+    cutting::CutModel organ = scene.makeOrgan();
     haptics::ReplayDevice device(path);
     haptics::LoopConfig config;
     config.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
@@ -61,7 +61,7 @@ nlohmann::ordered_json benchCutting(const mesh::SurfaceMesh& heart) {
 #ifdef HAPTICUT_WITH_VIEWER
 /// Frames per second, mono and side-by-side stereo, at each size and heart, with the loop running.
 bool benchRender(const BenchOptions& o, nlohmann::ordered_json& out) {
-    std::vector<render::FrameRateCase> cases;
+    std::vector<bench::FrameRateCase> cases;
     for (int triangles : o.triangles)
         for (const std::string& size : o.sizes) {
             const auto wh = parseSize(size, 16, 16384);
@@ -73,9 +73,9 @@ bool benchRender(const BenchOptions& o, nlohmann::ordered_json& out) {
                 cases.push_back({triangles, wh->first, wh->second, mode});
         }
     std::printf("\n%10s %11s %13s %10s %12s\n", "triangles", "size", "stereo", "fps", "haptic Hz");
-    std::vector<render::FrameRateResult> results;
+    std::vector<bench::FrameRateResult> results;
     std::string renderer, error;
-    const bool ok = render::measureFrameRates(cases, o.seconds, results, renderer, error, [](const render::FrameRateResult& r) {
+    const bool ok = bench::measureFrameRates(cases, o.seconds, results, renderer, error, [](const bench::FrameRateResult& r) {
         std::printf("%10d %5dx%-5d %13s %10.1f %12.0f\n", r.faces, r.what.width, r.what.height, std::string(render::stereoModeName(r.what.stereo)).c_str(),
                     r.fps, r.hapticRate_hz);
         std::fflush(stdout);
@@ -87,7 +87,7 @@ bool benchRender(const BenchOptions& o, nlohmann::ordered_json& out) {
     std::printf("renderer: %s\n", renderer.c_str());
     out["renderer"] = renderer;
     out["results"] = nlohmann::ordered_json::array();
-    for (const render::FrameRateResult& r : results)
+    for (const bench::FrameRateResult& r : results)
         out["results"].push_back({{"triangles", r.faces},
                                   {"width", r.what.width},
                                   {"height", r.what.height},
@@ -119,12 +119,10 @@ nlohmann::ordered_json benchHaptics(const mesh::SurfaceMesh& mesh, double second
     haptics::GodObjectProxy proxy(haptics::ProxyParams{.closedSurface = true});
     proxy.setTopology(&topology);
     proxy.reset(Vec3(0, 0, 0.2));
-    double angle = 0;
-    long contacts = 0;
+    long contacts = 0, step = 0;
     const auto updateEnd = Clock::now() + std::chrono::duration<double>(seconds / 2);
     while (Clock::now() < updateEnd || update.count() < 1000) {
-        angle += 0.2e-3 / 0.01;
-        const Vec3 device(0.01 * std::cos(angle), 0.01 * std::sin(angle) - 0.01, 0.025);
+        const Vec3 device = scene::slidingDevice_m(++step);
         t0 = Clock::now();
         proxy.update(device, view, bvh);
         update.record(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
@@ -174,11 +172,10 @@ int bench(const BenchOptions& o) {
     std::mt19937 rng(42);
     for (int triangles : o.triangles) {
         const auto g0 = Clock::now();
-        mesh::procedural::HeartOptions heart;
-        heart.triangles = triangles;
-        const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart(heart);
+        const scene::Scene heart = scene::benchHeart(triangles);
+        const mesh::SurfaceMesh& mesh = heart.source.mesh;
         const double generate_s = std::chrono::duration<double>(Clock::now() - g0).count();
-        physics::MassSpringModel model = physics::buildModel(mesh, physics::Material{});
+        physics::MassSpringModel model = heart.buildModel();
         for (physics::Scheme scheme : schemes) {
             physics::Stepper stepper(scheme);
             stepper.setAutoSubstep(false);  // time one raw step; substeps are reported separately
@@ -217,20 +214,12 @@ int bench(const BenchOptions& o) {
     if (o.haptics) {
         std::printf("\n%10s %12s %12s %12s %12s %12s %10s\n", "triangles", "build ms", "refit us", "refit p99", "proxy us", "proxy p99",
                     "contact");
-        for (int triangles : o.triangles) {
-            mesh::procedural::HeartOptions heart;
-            heart.triangles = triangles;
-            haptics.push_back(benchHaptics(mesh::procedural::makeHeart(heart), o.seconds));
-        }
+        for (int triangles : o.triangles) haptics.push_back(benchHaptics(scene::benchHeart(triangles).source.mesh, o.seconds));
     }
     nlohmann::ordered_json cuts = nlohmann::ordered_json::array();
     if (o.cutting) {
         std::printf("\n%10s %10s %10s %10s %10s %10s %10s\n", "triangles", "events", "points", "mean us", "p50 us", "p99 us", "max us");
-        for (int triangles : o.triangles) {
-            mesh::procedural::HeartOptions heart;
-            heart.triangles = triangles;
-            cuts.push_back(benchCutting(mesh::procedural::makeHeart(heart)));
-        }
+        for (int triangles : o.triangles) cuts.push_back(benchCutting(scene::benchHeart(triangles)));
     }
     nlohmann::ordered_json frameRates;
 #ifdef HAPTICUT_WITH_VIEWER

@@ -1,7 +1,7 @@
 // The shipped sample trajectories: a press, a probe's stroke and a scalpel's cut across the front of the heart.
-#include "sample_trajectories.h"
+#include "hapticut/scene/sample_trajectories.h"
 
-namespace hapticut::app {
+namespace hapticut::scene {
 
 namespace {
 
@@ -44,4 +44,4 @@ haptics::Trajectory strokeTrajectory(const mesh::SurfaceMesh& heart, const colli
     return t;
 }
 
-}  // namespace hapticut::app
+}  // namespace hapticut::scene

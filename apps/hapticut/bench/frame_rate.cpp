@@ -1,5 +1,5 @@
 // The frame-rate benchmark: a pressed heart, its loop at 1 kHz, frames drawn as fast as they go.
-#include "render/frame_rate.h"
+#include "bench/frame_rate.h"
 
 #include <array>
 #include <epoxy/gl.h>
@@ -10,18 +10,16 @@
 #include <memory>
 
 #include "hapticut/cutting/cut_model.h"
-#include "hapticut/geometry/aabb.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/virtual_device.h"
-#include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/tools.h"
-#include "hapticut/physics/material.h"
+#include "hapticut/scene/bench_scenes.h"
 #include "render/gl_context.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 #include "render/snapshot_frame.h"
 
-namespace hapticut::render {
+namespace hapticut::bench {
 
 namespace {
 
@@ -35,15 +33,9 @@ struct PressedHeart {
     std::unique_ptr<haptics::RealTimeScheduler> clock;  // declared after the loop: stops before it goes
 
     explicit PressedHeart(int triangles) {
-        mesh::procedural::HeartOptions options;
-        options.triangles = triangles;
-        mesh::SurfaceMesh heart = mesh::procedural::makeHeart(options);
-        organ = std::make_unique<cutting::CutModel>(heart, physics::buildModel(heart, physics::Material{}));
-        // The front: the vertex furthest out along +z near (0, -1 cm).
-        Vec3 front = geometry::boundsOf(heart.positions).center();
-        for (const Vec3& p : heart.positions)
-            if (std::abs(p.x()) < 0.01 && std::abs(p.y() + 0.01) < 0.01 && p.z() > front.z()) front = p;
-        device.setPosition(front - Vec3(0, 0, 0.003), 1);
+        const scene::Scene heart = scene::benchHeart(triangles);
+        organ = std::make_unique<cutting::CutModel>(heart.source.mesh, heart.buildModel());
+        device.setPosition(scene::frontVertex_m(heart.source.mesh, 0, -0.01) - Vec3(0, 0, 0.003), 1);
         loop = std::make_unique<haptics::HapticLoop>(*organ, device);
         clock = std::make_unique<haptics::RealTimeScheduler>(*loop);
         (void)clock->start();  // a virtual device has no servo to fail
@@ -54,15 +46,15 @@ struct PressedHeart {
 
 bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, std::vector<FrameRateResult>& results, std::string& renderer,
                        std::string& error, const std::function<void(const FrameRateResult&)>& onResult) {
-    WindowOptions windowOptions;
+    render::WindowOptions windowOptions;
     windowOptions.width = 64;
     windowOptions.height = 64;
     windowOptions.visible = false;
-    auto window = GlWindow::open(windowOptions, error);
+    auto window = render::GlWindow::open(windowOptions, error);
     if (!window) return false;
     renderer = window->rendererDescription();
     const std::vector<mesh::SurfaceMesh> tools = {mesh::procedural::makeProbe()};
-    auto draw = Renderer::create(tools, error);
+    auto draw = render::Renderer::create(tools, error);
     if (!draw) return false;
 
     std::map<int, std::unique_ptr<PressedHeart>> hearts;
@@ -72,9 +64,9 @@ bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, 
             hearts[c.triangles] = std::make_unique<PressedHeart>(c.triangles);
         }
         const auto& heart = hearts[c.triangles];
-        auto target = OffscreenTarget::create(c.width, c.height, 4, error);
+        auto target = render::OffscreenTarget::create(c.width, c.height, 4, error);
         if (!target) return false;
-        ViewSettings view;
+        render::ViewSettings view;
         view.frameOrgan(heart->organ->mesh().positions);
         view.stereo = c.stereo;
         draw->invalidateOrgan();  // a new heart, or the same one at another size: upload it afresh
@@ -85,7 +77,7 @@ bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, 
         auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
         while (elapsed() < seconds || r.frames < 3) {
             const haptics::Snapshot& s = heart->loop->snapshots().readLatest();
-            draw->draw(frameOf(s, std::array{0}, heart->device.maxForce_N()), view, c.width, c.height);
+            draw->draw(render::frameOf(s, std::array{0}, heart->device.maxForce_N()), view, c.width, c.height);
             glFinish();
             ++r.frames;
             r.faces = static_cast<int>(s.faces.size());
@@ -99,4 +91,4 @@ bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, 
     return true;
 }
 
-}  // namespace hapticut::render
+}  // namespace hapticut::bench

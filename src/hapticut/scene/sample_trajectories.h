@@ -5,7 +5,7 @@
 #include "hapticut/haptics/trajectory.h"
 #include "hapticut/mesh/surface_mesh.h"
 
-namespace hapticut::app {
+namespace hapticut::scene {
 
 /// Press the front of the heart 6 mm deep, hold, release. Free until 0.6 s, after the force ramp.
 haptics::Trajectory pressTrajectory(const mesh::SurfaceMesh& heart, const collision::Bvh& bvh);
@@ -14,4 +14,4 @@ haptics::Trajectory pressTrajectory(const mesh::SurfaceMesh& heart, const collis
 /// probe's stroke; 12 mm presses with about 2.5 N, past the scalpel's 2 N threshold, so it cuts.
 haptics::Trajectory strokeTrajectory(const mesh::SurfaceMesh& heart, const collision::Bvh& bvh, double depth_m);
 
-}  // namespace hapticut::app
+}  // namespace hapticut::scene

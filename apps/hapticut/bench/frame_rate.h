@@ -8,12 +8,12 @@
 
 #include "render/stereo.h"
 
-namespace hapticut::render {
+namespace hapticut::bench {
 
 struct FrameRateCase {
     int triangles = 1619;
     int width = 1280, height = 1024;
-    StereoMode stereo = StereoMode::Off;
+    render::StereoMode stereo = render::StereoMode::Off;
 };
 
 struct FrameRateResult {
@@ -29,4 +29,4 @@ struct FrameRateResult {
 bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, std::vector<FrameRateResult>& results, std::string& renderer,
                        std::string& error, const std::function<void(const FrameRateResult&)>& onResult = {});
 
-}  // namespace hapticut::render
+}  // namespace hapticut::bench
