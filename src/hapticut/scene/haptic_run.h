@@ -1,4 +1,4 @@
-// A haptic run: a device (replayed trajectory) drives the haptic loop on a model; every step is
+// A haptic run: devices, one per hand (a replayed trajectory, or live ones in real time), drive the haptic loop on an organ; every step is
 // logged and the proxy's penetration is measured independently of the proxy.
 #pragma once
 
