@@ -37,7 +37,8 @@ void BM_SpringForces(benchmark::State& state) {
     }
     state.counters["springs"] = static_cast<double>(model.springs.size());
     state.counters["ns_per_spring"] =
-        benchmark::Counter(static_cast<double>(model.springs.size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+        benchmark::Counter(static_cast<double>(model.springs.size()),
+                           benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_SpringForces)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
 

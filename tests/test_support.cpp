@@ -51,7 +51,8 @@ Vec3 wobble(std::size_t i, double size) {
 
 double signedVolume(const mesh::SurfaceMesh& mesh) {
     double v = 0;
-    for (const mesh::Face& f : mesh.faces) v += mesh.positions[f[0]].dot(mesh.positions[f[1]].cross(mesh.positions[f[2]])) / 6;
+    for (const mesh::Face& f : mesh.faces)
+        v += mesh.positions[f[0]].dot(mesh.positions[f[1]].cross(mesh.positions[f[2]])) / 6;
     return v;
 }
 

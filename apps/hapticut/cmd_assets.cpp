@@ -5,13 +5,13 @@
 #include <iostream>
 
 #include "commands.h"
-#include "hapticut/scene/sample_trajectories.h"
 #include "hapticut/collision/bvh.h"
 #include "hapticut/haptics/trajectory.h"
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/physics/material.h"
+#include "hapticut/scene/sample_trajectories.h"
 
 namespace hapticut::app {
 
@@ -30,15 +30,21 @@ int assets(const std::filesystem::path& out) {
         fs::path file;
         WriteStatus status;
     } written[] = {
-        {out / "models/heart.txt", mesh::io::writeModelFile(out / "models/heart.txt", heart, physics::thesisPhysicsFor(heart, physics::Material{}))},
-        {out / "tools/scalpel.txt", mesh::io::writeToolFile(out / "tools/scalpel.txt", mesh::procedural::makeScalpel(), mesh::procedural::kScalpelThreshold_N)},
-        {out / "tools/probe.txt", mesh::io::writeToolFile(out / "tools/probe.txt", mesh::procedural::makeProbe(), mesh::procedural::kProbeThreshold_N)},
+        {out / "models/heart.txt", mesh::io::writeModelFile(out / "models/heart.txt", heart,
+                                                            physics::thesisPhysicsFor(heart, physics::Material{}))},
+        {out / "tools/scalpel.txt", mesh::io::writeToolFile(out / "tools/scalpel.txt", mesh::procedural::makeScalpel(),
+                                                            mesh::procedural::kScalpelThreshold_N)},
+        {out / "tools/probe.txt", mesh::io::writeToolFile(out / "tools/probe.txt", mesh::procedural::makeProbe(),
+                                                          mesh::procedural::kProbeThreshold_N)},
         {out / "trajectories/press-front.csv",
-         writeTextFileAtomically(out / "trajectories/press-front.csv", haptics::formatTrajectory(scene::pressTrajectory(heart, bvh)))},
+         writeTextFileAtomically(out / "trajectories/press-front.csv",
+                                 haptics::formatTrajectory(scene::pressTrajectory(heart, bvh)))},
         {out / "trajectories/stroke-front.csv",
-         writeTextFileAtomically(out / "trajectories/stroke-front.csv", haptics::formatTrajectory(scene::strokeTrajectory(heart, bvh, 0.004)))},
+         writeTextFileAtomically(out / "trajectories/stroke-front.csv",
+                                 haptics::formatTrajectory(scene::strokeTrajectory(heart, bvh, 0.004)))},
         {out / "trajectories/cut-front.csv",
-         writeTextFileAtomically(out / "trajectories/cut-front.csv", haptics::formatTrajectory(scene::strokeTrajectory(heart, bvh, 0.012)))},
+         writeTextFileAtomically(out / "trajectories/cut-front.csv",
+                                 haptics::formatTrajectory(scene::strokeTrajectory(heart, bvh, 0.012)))},
     };
     int status = 0;
     for (const auto& w : written) {
@@ -56,7 +62,8 @@ int assets(const std::filesystem::path& out) {
 
 Command addAssetsCommand(CLI::App& app) {
     auto out = std::make_shared<std::string>("assets");
-    CLI::App* cmd = app.add_subcommand("assets", "Regenerate the shipped heart (1,619 triangles), scalpel, probe and sample trajectories");
+    CLI::App* cmd = app.add_subcommand(
+        "assets", "Regenerate the shipped heart (1,619 triangles), scalpel, probe and sample trajectories");
     cmd->add_option("--out", *out, "Directory to write models/ and tools/ into")->capture_default_str();
     return [out] { return assets(*out); };
 }

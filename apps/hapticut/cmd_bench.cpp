@@ -54,8 +54,12 @@ nlohmann::ordered_json benchCutting(const scene::Scene& scene) {
     haptics::runSimulated(loop, std::lround(path.duration_s() * config.rate_hz) + 1);
     const Summary s = loop.stats().cutTime_us.summary();
     const cutting::CutStats& c = loop.cutter().stats();
-    std::printf("%10zu %10ld %10ld %10.0f %10.0f %10.0f %10.0f\n", heart.faces.size(), loop.stats().cutEvents, c.cutPoints, s.mean, s.p50, s.p99, s.max);
-    return {{"triangles", heart.faces.size()}, {"cut_events", loop.stats().cutEvents}, {"cut_points", c.cutPoints}, {"cut_event_us", toJson(s)}};
+    std::printf("%10zu %10ld %10ld %10.0f %10.0f %10.0f %10.0f\n", heart.faces.size(), loop.stats().cutEvents,
+                c.cutPoints, s.mean, s.p50, s.p99, s.max);
+    return {{"triangles", heart.faces.size()},
+            {"cut_events", loop.stats().cutEvents},
+            {"cut_points", c.cutPoints},
+            {"cut_event_us", toJson(s)}};
 }
 
 #ifdef HAPTICUT_WITH_VIEWER
@@ -75,11 +79,12 @@ bool benchRender(const BenchOptions& o, nlohmann::ordered_json& out) {
     std::printf("\n%10s %11s %13s %10s %12s\n", "triangles", "size", "stereo", "fps", "haptic Hz");
     std::vector<bench::FrameRateResult> results;
     std::string renderer, error;
-    const bool ok = bench::measureFrameRates(cases, o.seconds, results, renderer, error, [](const bench::FrameRateResult& r) {
-        std::printf("%10d %5dx%-5d %13s %10.1f %12.0f\n", r.faces, r.what.width, r.what.height, std::string(render::stereoModeName(r.what.stereo)).c_str(),
-                    r.fps, r.hapticRate_hz);
-        std::fflush(stdout);
-    });
+    const bool ok =
+        bench::measureFrameRates(cases, o.seconds, results, renderer, error, [](const bench::FrameRateResult& r) {
+            std::printf("%10d %5dx%-5d %13s %10.1f %12.0f\n", r.faces, r.what.width, r.what.height,
+                        std::string(render::stereoModeName(r.what.stereo)).c_str(), r.fps, r.hapticRate_hz);
+            std::fflush(stdout);
+        });
     if (!ok) {
         std::cerr << "hapticut bench --render: " << error << "\n";
         return false;
@@ -129,8 +134,8 @@ nlohmann::ordered_json benchHaptics(const mesh::SurfaceMesh& mesh, double second
         contacts += proxy.contact().active;
     }
     const Summary r = refit.summary(), u = update.summary();
-    std::printf("%10zu %12.2f %12.1f %12.1f %12.2f %12.2f %9.0f%%\n", mesh.faces.size(), build_ms, r.mean, r.p99, u.mean, u.p99,
-                100.0 * static_cast<double>(contacts) / static_cast<double>(update.count()));
+    std::printf("%10zu %12.2f %12.1f %12.1f %12.2f %12.2f %9.0f%%\n", mesh.faces.size(), build_ms, r.mean, r.p99,
+                u.mean, u.p99, 100.0 * static_cast<double>(contacts) / static_cast<double>(update.count()));
     return {{"triangles", mesh.faces.size()},
             {"bvh_build_ms", build_ms},
             {"bvh_refit_us", toJson(r)},
@@ -161,14 +166,15 @@ int bench(const BenchOptions& o) {
     for (const std::string& name : o.integrators) {
         const auto s = physics::parseScheme(name);
         if (!s) {
-            std::cerr << "hapticut bench: unknown integrator '" << name << "': expected euler, midpoint, rk4 or symplectic\n";
+            std::cerr << "hapticut bench: unknown integrator '" << name
+                      << "': expected euler, midpoint, rk4 or symplectic\n";
             return 2;
         }
         schemes.push_back(*s);
     }
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
-    std::printf("%10s %8s %9s %-11s %11s %11s %13s %9s %15s\n", "triangles", "nodes", "springs", "integrator", "us/step", "p99 us",
-                "ns/spring-ev", "substeps", "us/sim-ms@1ms");
+    std::printf("%10s %8s %9s %-11s %11s %11s %13s %9s %15s\n", "triangles", "nodes", "springs", "integrator",
+                "us/step", "p99 us", "ns/spring-ev", "substeps", "us/sim-ms@1ms");
     std::mt19937 rng(42);
     for (int triangles : o.triangles) {
         const auto g0 = Clock::now();
@@ -194,10 +200,11 @@ int bench(const BenchOptions& o) {
                 }
             }
             const Summary s = summarize(samples);
-            const double nsPerSpring = 1e3 * s.p50 / (static_cast<double>(model.springs.size()) * forceEvaluations(scheme));
-            std::printf("%10zu %8zu %9zu %-11s %11.1f %11.1f %13.2f %9d %15.1f\n", mesh.faces.size(), model.nodes.size(),
-                        model.springs.size(), std::string(physics::schemeName(scheme)).c_str(), s.p50, s.p99, nsPerSpring, substeps,
-                        s.p50 * substeps);
+            const double nsPerSpring =
+                1e3 * s.p50 / (static_cast<double>(model.springs.size()) * forceEvaluations(scheme));
+            std::printf("%10zu %8zu %9zu %-11s %11.1f %11.1f %13.2f %9d %15.1f\n", mesh.faces.size(),
+                        model.nodes.size(), model.springs.size(), std::string(physics::schemeName(scheme)).c_str(),
+                        s.p50, s.p99, nsPerSpring, substeps, s.p50 * substeps);
             results.push_back({{"triangles", mesh.faces.size()},
                                {"nodes", model.nodes.size()},
                                {"springs", model.springs.size()},
@@ -212,13 +219,15 @@ int bench(const BenchOptions& o) {
     }
     nlohmann::ordered_json haptics = nlohmann::ordered_json::array();
     if (o.haptics) {
-        std::printf("\n%10s %12s %12s %12s %12s %12s %10s\n", "triangles", "build ms", "refit us", "refit p99", "proxy us", "proxy p99",
-                    "contact");
-        for (int triangles : o.triangles) haptics.push_back(benchHaptics(scene::benchHeart(triangles).source.mesh, o.seconds));
+        std::printf("\n%10s %12s %12s %12s %12s %12s %10s\n", "triangles", "build ms", "refit us", "refit p99",
+                    "proxy us", "proxy p99", "contact");
+        for (int triangles : o.triangles)
+            haptics.push_back(benchHaptics(scene::benchHeart(triangles).source.mesh, o.seconds));
     }
     nlohmann::ordered_json cuts = nlohmann::ordered_json::array();
     if (o.cutting) {
-        std::printf("\n%10s %10s %10s %10s %10s %10s %10s\n", "triangles", "events", "points", "mean us", "p50 us", "p99 us", "max us");
+        std::printf("\n%10s %10s %10s %10s %10s %10s %10s\n", "triangles", "events", "points", "mean us", "p50 us",
+                    "p99 us", "max us");
         for (int triangles : o.triangles) cuts.push_back(benchCutting(scene::benchHeart(triangles)));
     }
     nlohmann::ordered_json frameRates;
@@ -243,15 +252,26 @@ int bench(const BenchOptions& o) {
 Command addBenchCommand(CLI::App& app) {
     auto o = std::make_shared<BenchOptions>();
     CLI::App* cmd = app.add_subcommand("bench", "Measure integrator step time on the procedural heart");
-    cmd->add_option("--triangles", o->triangles, "Heart sizes (comma separated)")->delimiter(',')->capture_default_str();
-    cmd->add_option("--integrators", o->integrators, "Integrators (comma separated)")->delimiter(',')->capture_default_str();
-    cmd->add_option("--seconds", o->seconds, "Minimum timing per case (s)")->capture_default_str()->check(CLI::Range(0.01, 600.0));
+    cmd->add_option("--triangles", o->triangles, "Heart sizes (comma separated)")
+        ->delimiter(',')
+        ->capture_default_str();
+    cmd->add_option("--integrators", o->integrators, "Integrators (comma separated)")
+        ->delimiter(',')
+        ->capture_default_str();
+    cmd->add_option("--seconds", o->seconds, "Minimum timing per case (s)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.01, 600.0));
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->add_flag("--haptics", o->haptics, "Also measure BVH build and refit and the proxy update (mean and p99)");
-    cmd->add_flag("--cutting", o->cutting, "Also measure the scalpel's cut events through the haptic loop (mean, p50, p99, max)");
+    cmd->add_flag("--cutting", o->cutting,
+                  "Also measure the scalpel's cut events through the haptic loop (mean, p50, p99, max)");
 #ifdef HAPTICUT_WITH_VIEWER
-    cmd->add_flag("--render", o->render, "Also measure frames per second, mono and side by side, with the haptic loop running (needs a display or Xvfb)");
-    cmd->add_option("--sizes", o->sizes, "Image sizes for --render (comma separated)")->delimiter(',')->capture_default_str();
+    cmd->add_flag("--render", o->render,
+                  "Also measure frames per second, mono and side by side, with the haptic loop running (needs a "
+                  "display or Xvfb)");
+    cmd->add_option("--sizes", o->sizes, "Image sizes for --render (comma separated)")
+        ->delimiter(',')
+        ->capture_default_str();
 #endif
     return [o] { return bench(*o); };
 }

@@ -55,9 +55,12 @@ int convert(const ConvertOptions& o) {
 
     const mesh::MeshReport report = mesh::validateMesh(m);
     std::cout << "  " << report.vertices << " vertices, " << report.faces << " faces, " << report.edges << " edges; "
-              << (report.closed ? "closed" : std::to_string(report.boundaryEdges) + " boundary edges (holes or open ends)") << "; "
-              << (report.manifold ? "manifold" : std::to_string(report.nonManifoldEdges) + " non-manifold edges") << "; "
-              << (report.oriented ? "consistently oriented" : "inconsistently oriented") << "; " << report.components << " component(s)\n";
+              << (report.closed ? "closed"
+                                : std::to_string(report.boundaryEdges) + " boundary edges (holes or open ends)")
+              << "; "
+              << (report.manifold ? "manifold" : std::to_string(report.nonManifoldEdges) + " non-manifold edges")
+              << "; " << (report.oriented ? "consistently oriented" : "inconsistently oriented") << "; "
+              << report.components << " component(s)\n";
 
     const bool toThesis = mesh::io::formatFromExtension(o.out) == mesh::io::MeshFormat::Thesis;
     const auto error = toThesis && source->toolThreshold_N ? mesh::io::writeToolFile(o.out, m, *source->toolThreshold_N)
@@ -66,7 +69,8 @@ int convert(const ConvertOptions& o) {
         std::cerr << error->toString() << "\n";
         return 1;
     }
-    std::cout << "wrote " << o.out << ": " << m.positions.size() << " vertices, " << m.faces.size() << " faces, " << m.edges.size() << " edges\n";
+    std::cout << "wrote " << o.out << ": " << m.positions.size() << " vertices, " << m.faces.size() << " faces, "
+              << m.edges.size() << " edges\n";
     return 0;
 }
 
@@ -74,19 +78,25 @@ int convert(const ConvertOptions& o) {
 
 Command addConvertCommand(CLI::App& app) {
     auto o = std::make_shared<ConvertOptions>();
-    CLI::App* cmd = app.add_subcommand("convert", "Import a mesh (thesis .txt, OBJ, PLY, STL, glTF, 3DS, FBX, Collada, ...), clean it, write .txt/.obj/.ply");
+    CLI::App* cmd = app.add_subcommand(
+        "convert",
+        "Import a mesh (thesis .txt, OBJ, PLY, STL, glTF, 3DS, FBX, Collada, ...), clean it, write .txt/.obj/.ply");
     cmd->add_option("in", o->in, "Input file, or 'heart' for the procedural heart")->required();
     cmd->add_option("out", o->out, "Output file (.txt, .obj or .ply)")->required();
-    cmd->add_option("--triangles", o->triangles, "Triangle count when the input is 'heart'")->capture_default_str()->check(CLI::Range(12, 20'000'000));
+    cmd->add_option("--triangles", o->triangles, "Triangle count when the input is 'heart'")
+        ->capture_default_str()
+        ->check(CLI::Range(12, 20'000'000));
     cmd->add_option("--mass", o->mass, "Total mass written to the physics line, kg")->check(CLI::PositiveNumber);
     cmd->add_option("--ks", o->ks, "Structural spring stiffness per edge, N/m")->check(CLI::NonNegativeNumber);
     cmd->add_option("--kd", o->kd, "Structural spring damping per edge, N·s/m")->check(CLI::NonNegativeNumber);
     cmd->add_option("--kp", o->kp, "Positioning spring stiffness per node, N/m")->check(CLI::NonNegativeNumber);
     cmd->add_option("--kdp", o->kdp, "Positioning spring damping per node, N·s/m")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--fit-unit-box", o->fitUnitBox, "Scale and centre into the unit box, as the thesis's models were");
-    cmd->add_option("--weld", o->weld, "Join vertices closer than this, m (imports other than OBJ/PLY weld exact duplicates anyway)")
+    cmd->add_option("--weld", o->weld,
+                    "Join vertices closer than this, m (imports other than OBJ/PLY weld exact duplicates anyway)")
         ->check(CLI::NonNegativeNumber);
-    cmd->add_flag("--repair", o->repair, "Orient faces consistently and outward, split non-manifold edges, remove small fragments");
+    cmd->add_flag("--repair", o->repair,
+                  "Orient faces consistently and outward, split non-manifold edges, remove small fragments");
     return [o] { return convert(*o); };
 }
 

@@ -7,7 +7,6 @@
 #include "commands.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "terminal.h"
-#include "terminal.h"
 
 namespace hapticut::app {
 
@@ -47,12 +46,14 @@ int info(const InfoOptions& o) {
         j["mean_edge_length_m"] = r.meanEdgeLength_m;
         j["shortest_edge_m"] = r.shortestEdge_m;
         j["area_m2"] = r.area_m2;
-        if (source->toolThreshold_N) j["tool_threshold_N"] = *source->toolThreshold_N;
-        else j["physics"] = {{"mass", source->physics.mass},
-                             {"ks", source->physics.structuralStiffness},
-                             {"kd", source->physics.structuralDamping},
-                             {"kp", source->physics.positioningStiffness},
-                             {"kdp", source->physics.positioningDamping}};
+        if (source->toolThreshold_N)
+            j["tool_threshold_N"] = *source->toolThreshold_N;
+        else
+            j["physics"] = {{"mass", source->physics.mass},
+                            {"ks", source->physics.structuralStiffness},
+                            {"kd", source->physics.structuralDamping},
+                            {"kp", source->physics.positioningStiffness},
+                            {"kdp", source->physics.positioningDamping}};
         std::cout << j.dump(2) << "\n";
         return 0;
     }
@@ -60,17 +61,21 @@ int info(const InfoOptions& o) {
     std::printf("%s\n", source->name.c_str());
     std::printf("  vertices %zu, faces %zu, edges %zu (springs %zu)\n", r.vertices, r.faces, r.edges, r.springs);
     std::printf("  boundary edges %zu, non-manifold edges %zu\n", r.boundaryEdges, r.nonManifoldEdges);
-    std::printf("  closed %s, manifold %s, oriented %s, components %zu, Euler characteristic %ld\n", yes(r.closed), yes(r.manifold),
-                yes(r.oriented), r.components, r.eulerCharacteristic);
-    std::printf("  degenerate faces %zu, unused vertices %zu, springs off the faces %zu, face edges without a spring %zu\n",
-                r.degenerateFaces, r.unusedVertices, r.springsNotOnFaces, r.faceEdgesWithoutSpring);
-    std::printf("  bounding box (%.4g, %.4g, %.4g) to (%.4g, %.4g, %.4g) m\n", r.bboxMin.x(), r.bboxMin.y(), r.bboxMin.z(), r.bboxMax.x(),
-                r.bboxMax.y(), r.bboxMax.z());
-    std::printf("  min angle %.2f deg, mean edge %.4g m, shortest edge %.4g m, area %.4g m^2\n", r.minAngleDeg, r.meanEdgeLength_m,
-                r.shortestEdge_m, r.area_m2);
-    if (source->toolThreshold_N) std::printf("  tool cut threshold %g N\n", *source->toolThreshold_N);
-    else std::printf("  physics: mass %g, ks %g, kd %g, kp %g, kdp %g\n", source->physics.mass, source->physics.structuralStiffness,
-                     source->physics.structuralDamping, source->physics.positioningStiffness, source->physics.positioningDamping);
+    std::printf("  closed %s, manifold %s, oriented %s, components %zu, Euler characteristic %ld\n", yes(r.closed),
+                yes(r.manifold), yes(r.oriented), r.components, r.eulerCharacteristic);
+    std::printf(
+        "  degenerate faces %zu, unused vertices %zu, springs off the faces %zu, face edges without a spring %zu\n",
+        r.degenerateFaces, r.unusedVertices, r.springsNotOnFaces, r.faceEdgesWithoutSpring);
+    std::printf("  bounding box (%.4g, %.4g, %.4g) to (%.4g, %.4g, %.4g) m\n", r.bboxMin.x(), r.bboxMin.y(),
+                r.bboxMin.z(), r.bboxMax.x(), r.bboxMax.y(), r.bboxMax.z());
+    std::printf("  min angle %.2f deg, mean edge %.4g m, shortest edge %.4g m, area %.4g m^2\n", r.minAngleDeg,
+                r.meanEdgeLength_m, r.shortestEdge_m, r.area_m2);
+    if (source->toolThreshold_N)
+        std::printf("  tool cut threshold %g N\n", *source->toolThreshold_N);
+    else
+        std::printf("  physics: mass %g, ks %g, kd %g, kp %g, kdp %g\n", source->physics.mass,
+                    source->physics.structuralStiffness, source->physics.structuralDamping,
+                    source->physics.positioningStiffness, source->physics.positioningDamping);
     return 0;
 }
 
@@ -80,7 +85,9 @@ Command addInfoCommand(CLI::App& app) {
     auto o = std::make_shared<InfoOptions>();
     CLI::App* cmd = app.add_subcommand("info", "Validate a mesh: counts, boundary, manifoldness, orientation, quality");
     cmd->add_option("model", o->model, "'heart' or a model/tool file (.txt, .obj, .ply)")->required();
-    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->capture_default_str()->check(CLI::Range(12, 20'000'000));
+    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")
+        ->capture_default_str()
+        ->check(CLI::Range(12, 20'000'000));
     cmd->add_flag("--json", o->json, "Print the report as JSON");
     return [o] { return info(*o); };
 }

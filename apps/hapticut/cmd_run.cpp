@@ -2,9 +2,9 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
+#include <iostream>
 #include <optional>
 #include <set>
-#include <iostream>
 
 #include "commands.h"
 #include "hapticut/common/line_reader.h"
@@ -35,8 +35,8 @@ struct RunOptions {
     double forceUntil_s = -1;
     std::string exportMesh, report;
     std::string trajectory, tool = "probe", forceLog, record;
-    std::vector<std::string> devices;      // --device, once per hand
-    std::string secondTool = "probe";      // the second hand's
+    std::vector<std::string> devices;  // --device, once per hand
+    std::string secondTool = "probe";  // the second hand's
     bool noWorkspaceFit = false;
     std::string sdlControl = "position";
     std::string hdLibrary;
@@ -60,7 +60,8 @@ std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
     if (given("--integrator")) {
         over.scheme = physics::parseScheme(o.integrator);
         if (!over.scheme) {
-            std::cerr << "hapticut run: unknown integrator '" << o.integrator << "': expected euler, midpoint, rk4 or symplectic\n";
+            std::cerr << "hapticut run: unknown integrator '" << o.integrator
+                      << "': expected euler, midpoint, rk4 or symplectic\n";
             return std::nullopt;
         }
     }
@@ -71,7 +72,8 @@ std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
         double mus = 0, mud = 0;
         if (comma == std::string::npos || !parseFiniteDouble(o.friction.substr(0, comma), mus) ||
             !parseFiniteDouble(o.friction.substr(comma + 1), mud) || mus < 0 || mud < 0 || mud > mus) {
-            std::cerr << "hapticut run: --friction takes 'STATIC,DYNAMIC' with 0 <= DYNAMIC <= STATIC, found '" << o.friction << "'\n";
+            std::cerr << "hapticut run: --friction takes 'STATIC,DYNAMIC' with 0 <= DYNAMIC <= STATIC, found '"
+                      << o.friction << "'\n";
             return std::nullopt;
         }
         over.friction = std::array<double, 2>{mus, mud};
@@ -92,7 +94,8 @@ bool writeOutput(const std::string& file, const std::string& text, const char* w
 }
 
 /// The fields every run report starts with: what was simulated, with which integrator.
-nlohmann::ordered_json reportHeader(const scene::ModelSource& source, const physics::MassSpringModel& model, physics::Scheme scheme) {
+nlohmann::ordered_json reportHeader(const scene::ModelSource& source, const physics::MassSpringModel& model,
+                                    physics::Scheme scheme) {
     nlohmann::ordered_json j;
     j["model"] = source.name;
     j["vertices"] = source.mesh.positions.size();
@@ -103,7 +106,8 @@ nlohmann::ordered_json reportHeader(const scene::ModelSource& source, const phys
 }
 
 /// Writes the deformed mesh (rest mesh `rest` at the model's positions), if asked; false on failure (already reported).
-bool exportDeformed(const std::string& file, const mesh::SurfaceMesh& rest, const scene::ModelSource& source, const physics::MassSpringModel& model) {
+bool exportDeformed(const std::string& file, const mesh::SurfaceMesh& rest, const scene::ModelSource& source,
+                    const physics::MassSpringModel& model) {
     if (file.empty()) return true;
     mesh::SurfaceMesh deformed = rest;
     deformed.positions = model.nodes.position;
@@ -149,12 +153,14 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     fromScene.resize(specs.size(), nullptr);
     for (const haptics::DeviceName& spec : specs)
         if (spec.kind == haptics::DeviceKind::Virtual) {
-            std::cerr << "hapticut run: the virtual device is moved by a program or the viewer's mouse, and nothing moves it in a headless run: "
+            std::cerr << "hapticut run: the virtual device is moved by a program or the viewer's mouse, and nothing "
+                         "moves it in a headless run: "
                          "give replay:FILE, openhaptics[:NAME] or sdl[:INDEX]\n";
             return 2;
         }
     if (specs.size() > static_cast<std::size_t>(haptics::kMaxHands)) {
-        std::cerr << "hapticut run: " << specs.size() << " devices (--trajectory counts as one): at most " << haptics::kMaxHands << ", one per hand\n";
+        std::cerr << "hapticut run: " << specs.size() << " devices (--trajectory counts as one): at most "
+                  << haptics::kMaxHands << ", one per hand\n";
         return 2;
     }
     // Each hand's tool: the command line's when it names one, else its [[devices]] entry's, else the probe.
@@ -235,48 +241,66 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     config.realtime = o.realtime || live;
     StopSignal stopSignal;
     config.stopRequested = [] { return StopSignal::requested(); };
-    config.progress = [&](long steps) { std::cerr << "\rhapticut run: " << steps << " steps (Ctrl-C ends the run)" << std::flush; };
+    config.progress = [&](long steps) {
+        std::cerr << "\rhapticut run: " << steps << " steps (Ctrl-C ends the run)" << std::flush;
+    };
     config.tool = firstTool;
     config.loop.cutThreshold_N = thresholdOf[0];
-    std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << firstTool << (hands.size() > 1 ? " and " + toolOf[1] : "")
-              << ", " << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at " << rate_hz << " Hz, "
-              << (config.realtime ? "real time" : "simulated time") << "\n";
+    std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << firstTool
+              << (hands.size() > 1 ? " and " + toolOf[1] : "") << ", "
+              << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at "
+              << rate_hz << " Hz, " << (config.realtime ? "real time" : "simulated time") << "\n";
     auto run = scene::runHaptic(organ, hands, config);
     if (!run) {
         std::cerr << "hapticut run: " << run.error().toString() << "\n";
         return 1;
     }
     const scene::HapticRunResult& r = *run;
-    if (StopSignal::requested()) std::cerr << "\nhapticut run: stopped by signal " << StopSignal::signalNumber() << "; the devices were left at zero force\n";
+    if (StopSignal::requested())
+        std::cerr << "\nhapticut run: stopped by signal " << StopSignal::signalNumber()
+                  << "; the devices were left at zero force\n";
 
-    std::cout << r.steps << " haptic steps (" << r.simTime_s << " s simulated) in " << r.wallTime_s << " s wall: " << r.hapticRate_hz
-              << " steps/s; step " << r.stepTime_us.p50 << " us p50, " << r.stepTime_us.p99 << " us p99, " << r.stepTime_us.max << " us max\n";
+    std::cout << r.steps << " haptic steps (" << r.simTime_s << " s simulated) in " << r.wallTime_s
+              << " s wall: " << r.hapticRate_hz << " steps/s; step " << r.stepTime_us.p50 << " us p50, "
+              << r.stepTime_us.p99 << " us p99, " << r.stepTime_us.max << " us max\n";
     if (o.realtime)
-        std::cout << "period error " << r.periodError_us.p50 << " us p50, " << r.periodError_us.p99 << " us p99, " << r.periodError_us.max
-                  << " us max; overruns " << r.overruns << "\n";
-    std::cout << "contact in " << r.contactSteps << " steps; max force " << r.maxForce_N << " N; max proxy penetration " << r.maxProxyPenetration_m
-              << " m; max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, " << r.finalMaxDisplacement_m * 1e3 << " mm at the end\n";
+        std::cout << "period error " << r.periodError_us.p50 << " us p50, " << r.periodError_us.p99 << " us p99, "
+                  << r.periodError_us.max << " us max; overruns " << r.overruns << "\n";
+    std::cout << "contact in " << r.contactSteps << " steps; max force " << r.maxForce_N << " N; max proxy penetration "
+              << r.maxProxyPenetration_m << " m; max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, "
+              << r.finalMaxDisplacement_m * 1e3 << " mm at the end\n";
     if (r.handCount > 1)
         for (int h = 0; h < r.handCount; ++h)
-            std::cout << "hand " << h + 1 << " (" << specs[static_cast<std::size_t>(h)].toString() << ", " << toolOf[static_cast<std::size_t>(h)] << "): max force "
-                      << r.hands[static_cast<std::size_t>(h)].maxForce_N << " N, contact in " << r.hands[static_cast<std::size_t>(h)].contactSteps << " steps\n";
-    if (r.watchdogTripped) std::cout << "watchdog tripped: " << r.nonFiniteEvents << " non-finite value(s); force was zeroed\n";
+            std::cout << "hand " << h + 1 << " (" << specs[static_cast<std::size_t>(h)].toString() << ", "
+                      << toolOf[static_cast<std::size_t>(h)] << "): max force "
+                      << r.hands[static_cast<std::size_t>(h)].maxForce_N << " N, contact in "
+                      << r.hands[static_cast<std::size_t>(h)].contactSteps << " steps\n";
+    if (r.watchdogTripped)
+        std::cout << "watchdog tripped: " << r.nonFiniteEvents << " non-finite value(s); force was zeroed\n";
     const mesh::MeshReport after = mesh::validateMesh(organ.mesh());
     if (r.cut.cuts > 0)
-        std::cout << "cut " << r.cut.cuts << " time(s): " << r.cut.cutPoints << " cut points, " << r.cut.length_m * 1e3 << " mm long, "
-                  << r.cut.verticesAdded << " vertices and " << r.cut.facesAdded << " faces added, " << (r.cut.opened ? "opened" : "not opened")
-                  << (r.cut.joins > 0 ? ", " + std::to_string(r.cut.joins) + " join(s) with a boundary or an earlier wound" : std::string())
-                  << "; " << after.boundaryEdges << " boundary edges now; cut event " << r.cutTime_us.p50 << " us p50, " << r.cutTime_us.max
-                  << " us max\n";
+        std::cout << "cut " << r.cut.cuts << " time(s): " << r.cut.cutPoints << " cut points, " << r.cut.length_m * 1e3
+                  << " mm long, " << r.cut.verticesAdded << " vertices and " << r.cut.facesAdded << " faces added, "
+                  << (r.cut.opened ? "opened" : "not opened")
+                  << (r.cut.joins > 0
+                          ? ", " + std::to_string(r.cut.joins) + " join(s) with a boundary or an earlier wound"
+                          : std::string())
+                  << "; " << after.boundaryEdges << " boundary edges now; cut event " << r.cutTime_us.p50 << " us p50, "
+                  << r.cutTime_us.max << " us max\n";
     else if (std::isfinite(config.loop.cutThreshold_N))
-        std::cout << "no cut: the " << firstTool << " never pressed harder than its " << config.loop.cutThreshold_N << " N threshold\n";
+        std::cout << "no cut: the " << firstTool << " never pressed harder than its " << config.loop.cutThreshold_N
+                  << " N threshold\n";
     if (!r.invariantProblems.empty()) std::cout << "the cut broke the organ: " << r.invariantProblems.front() << "\n";
 
     int status = r.watchdogTripped ? 3 : 0;
     // Ctrl-C is how a run with a live device and no --steps ends; a run with a set length was cut short.
     if (StopSignal::requested() && o.stepsGiven) status = 128 + StopSignal::signalNumber();
-    if (!o.forceLog.empty() && !writeOutput(o.forceLog, haptics::formatStepLog(r.log, haptics::StepLogColumns::ForceLog), "the force log")) status = 1;
-    if (!o.record.empty() && !writeOutput(o.record, haptics::formatStepLog(r.log, haptics::StepLogColumns::Recording), "the recording")) status = 1;
+    if (!o.forceLog.empty() &&
+        !writeOutput(o.forceLog, haptics::formatStepLog(r.log, haptics::StepLogColumns::ForceLog), "the force log"))
+        status = 1;
+    if (!o.record.empty() &&
+        !writeOutput(o.record, haptics::formatStepLog(r.log, haptics::StepLogColumns::Recording), "the recording"))
+        status = 1;
     if (!exportDeformed(o.exportMesh, organ.mesh(), *source, model)) status = 1;
     if (!o.report.empty()) {
         nlohmann::ordered_json j = reportHeader(*source, model, scheme);
@@ -286,7 +310,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["substeps"] = r.substeps;
         j["steps"] = r.steps;
         j["tool"] = firstTool;
-        j["tool_threshold_N"] = std::isfinite(config.loop.cutThreshold_N) ? nlohmann::ordered_json(config.loop.cutThreshold_N) : nlohmann::ordered_json(nullptr);
+        j["tool_threshold_N"] = std::isfinite(config.loop.cutThreshold_N)
+                                    ? nlohmann::ordered_json(config.loop.cutThreshold_N)
+                                    : nlohmann::ordered_json(nullptr);
         j["coupling_stiffness_N_per_m"] = config.loop.couplingStiffness_N_per_m;
         j["friction"] = {{"static", config.loop.proxy.staticFriction}, {"dynamic", config.loop.proxy.dynamicFriction}};
         j["trajectory"] = trajectory;
@@ -295,12 +321,14 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         for (int h = 0; h < r.handCount; ++h) {
             const auto k = static_cast<std::size_t>(h);
             const double threshold = thresholdOf[k];
-            handsJson.push_back({{"device", specs[k].toString()},
-                                 {"description", opened[k].description},
-                                 {"tool", toolOf[k]},
-                                 {"tool_threshold_N", std::isfinite(threshold) && threshold < 1e8 ? nlohmann::ordered_json(threshold) : nlohmann::ordered_json(nullptr)},
-                                 {"max_force_N", r.hands[k].maxForce_N},
-                                 {"contact_steps", r.hands[k].contactSteps}});
+            handsJson.push_back(
+                {{"device", specs[k].toString()},
+                 {"description", opened[k].description},
+                 {"tool", toolOf[k]},
+                 {"tool_threshold_N", std::isfinite(threshold) && threshold < 1e8 ? nlohmann::ordered_json(threshold)
+                                                                                  : nlohmann::ordered_json(nullptr)},
+                 {"max_force_N", r.hands[k].maxForce_N},
+                 {"contact_steps", r.hands[k].contactSteps}});
         }
         j["hands"] = handsJson;
         j["stopped_by_signal"] = StopSignal::requested();
@@ -347,7 +375,8 @@ int run(RunOptions& o) {
     }
     if (settings->deviceBackend == "replay" || !o.devices.empty() || !settings->devices.empty()) {
         if (!o.force.empty()) {
-            std::cerr << "hapticut run: --force and --trajectory do not go together: the trajectory's device presses the model\n";
+            std::cerr << "hapticut run: --force and --trajectory do not go together: the trajectory's device presses "
+                         "the model\n";
             return 2;
         }
         return runHapticMode(o, request->file, std::move(*settings));
@@ -365,7 +394,8 @@ int run(RunOptions& o) {
     if (!o.force.empty()) {
         const auto at = parseVec3(o.forceAt), force = parseVec3(o.force);
         if (!at || !force) {
-            std::cerr << "hapticut run: --force-at and --force take three numbers 'X,Y,Z', found '" << (at ? o.force : o.forceAt) << "'\n";
+            std::cerr << "hapticut run: --force-at and --force take three numbers 'X,Y,Z', found '"
+                      << (at ? o.force : o.forceAt) << "'\n";
             return 2;
         }
         config.force = scene::PointForce{*at, *force, o.forceUntil_s >= 0 ? o.forceUntil_s : 1e300};
@@ -375,24 +405,28 @@ int run(RunOptions& o) {
     if (!scene) return 1;
     const scene::ModelSource* source = &scene->source;
     physics::MassSpringModel model = scene->buildModel();
-    std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes, " << model.springs.size() << " springs, "
-              << physics::schemeName(config.scheme) << ", dt " << config.dt_s << " s, " << config.steps << " steps\n";
+    std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes, " << model.springs.size()
+              << " springs, " << physics::schemeName(config.scheme) << ", dt " << config.dt_s << " s, " << config.steps
+              << " steps\n";
 
     Progress progress("simulating");
-    const scene::RunResult r = scene::runHeadless(model, config, [&](long done, long total) { progress.update(done, total); });
+    const scene::RunResult r =
+        scene::runHeadless(model, config, [&](long done, long total) { progress.update(done, total); });
     progress.finish();
 
-    std::cout << "simulated " << r.simTime_s << " s in " << r.wallTime_s << " s wall; step " << r.step_us.mean << " us mean, "
-              << r.step_us.p99 << " us p99 (" << r.substeps << " substep" << (r.substeps == 1 ? "" : "s") << " each, stable below "
-              << r.stableStep_s * 1e3 << " ms)\n";
+    std::cout << "simulated " << r.simTime_s << " s in " << r.wallTime_s << " s wall; step " << r.step_us.mean
+              << " us mean, " << r.step_us.p99 << " us p99 (" << r.substeps << " substep"
+              << (r.substeps == 1 ? "" : "s") << " each, stable below " << r.stableStep_s * 1e3 << " ms)\n";
     if (config.force)
         std::cout << "pressed node " << r.forceNode << " with " << config.force->force_N.norm() << " N: displaced "
-                  << r.forceNodeDisplacementAtRelease_m * 1e3 << " mm at release, " << r.forceNodeDisplacementEnd_m * 1e3 << " mm at the end\n";
+                  << r.forceNodeDisplacementAtRelease_m * 1e3 << " mm at release, "
+                  << r.forceNodeDisplacementEnd_m * 1e3 << " mm at the end\n";
     if (r.recoveryTime_s >= 0)
-        std::cout << "after release every node was back within " << scene::kRecoveredDistance_m * 1e3 << " mm of rest in " << r.recoveryTime_s * 1e3
-                  << " ms\n";
-    std::cout << "max displacement " << r.maxDisplacement_m * 1e3 << " mm during the run, " << r.finalMaxDisplacement_m * 1e3
-              << " mm at the end; kinetic energy at the end " << r.kineticEnergyEnd_J << " J; non-finite steps " << r.nanEvents << "\n";
+        std::cout << "after release every node was back within " << scene::kRecoveredDistance_m * 1e3
+                  << " mm of rest in " << r.recoveryTime_s * 1e3 << " ms\n";
+    std::cout << "max displacement " << r.maxDisplacement_m * 1e3 << " mm during the run, "
+              << r.finalMaxDisplacement_m * 1e3 << " mm at the end; kinetic energy at the end " << r.kineticEnergyEnd_J
+              << " J; non-finite steps " << r.nanEvents << "\n";
 
     int status = r.nanEvents > 0 ? 3 : 0;
     if (!exportDeformed(o.exportMesh, source->mesh, *source, model)) status = 1;
@@ -417,7 +451,8 @@ int run(RunOptions& o) {
                           {"until_s", std::min(config.force->until_s, r.simTime_s)},
                           {"node_displacement_at_release_m", r.forceNodeDisplacementAtRelease_m},
                           {"node_displacement_end_m", r.forceNodeDisplacementEnd_m},
-                          {"recovery_time_s", r.recoveryTime_s >= 0 ? nlohmann::ordered_json(r.recoveryTime_s) : nlohmann::ordered_json(nullptr)}};
+                          {"recovery_time_s", r.recoveryTime_s >= 0 ? nlohmann::ordered_json(r.recoveryTime_s)
+                                                                    : nlohmann::ordered_json(nullptr)}};
         }
         if (!writeJson(o.report, j)) return 1;
         std::cout << "wrote the report to " << o.report << "\n";
@@ -430,38 +465,55 @@ int run(RunOptions& o) {
 Command addRunCommand(CLI::App& app) {
     auto o = std::make_shared<RunOptions>();
     CLI::App* cmd = app.add_subcommand("run", "Simulate a model headless and report what happened");
-    cmd->add_option("--model", o->model, "'heart' (procedural) or a model file (.txt thesis format, .obj, .ply)")->capture_default_str();
-    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->capture_default_str()->check(CLI::Range(12, 20'000'000));
+    cmd->add_option("--model", o->model, "'heart' (procedural) or a model file (.txt thesis format, .obj, .ply)")
+        ->capture_default_str();
+    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")
+        ->capture_default_str()
+        ->check(CLI::Range(12, 20'000'000));
     cmd->add_option("--integrator", o->integrator, "euler, midpoint, rk4 or symplectic")->capture_default_str();
     cmd->add_option("--dt", o->dt_s, "Time step in seconds")->capture_default_str()->check(CLI::Range(1e-7, 1.0));
-    cmd->add_option("--steps", o->steps, "Number of steps")->capture_default_str()->check(CLI::Range(0L, 1'000'000'000L));
+    cmd->add_option("--steps", o->steps, "Number of steps")
+        ->capture_default_str()
+        ->check(CLI::Range(0L, 1'000'000'000L));
     cmd->add_option("--force-at", o->forceAt, "Point X,Y,Z (m): the force goes to the nearest node");
     cmd->add_option("--force", o->force, "Force FX,FY,FZ (N)");
     cmd->add_option("--force-until", o->forceUntil_s, "Release the force at this simulated time (s); default: never");
     cmd->add_option("--export-mesh", o->exportMesh, "Write the final deformed mesh (.txt, .obj or .ply)");
     cmd->add_option("--report", o->report, "Write a JSON report");
-    cmd->add_option("--trajectory", o->trajectory, "Drive the haptic loop with a device trajectory (CSV t,x,y,z,button)");
-    cmd->add_option("--tool", o->tool, "probe, scalpel (cuts above its threshold), a scene's tool or a tool file (with --trajectory)")
+    cmd->add_option("--trajectory", o->trajectory,
+                    "Drive the haptic loop with a device trajectory (CSV t,x,y,z,button)");
+    cmd->add_option("--tool", o->tool,
+                    "probe, scalpel (cuts above its threshold), a scene's tool or a tool file (with --trajectory)")
         ->capture_default_str();
     cmd->add_option("--device", o->devices,
-                    "A device per hand: replay:FILE, openhaptics[:NAME] or sdl[:INDEX]; give it twice for two hands (--trajectory counts as "
+                    "A device per hand: replay:FILE, openhaptics[:NAME] or sdl[:INDEX]; give it twice for two hands "
+                    "(--trajectory counts as "
                     "the first). Live devices run in real time until --steps or Ctrl-C")
         ->expected(1)
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     cmd->add_option("--second-tool", o->secondTool, "The second hand's tool")->capture_default_str();
     cmd->add_flag("--no-workspace-fit", o->noWorkspaceFit,
-                  "Keep a device's own mapping (the scene's, or millimetres 1:1 round the model) instead of fitting its reach to the model");
-    cmd->add_option("--sdl-control", o->sdlControl, "A joystick's axes as position or rate (velocity)")->capture_default_str();
+                  "Keep a device's own mapping (the scene's, or millimetres 1:1 round the model) instead of fitting "
+                  "its reach to the model");
+    cmd->add_option("--sdl-control", o->sdlControl, "A joystick's axes as position or rate (velocity)")
+        ->capture_default_str();
     cmd->add_option("--hd-library", o->hdLibrary, "The OpenHaptics HD library to try first");
-    cmd->add_flag("--realtime", o->realtime, "Run the haptic loop at wall-clock rate in its own thread (with --trajectory)");
-    cmd->add_option("--rate", o->rate_hz, "Haptic loop rate in Hz (with --trajectory)")->capture_default_str()->check(CLI::Range(100.0, 10'000.0));
+    cmd->add_flag("--realtime", o->realtime,
+                  "Run the haptic loop at wall-clock rate in its own thread (with --trajectory)");
+    cmd->add_option("--rate", o->rate_hz, "Haptic loop rate in Hz (with --trajectory)")
+        ->capture_default_str()
+        ->check(CLI::Range(100.0, 10'000.0));
     cmd->add_option("--force-log", o->forceLog, "Write every haptic step as CSV (with --trajectory)");
-    cmd->add_option("--coupling-stiffness", o->couplingStiffness_N_per_m, "Stiffness k_h of the proxy-device spring, N/m (with --trajectory)")
+    cmd->add_option("--coupling-stiffness", o->couplingStiffness_N_per_m,
+                    "Stiffness k_h of the proxy-device spring, N/m (with --trajectory)")
         ->capture_default_str()
         ->check(CLI::Range(1.0, 5000.0));
-    cmd->add_option("--friction", o->friction, "Static and dynamic friction coefficients 'S,D' of the proxy (with --trajectory); default none");
-    cmd->add_option("--record", o->record, "Write the device path with the rendered forces appended, replayable as a trajectory");
-    cmd->add_option("--scene", o->scene, "A scene file (TOML, see assets/scenes/heart.toml); options given here override it");
+    cmd->add_option("--friction", o->friction,
+                    "Static and dynamic friction coefficients 'S,D' of the proxy (with --trajectory); default none");
+    cmd->add_option("--record", o->record,
+                    "Write the device path with the rendered forces appended, replayable as a trajectory");
+    cmd->add_option("--scene", o->scene,
+                    "A scene file (TOML, see assets/scenes/heart.toml); options given here override it");
     cmd->callback([o, cmd] {
         o->stepsGiven = cmd->count("--steps") > 0;
         for (const CLI::Option* option : cmd->get_options())

@@ -8,10 +8,10 @@
 #include "hapticut/cutting/cut_model.h"
 #include "hapticut/haptics/trajectory.h"
 #include "hapticut/scene/haptic_run.h"
+#include "hapticut/scene/scene.h"
 #include "render/gl_context.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
-#include "hapticut/scene/scene.h"
 #include "terminal.h"
 
 namespace hapticut::app {
@@ -36,7 +36,8 @@ int screenshot(ScreenshotOptions& o) {
     const auto [width, height] = *size;
     const auto stereo = render::parseStereoMode(o.stereo);
     if (!stereo) {
-        std::cerr << "hapticut screenshot: unknown --stereo '" << o.stereo << "': expected off, quad, anaglyph or side-by-side\n";
+        std::cerr << "hapticut screenshot: unknown --stereo '" << o.stereo
+                  << "': expected off, quad, anaglyph or side-by-side\n";
         return 2;
     }
     if (o.at_s >= 0 && o.trajectory.empty()) {
@@ -70,7 +71,8 @@ int screenshot(ScreenshotOptions& o) {
         }
         const double end_s = trajectory->duration_s();
         if (o.at_s > end_s + 1e-9) {
-            std::cerr << "hapticut screenshot: --at " << o.at_s << " s is past the end of " << o.trajectory << " (" << end_s << " s)\n";
+            std::cerr << "hapticut screenshot: --at " << o.at_s << " s is past the end of " << o.trajectory << " ("
+                      << end_s << " s)\n";
             return 2;
         }
         scene::HapticRunConfig config;
@@ -94,8 +96,9 @@ int screenshot(ScreenshotOptions& o) {
             frame.hands[0].contact = last.hand().contact;
         }
         frame.showDevice = true;
-        std::cerr << "hapticut screenshot: ran " << r.steps << " steps (" << r.simTime_s << " s) of " << o.trajectory << " with the "
-                  << loaded->tools[*tool].name << (r.cut.cuts > 0 ? ", which cut the organ" : "") << "\n";
+        std::cerr << "hapticut screenshot: ran " << r.steps << " steps (" << r.simTime_s << " s) of " << o.trajectory
+                  << " with the " << loaded->tools[*tool].name << (r.cut.cuts > 0 ? ", which cut the organ" : "")
+                  << "\n";
     }
     frame.organPositions = organ.model().nodes.position;
     frame.faces = organ.mesh().faces;
@@ -124,7 +127,8 @@ int screenshot(ScreenshotOptions& o) {
 
     render::ViewSettings view;
     view.stereo = *stereo == render::StereoMode::QuadBuffer ? render::StereoMode::Anaglyph : *stereo;
-    if (*stereo == render::StereoMode::QuadBuffer) std::cerr << "hapticut screenshot: a PNG has no quad buffer; drawing anaglyph instead\n";
+    if (*stereo == render::StereoMode::QuadBuffer)
+        std::cerr << "hapticut screenshot: a PNG has no quad buffer; drawing anaglyph instead\n";
     view.wireframe = o.wireframe || loaded->settings.wireframe;
     view.normalMapping = !o.noBump;
     view.woundWalls = !o.noWalls;
@@ -140,8 +144,8 @@ int screenshot(ScreenshotOptions& o) {
         std::cerr << "hapticut screenshot: " << *failed << "\n";
         return 1;
     }
-    std::cout << "wrote a " << width << "x" << height << " screenshot of " << loaded->source.name << " to " << o.out << " ("
-              << window->rendererDescription() << ")\n";
+    std::cout << "wrote a " << width << "x" << height << " screenshot of " << loaded->source.name << " to " << o.out
+              << " (" << window->rendererDescription() << ")\n";
     return 0;
 }
 
@@ -149,20 +153,31 @@ int screenshot(ScreenshotOptions& o) {
 
 Command addScreenshotCommand(CLI::App& app) {
     auto o = std::make_shared<ScreenshotOptions>();
-    CLI::App* cmd = app.add_subcommand("screenshot", "Render a scene offscreen to a PNG, optionally after running a device path");
-    cmd->add_option("--scene", o->scene.file, "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
+    CLI::App* cmd =
+        app.add_subcommand("screenshot", "Render a scene offscreen to a PNG, optionally after running a device path");
+    cmd->add_option("--scene", o->scene.file,
+                    "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
     cmd->add_option("--model", o->model, "'heart' or a model file; overrides the scene's model");
-    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->check(CLI::Range(12, 20'000'000));
-    cmd->add_option("--trajectory", o->trajectory, "Run the haptic loop along this device path (CSV t,x,y,z,button) first");
+    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")
+        ->check(CLI::Range(12, 20'000'000));
+    cmd->add_option("--trajectory", o->trajectory,
+                    "Run the haptic loop along this device path (CSV t,x,y,z,button) first");
     cmd->add_option("--at", o->at_s, "Stop the path at this time (s); default: its end")->check(CLI::Range(0.0, 1e6));
-    cmd->add_option("--tool", o->tool, "The scene's tool to hold (probe, scalpel, ...); default probe when a path is given");
-    cmd->add_option("--stereo", o->stereo, "off, anaglyph, side-by-side (quad falls back to anaglyph)")->capture_default_str();
+    cmd->add_option("--tool", o->tool,
+                    "The scene's tool to hold (probe, scalpel, ...); default probe when a path is given");
+    cmd->add_option("--stereo", o->stereo, "off, anaglyph, side-by-side (quad falls back to anaglyph)")
+        ->capture_default_str();
     cmd->add_flag("--wireframe", o->wireframe, "Draw the organ's edges instead of shading it");
     cmd->add_flag("--no-bump", o->noBump, "Turn off bump (normal) mapping");
     cmd->add_flag("--no-walls", o->noWalls, "Leave opened wounds without their walls (see through the gap)");
-    cmd->add_option("--yaw", o->yaw_deg, "Camera turned about the vertical, degrees (0: from the front)")->capture_default_str();
-    cmd->add_option("--pitch", o->pitch_deg, "Camera raised above the horizontal, degrees")->capture_default_str()->check(CLI::Range(-85.0, 85.0));
-    cmd->add_option("--zoom", o->zoom, "Closer (>1) or further (<1) than the framing of the whole organ")->capture_default_str()->check(CLI::Range(0.05, 50.0));
+    cmd->add_option("--yaw", o->yaw_deg, "Camera turned about the vertical, degrees (0: from the front)")
+        ->capture_default_str();
+    cmd->add_option("--pitch", o->pitch_deg, "Camera raised above the horizontal, degrees")
+        ->capture_default_str()
+        ->check(CLI::Range(-85.0, 85.0));
+    cmd->add_option("--zoom", o->zoom, "Closer (>1) or further (<1) than the framing of the whole organ")
+        ->capture_default_str()
+        ->check(CLI::Range(0.05, 50.0));
     cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT")->capture_default_str();
     cmd->add_option("--out", o->out, "The PNG to write")->required();
     cmd->callback([o, cmd] {

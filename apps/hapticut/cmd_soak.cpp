@@ -27,16 +27,19 @@ int soak(SoakOptions& o) {
     if (!scene) return 1;
     const scene::ModelSource* source = &scene->source;
     o.fuzz.checkEveryOperation = !o.checkEveryStroke;
-    std::cerr << "hapticut soak: " << o.fuzz.strokes << " random scalpel strokes on " << source->name << " (" << source->mesh.faces.size()
-              << " faces), seed " << o.fuzz.seed << ", a fresh organ every " << o.fuzz.strokesPerOrgan << ", invariants after every "
+    std::cerr << "hapticut soak: " << o.fuzz.strokes << " random scalpel strokes on " << source->name << " ("
+              << source->mesh.faces.size() << " faces), seed " << o.fuzz.seed << ", a fresh organ every "
+              << o.fuzz.strokesPerOrgan << ", invariants after every "
               << (o.fuzz.checkEveryOperation ? "operation" : "stroke") << "\n";
     Progress progress("cutting");
-    const cutting::StrokeFuzzResult r = cutting::fuzzStrokes(source->mesh, o.fuzz, [&](long done, long total) { progress.update(done, total); });
+    const cutting::StrokeFuzzResult r =
+        cutting::fuzzStrokes(source->mesh, o.fuzz, [&](long done, long total) { progress.update(done, total); });
     progress.finish();
-    std::cout << r.strokes << " strokes on " << r.organs << " organs in " << r.wallTime_s << " s: " << r.operations << " operations, " << r.meshChanges
-              << " changed the mesh; " << r.cutPoints << " cut points, " << r.verticesAdded << " vertices and " << r.facesAdded
- << " faces added (largest organ " << r.largestFaces << " faces), " << r.joins << " joins; " << r.invariantChecks << " invariant checks: "
-              << (r.ok() ? "all held" : r.problems.front()) << "\n";
+    std::cout << r.strokes << " strokes on " << r.organs << " organs in " << r.wallTime_s << " s: " << r.operations
+              << " operations, " << r.meshChanges << " changed the mesh; " << r.cutPoints << " cut points, "
+              << r.verticesAdded << " vertices and " << r.facesAdded << " faces added (largest organ " << r.largestFaces
+              << " faces), " << r.joins << " joins; " << r.invariantChecks
+              << " invariant checks: " << (r.ok() ? "all held" : r.problems.front()) << "\n";
     if (!o.report.empty()) {
         nlohmann::ordered_json j;
         j["model"] = source->name;
@@ -66,13 +69,22 @@ int soak(SoakOptions& o) {
 
 Command addSoakCommand(CLI::App& app) {
     auto o = std::make_shared<SoakOptions>();
-    CLI::App* cmd = app.add_subcommand("soak", "Cut a model with random scalpel strokes, checking every cutting invariant as it goes");
+    CLI::App* cmd = app.add_subcommand(
+        "soak", "Cut a model with random scalpel strokes, checking every cutting invariant as it goes");
     cmd->add_option("--model", o->model, "'heart' or a model file")->capture_default_str();
-    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->capture_default_str()->check(CLI::Range(12, 20'000'000));
-    cmd->add_option("--strokes", o->fuzz.strokes, "How many strokes")->capture_default_str()->check(CLI::Range(1L, 1'000'000'000L));
-    cmd->add_option("--seed", o->fuzz.seed, "Random seed (a failure names the seed that replays it)")->capture_default_str();
-    cmd->add_option("--per-organ", o->fuzz.strokesPerOrgan, "Strokes before a fresh organ")->capture_default_str()->check(CLI::Range(1L, 1'000'000L));
-    cmd->add_flag("--check-every-stroke", o->checkEveryStroke, "Check the invariants after every stroke instead of every operation (faster)");
+    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")
+        ->capture_default_str()
+        ->check(CLI::Range(12, 20'000'000));
+    cmd->add_option("--strokes", o->fuzz.strokes, "How many strokes")
+        ->capture_default_str()
+        ->check(CLI::Range(1L, 1'000'000'000L));
+    cmd->add_option("--seed", o->fuzz.seed, "Random seed (a failure names the seed that replays it)")
+        ->capture_default_str();
+    cmd->add_option("--per-organ", o->fuzz.strokesPerOrgan, "Strokes before a fresh organ")
+        ->capture_default_str()
+        ->check(CLI::Range(1L, 1'000'000L));
+    cmd->add_flag("--check-every-stroke", o->checkEveryStroke,
+                  "Check the invariants after every stroke instead of every operation (faster)");
     cmd->add_option("--report", o->report, "Write a JSON report");
     return [o] { return soak(*o); };
 }

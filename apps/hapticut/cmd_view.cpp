@@ -22,7 +22,8 @@ struct ViewCommandOptions {
 int view(ViewCommandOptions& o) {
     const auto stereo = render::parseStereoMode(o.stereo);
     if (!stereo) {
-        std::cerr << "hapticut view: unknown --stereo '" << o.stereo << "': expected off, quad, anaglyph or side-by-side\n";
+        std::cerr << "hapticut view: unknown --stereo '" << o.stereo
+                  << "': expected off, quad, anaglyph or side-by-side\n";
         return 2;
     }
     o.viewer.stereo = *stereo;
@@ -53,20 +54,26 @@ int view(ViewCommandOptions& o) {
 
 Command addViewCommand(CLI::App& app) {
     auto o = std::make_shared<ViewCommandOptions>();
-    CLI::App* cmd = app.add_subcommand("view", "Open the interactive viewer: press and cut the organ with the mouse (h lists the keys)");
-    cmd->add_option("--scene", o->viewer.scene.file, "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
+    CLI::App* cmd = app.add_subcommand(
+        "view", "Open the interactive viewer: press and cut the organ with the mouse (h lists the keys)");
+    cmd->add_option("--scene", o->viewer.scene.file,
+                    "A scene file (TOML); default: the built-in heart with the probe and the scalpel");
     cmd->add_option("--model", o->model, "'heart' or a model file; overrides the scene's model");
-    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")->check(CLI::Range(12, 20'000'000));
+    cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")
+        ->check(CLI::Range(12, 20'000'000));
     cmd->add_option("--device", o->viewer.devices,
-                    "virtual (the mouse), replay:FILE, openhaptics[:NAME] (a Phantom / Touch) or sdl[:INDEX] (a joystick); twice for two hands")
+                    "virtual (the mouse), replay:FILE, openhaptics[:NAME] (a Phantom / Touch) or sdl[:INDEX] (a "
+                    "joystick); twice for two hands")
         ->expected(1)
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
         ->capture_default_str();
-    cmd->add_option("--hands", o->viewer.hands, "1 or 2: a second hand with the next tool, driven by the mouse when Tab selects it")
+    cmd->add_option("--hands", o->viewer.hands,
+                    "1 or 2: a second hand with the next tool, driven by the mouse when Tab selects it")
         ->check(CLI::Range(1, 2))
         ->capture_default_str();
-    cmd->add_flag("--no-workspace-fit", [o](std::int64_t) { o->viewer.fitWorkspace = false; },
-                  "Map a hardware device 1:1 (millimetres round the organ) instead of fitting its reach to the organ");
+    cmd->add_flag(
+        "--no-workspace-fit", [o](std::int64_t) { o->viewer.fitWorkspace = false; },
+        "Map a hardware device 1:1 (millimetres round the organ) instead of fitting its reach to the organ");
     cmd->add_option("--tool", o->viewer.tool, "The tool in hand at the start")->capture_default_str();
     cmd->add_option("--stereo", o->stereo, "off, quad, anaglyph or side-by-side")->capture_default_str();
     cmd->add_flag("--fullscreen", o->viewer.fullscreen, "Fill the primary monitor");
@@ -74,10 +81,13 @@ Command addViewCommand(CLI::App& app) {
     cmd->add_flag("--wireframe", o->viewer.wireframe, "Start in wireframe");
     cmd->add_flag("--no-panel", o->viewer.hidePanel, "Start with the panel hidden (F1 shows it)");
     cmd->add_option("--trajectory", o->viewer.trajectory, "Replay this device path instead of following the mouse");
-    cmd->add_option("--frames", o->viewer.frames, "Quit after this many frames, unthrottled (scripted runs, frame-rate measurements)")
+    cmd->add_option("--frames", o->viewer.frames,
+                    "Quit after this many frames, unthrottled (scripted runs, frame-rate measurements)")
         ->check(CLI::Range(0L, 100'000'000L));
-    cmd->add_option("--quit-after", o->viewer.quitAfter_s, "Quit after this many seconds (scripted runs)")->check(CLI::Range(0.0, 1e7));
-    cmd->add_option("--screenshot", o->viewer.screenshot, "With --frames: write the last frame (panel and all) as a PNG");
+    cmd->add_option("--quit-after", o->viewer.quitAfter_s, "Quit after this many seconds (scripted runs)")
+        ->check(CLI::Range(0.0, 1e7));
+    cmd->add_option("--screenshot", o->viewer.screenshot,
+                    "With --frames: write the last frame (panel and all) as a PNG");
     cmd->add_option("--report", o->viewer.report, "Write a JSON report: frames, frame rate, haptic rate, renderer");
     cmd->callback([o, cmd] {
         if (cmd->count("--model")) o->viewer.scene.overrides.model = o->model;

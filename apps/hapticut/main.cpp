@@ -1,4 +1,5 @@
-// hapticut: one executable with git-style subcommands (view, screenshot, run, info, convert, bench, assets, soak, devices).
+// hapticut: one executable with git-style subcommands (view, screenshot, run, info, convert, bench, assets, soak,
+// devices).
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -8,7 +9,8 @@
 
 int main(int argc, char** argv) {
     // No setlocale(LC_ALL, ""): output stays in the "C" locale, so numbers always print with a decimal point.
-    CLI::App app{"Hapticut: haptic soft-tissue simulator (mass-spring organ models, proxy haptics, cutting)", "hapticut"};
+    CLI::App app{"Hapticut: haptic soft-tissue simulator (mass-spring organ models, proxy haptics, cutting)",
+                 "hapticut"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "hapticut 0.1.0");
 
@@ -18,8 +20,9 @@ int main(int argc, char** argv) {
 #ifdef HAPTICUT_WITH_VIEWER
              hapticut::app::addViewCommand, hapticut::app::addScreenshotCommand,
 #endif
-             hapticut::app::addRunCommand, hapticut::app::addInfoCommand, hapticut::app::addConvertCommand, hapticut::app::addBenchCommand,
-             hapticut::app::addAssetsCommand, hapticut::app::addSoakCommand, hapticut::app::addDevicesCommand}) {
+             hapticut::app::addRunCommand, hapticut::app::addInfoCommand, hapticut::app::addConvertCommand,
+             hapticut::app::addBenchCommand, hapticut::app::addAssetsCommand, hapticut::app::addSoakCommand,
+             hapticut::app::addDevicesCommand}) {
         Command run = add(app);
         commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
     }

@@ -78,14 +78,18 @@ std::optional<T> printed(Result<T, Error> loaded, const std::vector<Warning>& (*
 }  // namespace
 
 std::optional<scene::ModelSource> loadModelSource(const std::string& model, int triangles) {
-    return printed<scene::ModelSource>(scene::loadModelSource(model, triangles), [](const scene::ModelSource& s) -> const std::vector<Warning>& { return s.warnings; });
+    return printed<scene::ModelSource>(
+        scene::loadModelSource(model, triangles),
+        [](const scene::ModelSource& s) -> const std::vector<Warning>& { return s.warnings; });
 }
 
 namespace {
 const std::vector<Warning>& sceneWarnings(const scene::Scene& s) { return s.source.warnings; }
 }  // namespace
 
-std::optional<scene::Scene> loadScene(const scene::SceneRequest& request) { return printed<scene::Scene>(scene::loadScene(request), sceneWarnings); }
+std::optional<scene::Scene> loadScene(const scene::SceneRequest& request) {
+    return printed<scene::Scene>(scene::loadScene(request), sceneWarnings);
+}
 
 std::optional<scene::Scene> assembleScene(const std::filesystem::path& file, scene::SceneFile settings) {
     return printed<scene::Scene>(scene::assembleScene(file, std::move(settings)), sceneWarnings);

@@ -1,12 +1,12 @@
 // The hapticut executable end to end: reports, conversions, errors and exit codes, shipped assets.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
-#include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
 
@@ -30,14 +30,15 @@ std::string slurp(const fs::path& file) {
 
 class Cli : public ::testing::Test {
 protected:
-
     CliResult run(const std::string& args) const { return run_raw(std::string(HAPTICUT_EXE) + " " + args); }
     CliResult run_raw(const std::string& command) const {
         const std::string cmd = command + " >" + (dir_ / "out").string() + " 2>" + (dir_ / "err").string();
         const int status = std::system(cmd.c_str());
         return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "out"), slurp(dir_ / "err")};
     }
-    CliResult run_with_env(const std::string& env, const std::string& args) const { return run_raw(env + HAPTICUT_EXE + " " + args); }
+    CliResult run_with_env(const std::string& env, const std::string& args) const {
+        return run_raw(env + HAPTICUT_EXE + " " + args);
+    }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
     hapticut::test::ScratchDir scratch_;
@@ -45,11 +46,13 @@ protected:
 };
 
 TEST_F(Cli, RunWritesAReportWithEveryKey) {
-    const CliResult r = run("run --steps 400 --force-at 0,-0.01,0.05 --force 0,0,-1 --force-until 0.2 --report " + path("r.json"));
+    const CliResult r =
+        run("run --steps 400 --force-at 0,-0.01,0.05 --force 0,0,-1 --force-until 0.2 --report " + path("r.json"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto j = nlohmann::json::parse(slurp(path("r.json")));
-    for (const char* key : {"model", "vertices", "faces", "springs", "integrator", "dt", "steps", "sim_time_s", "wall_time_s", "step_us",
-                            "max_displacement_m", "final_max_displacement_m", "kinetic_energy_end_J", "nan_events"})
+    for (const char* key :
+         {"model", "vertices", "faces", "springs", "integrator", "dt", "steps", "sim_time_s", "wall_time_s", "step_us",
+          "max_displacement_m", "final_max_displacement_m", "kinetic_energy_end_J", "nan_events"})
         EXPECT_TRUE(j.contains(key)) << key;
     for (const char* key : {"mean", "p50", "p99", "max"}) EXPECT_TRUE(j["step_us"].contains(key)) << key;
     EXPECT_EQ(j["model"], "heart");
@@ -71,8 +74,8 @@ TEST_F(Cli, InfoReportsTheHeartAsClosedAndManifold) {
     const CliResult r = run("info heart --triangles 2000 --json");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
-    for (const char* key : {"vertices", "faces", "edges", "boundary_edges", "closed", "manifold", "oriented", "components", "euler_characteristic",
-                            "bbox_min", "bbox_max", "min_angle_deg"})
+    for (const char* key : {"vertices", "faces", "edges", "boundary_edges", "closed", "manifold", "oriented",
+                            "components", "euler_characteristic", "bbox_min", "bbox_max", "min_angle_deg"})
         EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_EQ(j["closed"], true);
     EXPECT_EQ(j["manifold"], true);
@@ -121,14 +124,16 @@ TEST_F(Cli, BadArgumentsAreExplained) {
 TEST_F(Cli, ShippedAssetsAreWhatTheCodeGenerates) {
     const CliResult r = run("assets --out " + dir_.string());
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    for (const char* file : {"models/heart.txt", "tools/scalpel.txt", "tools/probe.txt", "trajectories/press-front.csv", "trajectories/stroke-front.csv",
-                             "trajectories/cut-front.csv"})
+    for (const char* file : {"models/heart.txt", "tools/scalpel.txt", "tools/probe.txt", "trajectories/press-front.csv",
+                             "trajectories/stroke-front.csv", "trajectories/cut-front.csv"})
         EXPECT_TRUE(slurp(fs::path(HAPTICUT_SOURCE_DIR) / "assets" / file) == slurp(dir_ / file))
             << file << " is stale: run 'hapticut assets' and commit the result";
-    const auto heart = nlohmann::json::parse(run(std::string("info ") + HAPTICUT_SOURCE_DIR + "/assets/models/heart.txt --json").out);
+    const auto heart =
+        nlohmann::json::parse(run(std::string("info ") + HAPTICUT_SOURCE_DIR + "/assets/models/heart.txt --json").out);
     EXPECT_EQ(heart["closed"], true);
     EXPECT_NEAR(heart["faces"].get<double>(), 1619, 0.02 * 1619);
-    const auto scalpel = nlohmann::json::parse(run(std::string("info ") + HAPTICUT_SOURCE_DIR + "/assets/tools/scalpel.txt --json").out);
+    const auto scalpel =
+        nlohmann::json::parse(run(std::string("info ") + HAPTICUT_SOURCE_DIR + "/assets/tools/scalpel.txt --json").out);
     EXPECT_EQ(scalpel["tool_threshold_N"], 2.0);
 }
 
@@ -142,7 +147,8 @@ TEST_F(Cli, ConvertsAnStlWithRepairUnitBoxAndPhysics) {
         "facet normal 0 0 0\nouter loop\nvertex 1 -1 -1\nvertex -1 -1 1\nvertex -1 1 -1\nendloop\nendfacet\n"
         "endsolid t\n";
     std::ofstream(path("t.stl")) << stl;
-    const CliResult r = run("convert " + path("t.stl") + " " + path("t.txt") + " --repair --fit-unit-box --mass 2 --ks 30");
+    const CliResult r =
+        run("convert " + path("t.stl") + " " + path("t.txt") + " --repair --fit-unit-box --mass 2 --ks 30");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("flipped"), std::string::npos) << r.out;
     const auto j = nlohmann::json::parse(run("info " + path("t.txt") + " --json").out);
@@ -162,7 +168,8 @@ TEST_F(Cli, ASceneReproducesAnExperimentAndTheCommandLineOverridesIt) {
     ASSERT_EQ(run("run --scene " + scene + " --triangles 1619 --force-log " + path("a.csv")).exitCode, 0);
     ASSERT_EQ(run("run --scene " + scene + " --triangles 1619 --force-log " + path("b.csv")).exitCode, 0);
     EXPECT_EQ(slurp(path("a.csv")), slurp(path("b.csv"))) << "the same scene gives the same force log, bit for bit";
-    const CliResult r = run("run --scene " + scene + " --triangles 1619 --integrator midpoint --report " + path("r.json"));
+    const CliResult r =
+        run("run --scene " + scene + " --triangles 1619 --integrator midpoint --report " + path("r.json"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto j = nlohmann::json::parse(slurp(path("r.json")));
     EXPECT_EQ(j["integrator"], "midpoint");
@@ -171,16 +178,19 @@ TEST_F(Cli, ASceneReproducesAnExperimentAndTheCommandLineOverridesIt) {
     std::ofstream(path("bad.toml")) << "[device]\nbackend = \"joystick\"\n";
     const CliResult bad = run("run --scene " + path("bad.toml"));
     EXPECT_EQ(bad.exitCode, 1);
-    EXPECT_NE(bad.err.find("bad.toml:2: device.backend: 'joystick' is not allowed; allowed: replay, virtual"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("bad.toml:2: device.backend: 'joystick' is not allowed; allowed: replay, virtual"),
+              std::string::npos)
+        << bad.err;
 }
 
 TEST_F(Cli, AScalpelStrokeCutsTheExportedMeshOpenAndAProbeDoesNot) {
     const std::string trajectory = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv";
-    const CliResult r = run("run --trajectory " + trajectory + " --tool scalpel --report " + path("cut.json") + " --export-mesh " + path("cut.obj"));
+    const CliResult r = run("run --trajectory " + trajectory + " --tool scalpel --report " + path("cut.json") +
+                            " --export-mesh " + path("cut.obj"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto j = nlohmann::json::parse(slurp(path("cut.json")));
-    for (const char* key : {"cut_points", "vertices_added", "faces_added", "cut_length_m", "opened", "invariants_ok", "cut_event_us",
-                            "boundary_edges", "min_angle_deg", "shortest_edge_m", "tool_threshold_N"})
+    for (const char* key : {"cut_points", "vertices_added", "faces_added", "cut_length_m", "opened", "invariants_ok",
+                            "cut_event_us", "boundary_edges", "min_angle_deg", "shortest_edge_m", "tool_threshold_N"})
         EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_EQ(j["opened"], true);
     EXPECT_EQ(j["invariants_ok"], true) << j["invariant_problems"];
@@ -205,7 +215,8 @@ TEST_F(Cli, ExportsTheDeformedMesh) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto j = nlohmann::json::parse(run("info " + path("pressed.ply") + " --json").out);
     EXPECT_EQ(j["closed"], true);
-    EXPECT_LT(j["bbox_max"][2].get<double>(), nlohmann::json::parse(run("info heart --json").out)["bbox_max"][2].get<double>() + 1e-9);
+    EXPECT_LT(j["bbox_max"][2].get<double>(),
+              nlohmann::json::parse(run("info heart --json").out)["bbox_max"][2].get<double>() + 1e-9);
 }
 
 }  // namespace
@@ -271,20 +282,23 @@ TEST_F(Cli, ASceneDescribesEachHandsDeviceAndTheCommandLineOverridesIt) {
     EXPECT_GT(j["hands"][1]["max_force_N"].get<double>(), 0.5);
 
     const std::string trajectories = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/";
-    const CliResult cli = run("run --scene " + scene + " --trajectory " + trajectories + "press-front.csv --report " + path("cli.json"));
+    const CliResult cli =
+        run("run --scene " + scene + " --trajectory " + trajectories + "press-front.csv --report " + path("cli.json"));
     ASSERT_EQ(cli.exitCode, 0) << cli.err;
     const auto k = nlohmann::json::parse(slurp(path("cli.json")));
     ASSERT_EQ(k["hands"].size(), 1u) << "devices on the command line replace the scene's";
     EXPECT_EQ(k["hands"][0]["tool"], "probe");
     const CliResult tool = run("run --scene " + scene + " --tool probe --report " + path("tool.json"));
     ASSERT_EQ(tool.exitCode, 0) << tool.err;
-    EXPECT_EQ(nlohmann::json::parse(slurp(path("tool.json")))["hands"][0]["tool"], "probe") << "--tool overrides the first hand's";
+    EXPECT_EQ(nlohmann::json::parse(slurp(path("tool.json")))["hands"][0]["tool"], "probe")
+        << "--tool overrides the first hand's";
 }
 
 TEST_F(Cli, RunTakesADevicePerHandAndReportsEachHand) {
     const std::string trajectories = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/";
-    const CliResult r = run("run --trajectory " + trajectories + "cut-front.csv --tool scalpel --device replay:" + trajectories +
-                            "press-front.csv --force-log " + path("log.csv") + " --report " + path("two.json"));
+    const CliResult r =
+        run("run --trajectory " + trajectories + "cut-front.csv --tool scalpel --device replay:" + trajectories +
+            "press-front.csv --force-log " + path("log.csv") + " --report " + path("two.json"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto j = nlohmann::json::parse(slurp(path("two.json")));
     ASSERT_EQ(j["hands"].size(), 2u);
@@ -295,12 +309,15 @@ TEST_F(Cli, RunTakesADevicePerHandAndReportsEachHand) {
     EXPECT_GT(j["hands"][1]["contact_steps"].get<long>(), 100);
     EXPECT_GT(j["cut_points"].get<int>(), 5) << "the first hand's scalpel cut";
     const std::string log = slurp(path("log.csv"));
-    EXPECT_NE(log.substr(0, log.find('\n')).find(",fx2,fy2,fz2,contact2,face2"), std::string::npos) << "the log has both hands";
+    EXPECT_NE(log.substr(0, log.find('\n')).find(",fx2,fy2,fz2,contact2,face2"), std::string::npos)
+        << "the log has both hands";
 
     const CliResult bad = run("run --device phantom");
     EXPECT_EQ(bad.exitCode, 2);
-    EXPECT_NE(bad.err.find("expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX]"), std::string::npos) << bad.err;
-    const CliResult three = run("run --trajectory " + trajectories + "cut-front.csv --device replay:a.csv --device replay:b.csv");
+    EXPECT_NE(bad.err.find("expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX]"), std::string::npos)
+        << bad.err;
+    const CliResult three =
+        run("run --trajectory " + trajectories + "cut-front.csv --device replay:a.csv --device replay:b.csv");
     EXPECT_EQ(three.exitCode, 2);
     EXPECT_NE(three.err.find("at most 2"), std::string::npos) << three.err;
     const CliResult missing = run("run --device replay:" + path("nowhere.csv"));
@@ -315,18 +332,22 @@ TEST_F(Cli, ALiveDeviceRunsInRealTimeAndTheSelfTestChecksItEndToEnd) {
     const auto j = nlohmann::json::parse(slurp(path("live.json")));
     EXPECT_EQ(j["realtime"], true) << "a live device runs on the wall clock";
     EXPECT_EQ(j["steps"], 300);
-    EXPECT_NE(j["hands"][0]["description"].get<std::string>().find("workspace fitted to the model"), std::string::npos) << j["hands"][0].dump();
+    EXPECT_NE(j["hands"][0]["description"].get<std::string>().find("workspace fitted to the model"), std::string::npos)
+        << j["hands"][0].dump();
 
-    const CliResult ok = run("devices --json --self-test openhaptics --force-pulse --seconds 0.3 --hd-library " + std::string(HD_EMULATION_LIBRARY));
+    const CliResult ok = run("devices --json --self-test openhaptics --force-pulse --seconds 0.3 --hd-library " +
+                             std::string(HD_EMULATION_LIBRARY));
     ASSERT_EQ(ok.exitCode, 0) << ok.out << ok.err;
     const auto report = nlohmann::json::parse(ok.out);
     EXPECT_EQ(report["ok"], true);
     std::map<std::string, nlohmann::json> checks;
     for (const auto& c : report["checks"]) checks[c["check"]] = c;
     EXPECT_EQ(checks["positions"]["ok"], true);
-    EXPECT_NE(checks["force"]["detail"].get<std::string>().find("pushed up to 0.50 N"), std::string::npos) << checks["force"].dump();
+    EXPECT_NE(checks["force"]["detail"].get<std::string>().find("pushed up to 0.50 N"), std::string::npos)
+        << checks["force"].dump();
 
-    const CliResult broken = run("devices --self-test openhaptics --hd-library " + std::string(HD_EMULATION_INCOMPLETE_LIBRARY));
+    const CliResult broken =
+        run("devices --self-test openhaptics --hd-library " + std::string(HD_EMULATION_INCOMPLETE_LIBRARY));
     EXPECT_EQ(broken.exitCode, 1);
     EXPECT_NE(broken.out.find("open       FAIL"), std::string::npos) << broken.out;
     EXPECT_NE(broken.out.find("lacks"), std::string::npos) << "names what the library is missing: " << broken.out;

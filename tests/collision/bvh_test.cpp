@@ -41,7 +41,10 @@ Soup heartSoup(int triangles) {
 double bruteClosest(const Soup& s, const Vec3& p) {
     double best = 1e300;
     for (const mesh::Face& f : s.faces)
-        best = std::min(best, (geometry::closestPointOnTriangle(p, s.positions[f[0]], s.positions[f[1]], s.positions[f[2]]).point - p).norm());
+        best = std::min(
+            best,
+            (geometry::closestPointOnTriangle(p, s.positions[f[0]], s.positions[f[1]], s.positions[f[2]]).point - p)
+                .norm());
     return best;
 }
 
@@ -49,7 +52,8 @@ std::optional<double> bruteFirstHit(const Soup& s, const Vec3& a, const Vec3& b,
     std::optional<double> best;
     if (crossings) *crossings = 0;
     for (const mesh::Face& f : s.faces)
-        if (const auto hit = geometry::intersectSegmentTriangle(a, b, s.positions[f[0]], s.positions[f[1]], s.positions[f[2]])) {
+        if (const auto hit =
+                geometry::intersectSegmentTriangle(a, b, s.positions[f[0]], s.positions[f[1]], s.positions[f[2]])) {
             if (crossings) ++*crossings;
             if (!best || hit->t < *best) best = hit->t;
         }
@@ -65,7 +69,8 @@ void expectMatchesBruteForce(const Bvh& bvh, const Soup& s, std::mt19937& rng, i
         ASSERT_TRUE(closest.has_value());
         EXPECT_NEAR(closest->distance, bruteClosest(s, p), 1e-15);
         const mesh::Face& f = s.faces[closest->face];
-        const Vec3 rebuilt = closest->bary.x() * s.positions[f[0]] + closest->bary.y() * s.positions[f[1]] + closest->bary.z() * s.positions[f[2]];
+        const Vec3 rebuilt = closest->bary.x() * s.positions[f[0]] + closest->bary.y() * s.positions[f[1]] +
+                             closest->bary.z() * s.positions[f[2]];
         EXPECT_LT((rebuilt - closest->point).norm(), 1e-12);
 
         int crossings = 0;
@@ -82,7 +87,8 @@ void expectMatchesBruteForce(const Bvh& bvh, const Soup& s, std::mt19937& rng, i
         std::vector<std::uint32_t> expected;
         for (std::uint32_t i = 0; i < s.faces.size(); ++i) {
             const mesh::Face& g = s.faces[i];
-            if ((geometry::closestPointOnTriangle(p, s.positions[g[0]], s.positions[g[1]], s.positions[g[2]]).point - p).norm() <= radius)
+            if ((geometry::closestPointOnTriangle(p, s.positions[g[0]], s.positions[g[1]], s.positions[g[2]]).point - p)
+                    .norm() <= radius)
                 expected.push_back(i);
         }
         std::sort(found.begin(), found.end());
@@ -121,7 +127,8 @@ TEST(Bvh, AddedFacesAreFoundBeforeAndAfterTheRebuild) {
     for (int batch = 0; batch < 60; ++batch) {
         for (int i = 0; i < 20; ++i) {
             const auto base = static_cast<std::uint32_t>(s.positions.size());
-            for (int k = 0; k < 3; ++k) s.positions.push_back(extra.positions[static_cast<std::size_t>(3 * (20 * batch + i) + k)]);
+            for (int k = 0; k < 3; ++k)
+                s.positions.push_back(extra.positions[static_cast<std::size_t>(3 * (20 * batch + i) + k)]);
             s.faces.push_back({base, base + 1, base + 2});
         }
         bvh.facesChanged(s.view());
@@ -163,7 +170,8 @@ TEST(Bvh, SegmentThroughASharedEdgeOrVertexHitsTheSurface) {
     bvh.build(s.view());
     EXPECT_TRUE(bvh.firstHit(s.view(), Vec3(0.5, 0.5, 1), Vec3(0.5, 0.5, -1)).has_value());
     EXPECT_TRUE(bvh.firstHit(s.view(), Vec3(0, 0, 1), Vec3(0, 0, -1)).has_value());
-    EXPECT_TRUE(bvh.firstHit(s.view(), Vec3(0.3, 0.7, -1), Vec3(0.3, 0.7, 1)).has_value()) << "back faces collide too (R10)";
+    EXPECT_TRUE(bvh.firstHit(s.view(), Vec3(0.3, 0.7, -1), Vec3(0.3, 0.7, 1)).has_value())
+        << "back faces collide too (R10)";
     EXPECT_FALSE(bvh.firstHit(s.view(), Vec3(1.5, 0.5, 1), Vec3(1.5, 0.5, -1)).has_value());
 }
 

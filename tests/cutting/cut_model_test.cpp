@@ -15,7 +15,9 @@
 namespace hapticut::cutting {
 namespace {
 
-CutModel cuttable(const mesh::SurfaceMesh& mesh) { return CutModel(mesh, physics::buildModel(mesh, physics::Material{})); }
+CutModel cuttable(const mesh::SurfaceMesh& mesh) {
+    return CutModel(mesh, physics::buildModel(mesh, physics::Material{}));
+}
 
 TEST(CutModel, SplittingAFaceAddsAVertexTwoFacesAndThreeSprings) {
     CutModel cut = cuttable(mesh::procedural::makeGrid(4, 0.01));
@@ -29,7 +31,8 @@ TEST(CutModel, SplittingAFaceAddsAVertexTwoFacesAndThreeSprings) {
     EXPECT_EQ(cut.mesh().positions.size(), v0 + 1);
     EXPECT_EQ(cut.mesh().faces.size(), f0 + 2);
     EXPECT_EQ(cut.model().springs.size(), s0 + 3);
-    const Vec3 expected = 0.2 * cut.mesh().positions[face[0]] + 0.3 * cut.mesh().positions[face[1]] + 0.5 * cut.mesh().positions[face[2]];
+    const Vec3 expected =
+        0.2 * cut.mesh().positions[face[0]] + 0.3 * cut.mesh().positions[face[1]] + 0.5 * cut.mesh().positions[face[2]];
     EXPECT_LT((cut.mesh().positions[k] - expected).norm(), 1e-15) << "rest position on the undeformed face";
     EXPECT_NEAR(cut.mesh().positions[k].z(), 0, 1e-15);
     for (std::uint32_t v : face) {
@@ -56,7 +59,8 @@ TEST(CutModel, SplittingAnEdgeSplitsBothFacesAndTheSpring) {
     EXPECT_EQ(cut.mesh().faces.size(), f0 + 2);
     EXPECT_EQ(cut.model().springs.size(), s0 + 3);
     EXPECT_FALSE(cut.springOf(0, 6).has_value()) << "the old edge is gone";
-    EXPECT_LT((cut.mesh().positions[p] - (0.75 * cut.mesh().positions[0] + 0.25 * cut.mesh().positions[6])).norm(), 1e-15);
+    EXPECT_LT((cut.mesh().positions[p] - (0.75 * cut.mesh().positions[0] + 0.25 * cut.mesh().positions[6])).norm(),
+              1e-15);
     EXPECT_NEAR(physics::totalMass(cut.model()), mass, 1e-15);
     // A boundary edge has one face.
     ASSERT_EQ(cut.facesOfEdge(0, 1).size(), 1u);
@@ -194,7 +198,8 @@ TEST(OpenCut, AStraightCutOpensProgressivelyAndTheLipsSeparate) {
     // The left lip lies above the cut (+y): the duplicate of c1 is used by faces above the row.
     for (std::uint32_t f : cut.facesAround(copies[0])) {
         const mesh::Face& face = cut.mesh().faces[f];
-        for (std::uint32_t v : face) EXPECT_GE(cut.mesh().positions[v].y(), cut.mesh().positions[points[1]].y() - 1e-12);
+        for (std::uint32_t v : face)
+            EXPECT_GE(cut.mesh().positions[v].y(), cut.mesh().positions[points[1]].y() - 1e-12);
     }
     // Shortened springs pull the lips apart, and they stay apart. With the default material the
     // anchors are far stiffer than the edge springs, so the gap is tens of micrometres.
@@ -228,7 +233,9 @@ TEST(OpenCut, CutsAlongAPathOnTheHeartKeepEveryInvariant) {
         std::uint32_t best = path.back();
         for (std::uint32_t f : cut.facesAround(path.back()))
             for (std::uint32_t v : cut.mesh().faces[f])
-                if ((cut.mesh().positions[v] - cut.mesh().positions[goal]).norm() < (cut.mesh().positions[best] - cut.mesh().positions[goal]).norm()) best = v;
+                if ((cut.mesh().positions[v] - cut.mesh().positions[goal]).norm() <
+                    (cut.mesh().positions[best] - cut.mesh().positions[goal]).norm())
+                    best = v;
         if (best == path.back()) break;
         path.push_back(best);
     }

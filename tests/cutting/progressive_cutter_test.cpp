@@ -17,7 +17,9 @@
 namespace hapticut::cutting {
 namespace {
 
-CutModel cuttable(const mesh::SurfaceMesh& mesh) { return CutModel(mesh, physics::buildModel(mesh, physics::Material{})); }
+CutModel cuttable(const mesh::SurfaceMesh& mesh) {
+    return CutModel(mesh, physics::buildModel(mesh, physics::Material{}));
+}
 
 /// Where the scalpel touches: the rest surface's closest face and barycentrics.
 std::pair<std::uint32_t, Vec3> touch(const CutModel& cut, const Vec3& p) {
@@ -87,7 +89,8 @@ TEST(ProgressiveCutter, AFastStrokeCutsEveryFaceOnItsWayInOrder) {
     cutter.endCut();
     ASSERT_GE(points.size(), 6u) << "one call crossed every face to the far end";
     // In order along the stroke, and reaching its end.
-    for (std::size_t i = 1; i < points.size(); ++i) EXPECT_GT(cut.mesh().positions[points[i]].x(), cut.mesh().positions[points[i - 1]].x());
+    for (std::size_t i = 1; i < points.size(); ++i)
+        EXPECT_GT(cut.mesh().positions[points[i]].x(), cut.mesh().positions[points[i - 1]].x());
     EXPECT_NEAR(cut.mesh().positions[points.back()].x(), 0.029, 0.01);
     const InvariantReport r = checkInvariants(cut, physics::totalMass(cut.model()));
     ASSERT_TRUE(r.ok()) << r.problems.front();

@@ -80,7 +80,8 @@ TEST(WoundWalls, HangFromBothLipsOfAnOpenedCutIntoTheOrganFacingTheGap) {
     for (const mesh::Face& f : walls.faces()) {
         const std::span<const Vec3> p = walls.positions();
         const Vec3 normal = (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]);
-        const double side = p[f[0]].y() + p[f[1]].y() - 2 * y0;  // which lip: f[0] and f[1] are wall vertices of one lip edge or its foot
+        const double side = p[f[0]].y() + p[f[1]].y() -
+                            2 * y0;  // which lip: f[0] and f[1] are wall vertices of one lip edge or its foot
         if (std::abs(side) < 4e-4 || normal.norm() < 1e-12) continue;  // at a tip
         EXPECT_LT(normal.y() * side, 0) << "a wall faces away from the gap";
     }

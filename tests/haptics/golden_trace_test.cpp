@@ -20,7 +20,8 @@ namespace fs = std::filesystem;
 constexpr int kEvery = 10;  // keep every 10th step: 10 ms resolution is plenty to see a change
 
 std::string traceOf(const std::string& trajectory_name) {
-    const auto trajectory = haptics::readTrajectory(fs::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories" / trajectory_name);
+    const auto trajectory =
+        haptics::readTrajectory(fs::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories" / trajectory_name);
     EXPECT_TRUE(trajectory.has_value());
     const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
     cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
@@ -32,14 +33,16 @@ std::string traceOf(const std::string& trajectory_name) {
     for (std::size_t i = 0; i < r.log.size(); i += kEvery) {
         const haptics::StepOutput& s = r.log[i];
         char line[160];
-        std::snprintf(line, sizeof line, "%.3f,%.9f,%.9f,%.9f,%d\n", s.t_s, s.hand().force_N.x(), s.hand().force_N.y(), s.hand().force_N.z(), s.hand().contact ? 1 : 0);
+        std::snprintf(line, sizeof line, "%.3f,%.9f,%.9f,%.9f,%d\n", s.t_s, s.hand().force_N.x(), s.hand().force_N.y(),
+                      s.hand().force_N.z(), s.hand().contact ? 1 : 0);
         out += line;
     }
     return out;
 }
 
 void expectMatchesGolden(const std::string& trajectory_name) {
-    const fs::path golden = fs::path(HAPTICUT_SOURCE_DIR) / "tests/data/golden" / (fs::path(trajectory_name).stem().string() + ".forces.csv");
+    const fs::path golden = fs::path(HAPTICUT_SOURCE_DIR) / "tests/data/golden" /
+                            (fs::path(trajectory_name).stem().string() + ".forces.csv");
     const std::string actual = traceOf(trajectory_name);
     if (std::getenv("HAPTICUT_UPDATE_GOLDEN")) {
         std::ofstream(golden) << actual;

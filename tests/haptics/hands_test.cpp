@@ -100,7 +100,8 @@ TEST(TwoHands, BothPressTheHeartInTheSameStepAndEachFeelsItsOwnForce) {
         double most = 0;
         const auto& x = h.organ.model().nodes;
         for (std::size_t i = 0; i < x.size(); ++i)
-            if ((x.restPosition[i] - at).norm() < 0.005) most = std::max(most, x.restPosition[i].z() - x.position[i].z());
+            if ((x.restPosition[i] - at).norm() < 0.005)
+                most = std::max(most, x.restPosition[i].z() - x.position[i].z());
         return most;
     };
     EXPECT_GT(dent(right), 0.0015);
@@ -115,8 +116,11 @@ TEST(TwoHands, AProbeHoldsTheTissueWhileTheScalpelInTheOtherHandCuts) {
     // The scalpel: down 12 mm in front at the right, then across to the centre.
     Trajectory cut;
     const Vec3 start = frontAt(h.mesh, 0.02, -0.01), end = frontAt(h.mesh, 0.0, -0.01);
-    for (const auto& [time, p] : {std::pair{0.0, Vec3(start + Vec3(0, 0, 0.03))}, {0.7, Vec3(start + Vec3(0, 0, 0.005))},
-                                  {1.0, Vec3(start - Vec3(0, 0, 0.012))}, {2.0, Vec3(end - Vec3(0, 0, 0.012))}, {2.4, Vec3(end + Vec3(0, 0, 0.03))}}) {
+    for (const auto& [time, p] : {std::pair{0.0, Vec3(start + Vec3(0, 0, 0.03))},
+                                  {0.7, Vec3(start + Vec3(0, 0, 0.005))},
+                                  {1.0, Vec3(start - Vec3(0, 0, 0.012))},
+                                  {2.0, Vec3(end - Vec3(0, 0, 0.012))},
+                                  {2.4, Vec3(end + Vec3(0, 0, 0.03))}}) {
         TrajectoryPoint q;
         q.t_s = time;
         q.sample.position_m = p;
@@ -190,7 +194,8 @@ TEST(TwoHands, ALoopTakesOneOrTwoHandsWithDevices) {
 
 TEST(ForceSafety, TheForceSentGrowsNoFasterThanTheHandsLimitAndEasesOffAtOnce) {
     EXPECT_TRUE(limitForceRate(Vec3::Zero(), Vec3(0, 0, 3), 0.5).isApprox(Vec3(0, 0, 0.5)));
-    EXPECT_TRUE(limitForceRate(Vec3(0, 0, 2), Vec3(0, 0, 0.1), 0.5).isApprox(Vec3(0, 0, 0.1))) << "easing off is immediate";
+    EXPECT_TRUE(limitForceRate(Vec3(0, 0, 2), Vec3(0, 0, 0.1), 0.5).isApprox(Vec3(0, 0, 0.1)))
+        << "easing off is immediate";
     EXPECT_EQ(limitForceRate(Vec3(0, 0, 2), Vec3::Zero(), 0.5), Vec3::Zero()) << "so is letting go";
     EXPECT_TRUE(limitForceRate(Vec3(0, 0, 2), Vec3(0, 0, -1), 0.5).isApprox(Vec3(0, 0, 1.5))) << "a reversal ramps";
     EXPECT_TRUE(limitForceRate(Vec3(1, 0, 0), Vec3(1.2, 0, 0), 0.5).isApprox(Vec3(1.2, 0, 0)));
@@ -274,21 +279,21 @@ TEST(ForceSafety, TheLoopLeavesEveryHandAtZeroForceWhenItGoesAwayEvenByAnExcepti
     try {
         const std::array<Hand, 2> hands{Hand{&a}, Hand{&b}};
         auto made = makeLoop(h.organ, hands);
-    HapticLoop& loop = *made;
+        HapticLoop& loop = *made;
         runSimulated(loop, 600);
         a.position = front - Vec3(0, 0, 0.004);
         b.position = frontAt(h.mesh, 0.01, 0) - Vec3(0, 0, 0.004);
         RealTimeScheduler clock(loop);
         ASSERT_FALSE(clock.start());
-        for (int i = 0; i < 500 && (a.force.norm() < 0.5 || b.force.norm() < 0.5); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        for (int i = 0; i < 500 && (a.force.norm() < 0.5 || b.force.norm() < 0.5); ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
         clock.stop();
         // Pushing again, on the caller's thread this time, then something throws mid-run.
         runSimulated(loop, 100, [&](const StepOutput& s) {
             if (s.hands[0].force_N.norm() > 0.5 && s.hands[1].force_N.norm() > 0.5) throw std::runtime_error("mid-run");
         });
         FAIL() << "both hands should have been pushing";
-    } catch (const std::runtime_error&) {
-    }
+    } catch (const std::runtime_error&) {}
     EXPECT_EQ(a.force, Vec3::Zero());
     EXPECT_EQ(b.force, Vec3::Zero());
 }
@@ -312,13 +317,15 @@ TEST(DeviceName, ParsesEveryBackendAndSaysWhatIsWrongWithTheRest) {
     for (const char* bad : {"", "phantom", "replay", "replay:", "sdl:one", "sdl:-1", "virtual:2", "openhaptics:"}) {
         const auto r = parseDeviceName(bad);
         ASSERT_FALSE(r) << bad;
-        EXPECT_NE(r.error().message.find("expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX]"), std::string::npos) << r.error().message;
+        EXPECT_NE(r.error().message.find("expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX]"),
+                  std::string::npos)
+            << r.error().message;
     }
     EXPECT_NE(parseDeviceName("sdl:one").error().message.find("whole number"), std::string::npos);
 }
 
 TEST(WorkspaceFit, TheDevicesReachCoversTheModelWithItsMarginAtOneScale) {
-    const geometry::Aabb touch{Vec3(-80, -60, -35), Vec3(80, 60, 35)};  // millimetres
+    const geometry::Aabb touch{Vec3(-80, -60, -35), Vec3(80, 60, 35)};              // millimetres
     const geometry::Aabb heart{Vec3(-0.04, -0.05, -0.03), Vec3(0.04, 0.05, 0.03)};  // metres
     const WorkspaceTransform w = fitWorkspace(touch, heart, 0.2);
     // The tightest axis decides: z, 6 cm x 1.4 over 70 mm.
@@ -335,7 +342,8 @@ TEST(WorkspaceFit, TheDevicesReachCoversTheModelWithItsMarginAtOneScale) {
     const WorkspaceTransform turned = fitWorkspace(touch, heart, 0.2, quarter);
     EXPECT_NEAR(turned.scale, 0.08 * 1.4 / 70, 1e-12) << "x of the scene now meets the device's 70 mm z";
     EXPECT_TRUE(turned.toScene(touch.center()).isApprox(heart.center()));
-    EXPECT_TRUE(turned.forceToDevice(Vec3(0, 0, 1)).isApprox(Vec3(-1, 0, 0), 1e-12) || turned.forceToDevice(Vec3(0, 0, 1)).isApprox(Vec3(1, 0, 0), 1e-12));
+    EXPECT_TRUE(turned.forceToDevice(Vec3(0, 0, 1)).isApprox(Vec3(-1, 0, 0), 1e-12) ||
+                turned.forceToDevice(Vec3(0, 0, 1)).isApprox(Vec3(1, 0, 0), 1e-12));
     EXPECT_DOUBLE_EQ(fitWorkspace(geometry::Aabb{}, heart).scale, 1) << "nothing to fit: identity";
 }
 

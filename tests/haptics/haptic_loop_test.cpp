@@ -65,11 +65,13 @@ TEST(HapticLoop, PressingTheHeartIndentsItNearTheContactAndItRecovers) {
             EXPECT_GT(s.hand().force_N.z(), 0.9 * s.hand().force_N.norm()) << "pushes back along the outward normal";
             // Indented near the contact, not far away.
             double indent = 0;
-            for (std::uint32_t n : h.mesh.faces[s.hand().face]) indent = std::max(indent, (h.model.nodes.restPosition[n] - h.model.nodes.position[n]).z());
+            for (std::uint32_t n : h.mesh.faces[s.hand().face])
+                indent = std::max(indent, (h.model.nodes.restPosition[n] - h.model.nodes.position[n]).z());
             EXPECT_GT(indent, 1e-3);
             double far = 0;
             for (std::size_t i = 0; i < h.model.nodes.size(); ++i)
-                if (h.model.nodes.restPosition[i].z() < -0.01) far = std::max(far, (h.model.nodes.position[i] - h.model.nodes.restPosition[i]).norm());
+                if (h.model.nodes.restPosition[i].z() < -0.01)
+                    far = std::max(far, (h.model.nodes.position[i] - h.model.nodes.restPosition[i]).norm());
             EXPECT_LT(far, 1e-4) << "the back of the heart hardly moves";
         }
     });
@@ -197,8 +199,8 @@ TEST(VirtualDevice, FollowsAJumpingInputWithAFirstOrderLag) {
     device.read(0);
     device.setPosition(Vec3(0.01, 0, 0));  // a cursor's jump between two frames
     const DeviceSample first = device.read(0.001);
-    EXPECT_NEAR(first.position_m.x(), 0.001, 1e-12);        // a tenth of the way after a tenth of the time constant
-    EXPECT_NEAR(first.velocity_m_per_s.x(), 1.0, 1e-9);      // not the 10 m/s of the jump itself
+    EXPECT_NEAR(first.position_m.x(), 0.001, 1e-12);     // a tenth of the way after a tenth of the time constant
+    EXPECT_NEAR(first.velocity_m_per_s.x(), 1.0, 1e-9);  // not the 10 m/s of the jump itself
     double x = first.position_m.x();
     for (int i = 2; i <= 100; ++i) x = device.read(i * 0.001).position_m.x();
     EXPECT_NEAR(x, 0.01, 0.01 * std::pow(0.9, 100) + 1e-12);  // 0.9 per step: there within a few time constants
@@ -206,14 +208,15 @@ TEST(VirtualDevice, FollowsAJumpingInputWithAFirstOrderLag) {
     jumping.setPosition(Vec3::Zero());
     jumping.read(0);
     jumping.setPosition(Vec3(0.01, 0, 0));
-    EXPECT_EQ(jumping.read(0.001).position_m.x(), 0.01);     // without a follow time it goes straight there
+    EXPECT_EQ(jumping.read(0.001).position_m.x(), 0.01);  // without a follow time it goes straight there
 }
 
 TEST(HapticLoop, MaterialCommandsScaleTheModelLiveAndTheStableStepFollows) {
     HeartScene h;
     VirtualDevice device;
     device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));
-    const double k0 = h.model.springs.stiffness[5], anchor0 = h.model.nodes.anchorStiffness[5], m0 = h.model.nodes.mass[5];
+    const double k0 = h.model.springs.stiffness[5], anchor0 = h.model.nodes.anchorStiffness[5],
+                 m0 = h.model.nodes.mass[5];
     HapticLoop loop(h.organ, device);
     runSimulated(loop, 8);
     const double stable0 = loop.snapshots().readLatest().stableStep_s;

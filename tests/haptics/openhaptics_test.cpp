@@ -37,10 +37,14 @@ struct Emulator {
         return reinterpret_cast<F>(dlsym(handle, name));
     }
     void reset() const { get<void (*)()>("hdEmu_reset")(); }
-    void setPosition(double x, double y, double z) const { get<void (*)(double, double, double)>("hdEmu_setPosition")(x, y, z); }
+    void setPosition(double x, double y, double z) const {
+        get<void (*)(double, double, double)>("hdEmu_setPosition")(x, y, z);
+    }
     void setCalibration(unsigned s) const { get<void (*)(unsigned)>("hdEmu_setCalibration")(s); }
     void failInit(unsigned code) const { get<void (*)(unsigned)>("hdEmu_failInit")(code); }
-    void failAfterTicks(long ticks, unsigned code) const { get<void (*)(long, unsigned)>("hdEmu_failAfterTicks")(ticks, code); }
+    void failAfterTicks(long ticks, unsigned code) const {
+        get<void (*)(long, unsigned)>("hdEmu_failAfterTicks")(ticks, code);
+    }
     Vec3 lastForce() const {
         double f[3];
         get<void (*)(double*)>("hdEmu_lastForce")(f);
@@ -137,8 +141,8 @@ TEST_F(OpenHaptics, CalibrationIsUpdatedWhenItCanBeAndRefusedWhenItNeedsTheInkwe
         EXPECT_EQ(emu.calibrationUpdates(), 1);
         EXPECT_EQ(device->model(), "Emulated Touch");
         EXPECT_EQ(device->serial(), "EMU-0001");
-        EXPECT_DOUBLE_EQ(device->maxForce_N(), 0.9);             // the nominal continuous force
-        EXPECT_DOUBLE_EQ(device->maxStiffness_N_per_m(), 800);   // 0.8 N/mm
+        EXPECT_DOUBLE_EQ(device->maxForce_N(), 0.9);            // the nominal continuous force
+        EXPECT_DOUBLE_EQ(device->maxStiffness_N_per_m(), 800);  // 0.8 N/mm
         EXPECT_TRUE(emu.forceOutput());
     }
     EXPECT_FALSE(emu.deviceOpen()) << "the device was not released";
@@ -179,7 +183,8 @@ TEST_F(OpenHaptics, TheServoLoopDrivesTheHapticLoopAtItsRateAndTheForceIsClamped
         ASSERT_FALSE(clock.start());
         std::this_thread::sleep_for(std::chrono::milliseconds(400));
         const Snapshot& s = loop.snapshots().readLatest();
-        EXPECT_TRUE(s.hands[0].device_m.isApprox(Vec3(front.x(), front.y(), front.z() - 0.008), 1e-9)) << s.hands[0].device_m.transpose();
+        EXPECT_TRUE(s.hands[0].device_m.isApprox(Vec3(front.x(), front.y(), front.z() - 0.008), 1e-9))
+            << s.hands[0].device_m.transpose();
         clock.stop();
         const long ticks = emu.ticks() - ticks0;
         // One loop step per servo tick: the servo's clock is the loop's.
@@ -209,7 +214,8 @@ TEST_F(OpenHaptics, ADeviceLostMidRunTripsTheWatchdogAndSendsNoForce) {
     emu.failAfterTicks(10, hd::kCommError);
     std::this_thread::sleep_for(std::chrono::milliseconds(150));
     EXPECT_TRUE(device->faulted());
-    EXPECT_NE(device->faultMessage().find("communication with the device failed"), std::string::npos) << device->faultMessage();
+    EXPECT_NE(device->faultMessage().find("communication with the device failed"), std::string::npos)
+        << device->faultMessage();
     EXPECT_TRUE(loop.snapshots().readLatest().watchdogTripped);
     EXPECT_EQ(emu.lastForce(), Vec3::Zero());
     clock.stop();

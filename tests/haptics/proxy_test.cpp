@@ -21,7 +21,9 @@ struct Scene {
 };
 
 /// The coupling spring's force on the hand, F = k (proxy - device), with no damping or clamp.
-Vec3 hookeForce(const Vec3& proxy_m, const Vec3& device_m, double stiffness_N_per_m) { return stiffness_N_per_m * (proxy_m - device_m); }
+Vec3 hookeForce(const Vec3& proxy_m, const Vec3& device_m, double stiffness_N_per_m) {
+    return stiffness_N_per_m * (proxy_m - device_m);
+}
 
 Scene plane() {
     Scene s{mesh::procedural::makeGrid(10, 0.01), {}};  // 0.1 m square at z = 0, facing +z
@@ -75,7 +77,7 @@ TEST(Proxy, LeavingTheSurfaceGivesZeroForce) {
 TEST(Proxy, ConcaveCornerHoldsTheProxyAtTheCorner) {
     // Floor z = 0 and walls x = 0 and y = 0, all facing into the open octant.
     Scene s;
-    s.mesh.positions = {Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.1, 0.1, 0), Vec3(0, 0.1, 0),   // floor
+    s.mesh.positions = {Vec3(0, 0, 0),   Vec3(0.1, 0, 0),   Vec3(0.1, 0.1, 0), Vec3(0, 0.1, 0),  // floor
                         Vec3(0, 0, 0.1), Vec3(0, 0.1, 0.1), Vec3(0.1, 0, 0.1)};
     s.mesh.faces = {{0, 1, 2}, {0, 2, 3}, {0, 3, 5}, {0, 5, 4}, {0, 4, 6}, {0, 6, 1}};
     mesh::completeMesh(s.mesh);
@@ -145,14 +147,19 @@ TEST(Proxy, NeverInsideTheHeartWhileSlidingOverEdgesAndVertices) {
     s.rebuild();
     const double twoPi = 2 * std::numbers::pi;
     // Around the heart at mid height, 8 mm inside the surface (circumference ~0.25 m in 500 steps).
-    expectNeverInside(s, [&](double u) { return Vec3(0.03 * std::cos(twoPi * u), 0.0, 0.022 * std::sin(twoPi * u)); }, 500);
+    expectNeverInside(
+        s, [&](double u) { return Vec3(0.03 * std::cos(twoPi * u), 0.0, 0.022 * std::sin(twoPi * u)); }, 500);
     // Over the apex and the vessels at the top, in the front-back plane.
-    expectNeverInside(s, [&](double u) { return Vec3(0.004, 0.05 * std::cos(twoPi * u), 0.02 * std::sin(twoPi * u)); }, 600);
+    expectNeverInside(
+        s, [&](double u) { return Vec3(0.004, 0.05 * std::cos(twoPi * u), 0.02 * std::sin(twoPi * u)); }, 600);
     // A wobbly path that enters and leaves repeatedly.
-    expectNeverInside(s, [&](double u) {
-        const double a = twoPi * u;
-        return Vec3(0.045 * std::cos(3 * a), 0.05 * std::sin(2 * a), 0.03 * std::cos(5 * a + 0.3));
-    }, 1500);
+    expectNeverInside(
+        s,
+        [&](double u) {
+            const double a = twoPi * u;
+            return Vec3(0.045 * std::cos(3 * a), 0.05 * std::sin(2 * a), 0.03 * std::cos(5 * a + 0.3));
+        },
+        1500);
 }
 
 }  // namespace
@@ -181,7 +188,8 @@ TEST(Proxy, TouchedFaceFastPathFindsTheSameContactAsTheTree) {
         if (fast.contact().active) {
             const Vec3 pf = pointOnFace(s.view(), fast.contact().face, fast.contact().bary);
             const Vec3 pt = pointOnFace(s.view(), full.contact().face, full.contact().bary);
-            ASSERT_LT((pf - pt).norm(), 1e-12) << "step " << i << ": the same contact point (faces may differ on a shared edge)";
+            ASSERT_LT((pf - pt).norm(), 1e-12)
+                << "step " << i << ": the same contact point (faces may differ on a shared edge)";
         }
     }
     EXPECT_GT(fast.fastPathContacts(), 200) << "the fast path must actually be used";

@@ -1,8 +1,8 @@
 // Trajectory CSV: round trips, recordings that replay, interpolation, and clear errors.
 #include <gtest/gtest.h>
 
-#include "hapticut/haptics/step_log.h"
 #include "hapticut/haptics/replay_device.h"
+#include "hapticut/haptics/step_log.h"
 #include "hapticut/haptics/trajectory.h"
 
 #include "test_support.h"

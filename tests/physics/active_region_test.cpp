@@ -23,7 +23,8 @@ void pressWithTool(MassSpringModel& model, const mesh::SurfaceMesh& mesh, int st
     tool.bary = Vec3(0.5, 0.3, 0.2);
     const Vec3 w = tool.bary.cwiseAbs2();
     tool.weights = w / w.sum();
-    const Vec3 surface = 0.5 * mesh.positions[tool.nodes[0]] + 0.3 * mesh.positions[tool.nodes[1]] + 0.2 * mesh.positions[tool.nodes[2]];
+    const Vec3 surface =
+        0.5 * mesh.positions[tool.nodes[0]] + 0.3 * mesh.positions[tool.nodes[1]] + 0.2 * mesh.positions[tool.nodes[2]];
     tool.anchor_m = surface - 0.003 * std::min(1.0, step / 50.0) * mesh.normals[front];
     tool.stiffness_N_per_m = 400;
     tool.maxForce_N = 3.3;
@@ -48,7 +49,8 @@ TEST(ActiveRegion, MatchesTheFullSimulationWhileOnlyTheRegionNearTheToolIsAwake)
         ASSERT_TRUE(localStepper.step(local, 1e-3).finite);
         largestRegion = std::max(largestRegion, localStepper.awakeCount());
         largestDisplacement = std::max(largestDisplacement, maxDisplacement(full));
-        for (std::size_t i = 0; i < full.nodes.size(); ++i) worst = std::max(worst, (full.nodes.position[i] - local.nodes.position[i]).norm());
+        for (std::size_t i = 0; i < full.nodes.size(); ++i)
+            worst = std::max(worst, (full.nodes.position[i] - local.nodes.position[i]).norm());
     }
     EXPECT_GT(largestDisplacement, 1e-3) << "the press must really deform the tissue";
     // Nodes wake one step after their neighbours pull on them; the motion differs by a small fraction.

@@ -12,7 +12,8 @@
 namespace hapticut::physics {
 namespace {
 
-constexpr Scheme kAllSchemes[] = {Scheme::ExplicitEuler, Scheme::Midpoint, Scheme::RungeKutta4, Scheme::SymplecticEuler};
+constexpr Scheme kAllSchemes[] = {Scheme::ExplicitEuler, Scheme::Midpoint, Scheme::RungeKutta4,
+                                  Scheme::SymplecticEuler};
 
 double positionAt(MassSpringModel model, Scheme scheme, double dt_s, double t_end_s) {
     Stepper stepper(scheme);
@@ -32,7 +33,10 @@ TEST(Integrators, ConvergeAtTheirTheoreticalOrder) {
     const struct {
         Scheme scheme;
         double dt_s, order;
-    } cases[] = {{Scheme::ExplicitEuler, 1e-3, 1}, {Scheme::SymplecticEuler, 1e-3, 1}, {Scheme::Midpoint, 1e-3, 2}, {Scheme::RungeKutta4, 5e-3, 4}};
+    } cases[] = {{Scheme::ExplicitEuler, 1e-3, 1},
+                 {Scheme::SymplecticEuler, 1e-3, 1},
+                 {Scheme::Midpoint, 1e-3, 2},
+                 {Scheme::RungeKutta4, 5e-3, 4}};
     for (const auto& c : cases) {
         const double e1 = oscillatorError(c.scheme, c.dt_s), e2 = oscillatorError(c.scheme, c.dt_s / 2);
         EXPECT_NEAR(std::log2(e1 / e2), c.order, 0.15) << schemeName(c.scheme) << ": errors " << e1 << ", " << e2;
@@ -46,10 +50,13 @@ TEST(Integrators, DampedSpringMatchesAnalyticSolution) {
     const double gamma = c / (2 * m), wd = std::sqrt(k / m - gamma * gamma);
     for (double t : {0.05, 0.2, 0.5}) {
         const double exact = x0 * std::exp(-gamma * t) * (std::cos(wd * t) + gamma / wd * std::sin(wd * t));
-        EXPECT_NEAR(positionAt(test::oscillator(m, k, c, x0), Scheme::RungeKutta4, 1e-3, t), exact, 1e-9) << "t = " << t;
+        EXPECT_NEAR(positionAt(test::oscillator(m, k, c, x0), Scheme::RungeKutta4, 1e-3, t), exact, 1e-9)
+            << "t = " << t;
         EXPECT_NEAR(positionAt(test::oscillator(m, k, c, x0), Scheme::Midpoint, 1e-4, t), exact, 1e-7) << "t = " << t;
-        EXPECT_NEAR(positionAt(test::oscillator(m, k, c, x0), Scheme::ExplicitEuler, 1e-5, t), exact, 5e-6) << "t = " << t;
-        EXPECT_NEAR(positionAt(test::oscillator(m, k, c, x0), Scheme::SymplecticEuler, 1e-5, t), exact, 5e-6) << "t = " << t;
+        EXPECT_NEAR(positionAt(test::oscillator(m, k, c, x0), Scheme::ExplicitEuler, 1e-5, t), exact, 5e-6)
+            << "t = " << t;
+        EXPECT_NEAR(positionAt(test::oscillator(m, k, c, x0), Scheme::SymplecticEuler, 1e-5, t), exact, 5e-6)
+            << "t = " << t;
     }
 }
 
@@ -127,7 +134,8 @@ TEST(Integrators, DampingDissipatesEnergy) {
             for (int i = 0; i < 20; ++i) (void)stepper.step(model, 1e-3);
             const double e = kineticEnergy(model) + potentialEnergy(model);
             // Strictly falling, until the snap-back rule puts every node exactly at rest.
-            EXPECT_TRUE(e < previous || e == 0) << schemeName(scheme) << " block " << block << ": " << e << " after " << previous;
+            EXPECT_TRUE(e < previous || e == 0)
+                << schemeName(scheme) << " block " << block << ": " << e << " after " << previous;
             previous = e;
         }
         EXPECT_LT(previous, 0.01 * e0) << schemeName(scheme);
@@ -151,7 +159,8 @@ TEST(Stability, DefaultMaterialRunsTheThesisSizedHeartAt1msWithAtMostTwoSubsteps
     // RK4 (the default), midpoint and explicit Euler take 1 ms steps as they are; symplectic Euler, whose
     // damped stability window is narrower, takes two substeps.
     const MassSpringModel model = buildModel(mesh::procedural::makeHeart({}), Material{});
-    for (Scheme scheme : {Scheme::ExplicitEuler, Scheme::Midpoint, Scheme::RungeKutta4}) EXPECT_GE(stableTimeStep(model, scheme), 1e-3) << schemeName(scheme);
+    for (Scheme scheme : {Scheme::ExplicitEuler, Scheme::Midpoint, Scheme::RungeKutta4})
+        EXPECT_GE(stableTimeStep(model, scheme), 1e-3) << schemeName(scheme);
     EXPECT_GE(stableTimeStep(model, Scheme::SymplecticEuler), 0.5e-3);
     // With the default 400 N/m haptic coupling counted on every node, RK4 still takes 1 ms steps.
     EXPECT_GE(stableTimeStep(model, Scheme::RungeKutta4, 400), 1e-3);
@@ -207,7 +216,11 @@ TEST(Material, SpreadsMassByAreaAndScalesSpringsByLength) {
     EXPECT_NEAR(totalMass(model), 0.3, 1e-12);
     for (std::size_t i = 0; i < model.springs.size(); ++i)
         EXPECT_NEAR(model.springs.stiffness[i] * model.springs.restLength[i], Material{}.structuralStiffness_N, 1e-12);
-    const mesh::io::ThesisPhysics thesis{.mass = 2, .structuralStiffness = 20, .structuralDamping = 2, .positioningStiffness = 5, .positioningDamping = 1};
+    const mesh::io::ThesisPhysics thesis{.mass = 2,
+                                         .structuralStiffness = 20,
+                                         .structuralDamping = 2,
+                                         .positioningStiffness = 5,
+                                         .positioningDamping = 1};
     const MassSpringModel uniform = buildModel(heart, thesis);
     EXPECT_NEAR(totalMass(uniform), 2, 1e-12);
     EXPECT_EQ(uniform.nodes.mass.front(), uniform.nodes.mass.back());
@@ -239,7 +252,8 @@ TEST(PointSpring, TissueFeelsExactlyTheToolForceReversed) {
     const Vec3 f = model.tools[0].forceOnTool(model.nodes.position);
     EXPECT_LT((sum + f).norm(), 1e-12);
     EXPECT_NEAR(f.norm(), 3.3, 1e-12) << "clamped";
-    EXPECT_NEAR((model.nodes.mass[17] * a[17]).norm() / (model.nodes.mass[3] * a[3]).norm(), 0.25 / 0.04, 1e-9) << "squared weights (R9)";
+    EXPECT_NEAR((model.nodes.mass[17] * a[17]).norm() / (model.nodes.mass[3] * a[3]).norm(), 0.25 / 0.04, 1e-9)
+        << "squared weights (R9)";
 }
 
 }  // namespace

@@ -72,7 +72,9 @@ protected:
     }
 
     /// Pixels that are not the background (the clear colour is dark blue-grey).
-    static bool isObject(const std::uint8_t* p) { return std::abs(p[0] - 26) + std::abs(p[1] - 28) + std::abs(p[2] - 36) > 30; }
+    static bool isObject(const std::uint8_t* p) {
+        return std::abs(p[0] - 26) + std::abs(p[1] - 28) + std::abs(p[2] - 36) > 30;
+    }
 
     static std::string setupError_;
     static GlWindow* window_;
@@ -122,7 +124,8 @@ TEST_F(Rendering, WireframeShowsEdgesNotShading) {
     long differ = 0, objectShaded = 0, objectWire = 0;
     for (int y = 0; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x) {
-            differ += std::abs(shaded.at(x, y)[0] - wire.at(x, y)[0]) + std::abs(shaded.at(x, y)[1] - wire.at(x, y)[1]) > 40;
+            differ +=
+                std::abs(shaded.at(x, y)[0] - wire.at(x, y)[0]) + std::abs(shaded.at(x, y)[1] - wire.at(x, y)[1]) > 40;
             objectShaded += isObject(shaded.at(x, y));
             objectWire += isObject(wire.at(x, y));
         }
@@ -138,7 +141,8 @@ TEST_F(Rendering, AScalpelStrokeChangesTheImageAlongTheCut) {
     const Image before = draw(restFrame(organ, 1), view);
 
     cutting::CutModel cut(organ, physics::buildModel(organ, physics::Material{}));
-    const auto trajectory = haptics::readTrajectory(std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv");
+    const auto trajectory =
+        haptics::readTrajectory(std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv");
     ASSERT_TRUE(trajectory);
     scene::HapticRunConfig config;
     config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
@@ -169,9 +173,12 @@ TEST_F(Rendering, AScalpelStrokeChangesTheImageAlongTheCut) {
     double nearCut = 0, elsewhere = 0, nearPixels = 0, otherPixels = 0;
     for (int y = 0; y < kHeight; ++y)
         for (int x = 0; x < kWidth; ++x) {
-            const bool changed = std::abs(before.at(x, y)[0] - after.at(x, y)[0]) + std::abs(before.at(x, y)[1] - after.at(x, y)[1]) +
-                                     std::abs(before.at(x, y)[2] - after.at(x, y)[2]) > 60;
-            const bool inBand = x > std::min(from.x(), to.x()) - 10 && x < std::max(from.x(), to.x()) + 10 && std::abs(y - (from.y() + to.y()) / 2) < 15;
+            const bool changed = std::abs(before.at(x, y)[0] - after.at(x, y)[0]) +
+                                     std::abs(before.at(x, y)[1] - after.at(x, y)[1]) +
+                                     std::abs(before.at(x, y)[2] - after.at(x, y)[2]) >
+                                 60;
+            const bool inBand = x > std::min(from.x(), to.x()) - 10 && x < std::max(from.x(), to.x()) + 10 &&
+                                std::abs(y - (from.y() + to.y()) / 2) < 15;
             (inBand ? nearPixels : otherPixels) += 1;
             if (changed) (inBand ? nearCut : elsewhere) += 1;
         }
@@ -238,7 +245,8 @@ TEST_F(Rendering, TheToolAndTheForceArrowAppearAtTheProxy) {
 
 /// Runs the hapticut executable with a display (this suite runs under Xvfb); its exit code.
 int runHapticut(const std::string& args, const test::ScratchDir& dir) {
-    const std::string cmd = std::string(HAPTICUT_EXE) + " " + args + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
+    const std::string cmd =
+        std::string(HAPTICUT_EXE) + " " + args + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -253,7 +261,8 @@ std::string readAll(const std::filesystem::path& file) {
 TEST(ScreenshotCommand, WritesAPngOfTheCutHeartThatLooksLikeTheInProcessRender) {
     test::ScratchDir dir;
     ASSERT_EQ(runHapticut("screenshot --trajectory " + std::string(HAPTICUT_SOURCE_DIR) +
-                              "/assets/trajectories/cut-front.csv --tool scalpel --at 2.0 --size 320x240 --out " + (dir / "cut.png").string(),
+                              "/assets/trajectories/cut-front.csv --tool scalpel --at 2.0 --size 320x240 --out " +
+                              (dir / "cut.png").string(),
                           dir),
               0)
         << readAll(dir / "err");
@@ -271,8 +280,8 @@ TEST(ScreenshotCommand, RefusesBadArgumentsWithAClearMessage) {
     EXPECT_NE(readAll(dir / "err").find("WIDTHxHEIGHT"), std::string::npos);
     EXPECT_EQ(runHapticut("screenshot --at 1 --out " + (dir / "a.png").string(), dir), 2);
     EXPECT_NE(readAll(dir / "err").find("--at needs --trajectory"), std::string::npos);
-    EXPECT_EQ(runHapticut("screenshot --tool scissors --trajectory " + std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv --out " +
-                              (dir / "a.png").string(),
+    EXPECT_EQ(runHapticut("screenshot --tool scissors --trajectory " + std::string(HAPTICUT_SOURCE_DIR) +
+                              "/assets/trajectories/cut-front.csv --out " + (dir / "a.png").string(),
                           dir),
               2);
     EXPECT_NE(readAll(dir / "err").find("probe scalpel"), std::string::npos) << readAll(dir / "err");
@@ -281,7 +290,10 @@ TEST(ScreenshotCommand, RefusesBadArgumentsWithAClearMessage) {
 
 TEST(ViewCommand, StartsRendersFramesWithTheLoopRunningAndQuitsCleanly) {
     test::ScratchDir dir;
-    ASSERT_EQ(runHapticut("view --frames 12 --size 640x480 --report " + (dir / "view.json").string() + " --screenshot " + (dir / "view.png").string(), dir), 0)
+    ASSERT_EQ(runHapticut("view --frames 12 --size 640x480 --report " + (dir / "view.json").string() +
+                              " --screenshot " + (dir / "view.png").string(),
+                          dir),
+              0)
         << readAll(dir / "err");
     const auto report = nlohmann::json::parse(readAll(dir / "view.json"));
     EXPECT_EQ(report["frames"], 12);
@@ -298,8 +310,8 @@ TEST(ViewCommand, APhantomThroughOpenHapticsDrivesTheLoopFromItsServo) {
     test::ScratchDir dir;
     // The HD API's emulation stands in for the vendor's libHD.so.
     const std::string hd = std::string("HAPTICUT_HD_LIBRARY=") + HD_EMULATION_LIBRARY + " ";
-    const std::string cmd = hd + HAPTICUT_EXE + " view --device openhaptics --quit-after 0.5 --size 320x240 --report " + (dir / "hd.json").string() + " >" +
-                            (dir / "out").string() + " 2>" + (dir / "err").string();
+    const std::string cmd = hd + HAPTICUT_EXE + " view --device openhaptics --quit-after 0.5 --size 320x240 --report " +
+                            (dir / "hd.json").string() + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
     ASSERT_EQ(std::system(cmd.c_str()), 0) << readAll(dir / "err");
     EXPECT_NE(readAll(dir / "err").find("Emulated Touch"), std::string::npos) << readAll(dir / "err");
     const auto report = nlohmann::json::parse(readAll(dir / "hd.json"));
@@ -315,8 +327,8 @@ TEST(ViewCommand, APhantomThroughOpenHapticsDrivesTheLoopFromItsServo) {
 TEST(ViewCommand, ReplaysATrajectoryThatCutsTheHeart) {
     test::ScratchDir dir;
     ASSERT_EQ(runHapticut("view --frames 2000000 --tool scalpel --trajectory " + std::string(HAPTICUT_SOURCE_DIR) +
-                              "/assets/trajectories/cut-front.csv --size 160x120 --no-panel --report " + (dir / "view.json").string() +
-                              " --quit-after 2.6",
+                              "/assets/trajectories/cut-front.csv --size 160x120 --no-panel --report " +
+                              (dir / "view.json").string() + " --quit-after 2.6",
                           dir),
               0)
         << readAll(dir / "err");

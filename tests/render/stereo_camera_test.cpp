@@ -51,7 +51,8 @@ TEST(Stereo, BothEyesSeeAPointOnTheFocalPlaneAtTheSamePlaceAndANearerOneApart) {
         const Eigen::Vector4d clip = projectionMatrix(f) * eyeView(Eigen::Matrix4d::Identity(), f) * world;
         return clip.x() / clip.w();
     };
-    const Eigen::Vector4d onFocalPlane(0.3, 0.1, -lens.focalLength_m, 1), nearer(0.3, 0.1, -1.0, 1), further(0.3, 0.1, -4.0, 1);
+    const Eigen::Vector4d onFocalPlane(0.3, 0.1, -lens.focalLength_m, 1), nearer(0.3, 0.1, -1.0, 1),
+        further(0.3, 0.1, -4.0, 1);
     EXPECT_NEAR(ndcX(Eye::Left, onFocalPlane), ndcX(Eye::Right, onFocalPlane), 1e-12);
     // Nearer than the focal plane: crossed disparity (the left eye sees it further right).
     EXPECT_GT(ndcX(Eye::Left, nearer) - ndcX(Eye::Right, nearer), 0.01);
@@ -72,7 +73,8 @@ TEST(Stereo, ProjectionMatchesGlFrustum) {
 }
 
 TEST(Stereo, ModesParseAndPrintBack) {
-    for (const char* name : {"off", "quad", "anaglyph", "side-by-side"}) EXPECT_EQ(stereoModeName(*parseStereoMode(name)), name);
+    for (const char* name : {"off", "quad", "anaglyph", "side-by-side"})
+        EXPECT_EQ(stereoModeName(*parseStereoMode(name)), name);
     EXPECT_FALSE(parseStereoMode("toe-in"));
 }
 

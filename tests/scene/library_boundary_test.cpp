@@ -78,7 +78,8 @@ TEST(LibraryBoundary, DevicesThatCannotOpenAreErrorsSayingWhy) {
     test::ScratchDir dir;
     EXPECT_NO_THROW(expectError(haptics::parseDeviceName("phantom"), "unknown kind 'phantom'"));
     scene::DeviceSetup setup;
-    EXPECT_NO_THROW(expectError(scene::openDevice({haptics::DeviceKind::Replay, (dir / "path.csv").string()}, setup), "path.csv"));
+    EXPECT_NO_THROW(
+        expectError(scene::openDevice({haptics::DeviceKind::Replay, (dir / "path.csv").string()}, setup), "path.csv"));
     haptics::OpenHapticsOptions hd;
     hd.libraryNames = {"libHD-not-here.so"};
     hd.searchFolders = {(dir / "lib").string()};

@@ -30,8 +30,9 @@ TEST(SceneFile, TheCommentedExampleIsTheBuiltInDefault) {
 }
 
 TEST(SceneFile, RelativePathsResolveAgainstTheScenesFolder) {
-    const auto s = parseScene("[model]\nsource = \"organs/liver.stl\"\n[device]\nbackend = \"replay\"\ntrajectory = \"../t.csv\"\n", "x.toml",
-                              "/data/scenes");
+    const auto s = parseScene(
+        "[model]\nsource = \"organs/liver.stl\"\n[device]\nbackend = \"replay\"\ntrajectory = \"../t.csv\"\n", "x.toml",
+        "/data/scenes");
     ASSERT_TRUE(s.has_value()) << s.error().toString();
     EXPECT_EQ(s->model, "/data/scenes/organs/liver.stl");
     EXPECT_EQ(s->trajectory, "/data/t.csv");
@@ -41,16 +42,20 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     auto expectError = [](const std::string& text, int line, const std::string& fragment) {
         test::expectError(parseScene(text, "s.toml", "."), line, fragment);
     };
-    expectError("[modle]\n", 1, "modle: unknown key; allowed here: device, devices, material, model, rendering, simulation, tools");
-    expectError("[model]\ntriangle = 5\n", 2, "model.triangle: unknown key; allowed here: rotate_deg, scale, source, translate_m, triangles");
+    expectError("[modle]\n", 1,
+                "modle: unknown key; allowed here: device, devices, material, model, rendering, simulation, tools");
+    expectError("[model]\ntriangle = 5\n", 2,
+                "model.triangle: unknown key; allowed here: rotate_deg, scale, source, translate_m, triangles");
     expectError("[device]\nstiffness_N_per_m = \"hard\"\n", 2, "device.stiffness_N_per_m: expected a number");
     expectError("[simulation]\nrate_hz = 50\n", 2, "simulation.rate_hz: 50 is out of range; allowed: 100 to 10000");
-    expectError("[simulation]\nintegrator = \"verlet\"\n", 2, "'verlet' is not allowed; allowed: euler, midpoint, rk4, symplectic");
+    expectError("[simulation]\nintegrator = \"verlet\"\n", 2,
+                "'verlet' is not allowed; allowed: euler, midpoint, rk4, symplectic");
     expectError("[simulation]\nactive_region = 1\n", 2, "simulation.active_region: expected true or false");
     expectError("[model]\ntranslate_m = [1, 2]\n", 2, "model.translate_m: expected three numbers");
     expectError("[model]\ntranslate_m = [1, \"a\", 2]\n", 2, "expected three finite numbers");
     expectError("[device]\nbackend = \"replay\"\n", 1, "device.trajectory: the replay backend needs a trajectory file");
-    expectError("[device]\nstatic_friction = 0.2\ndynamic_friction = 0.5\n", 1, "must not exceed device.static_friction");
+    expectError("[device]\nstatic_friction = 0.2\ndynamic_friction = 0.5\n", 1,
+                "must not exceed device.static_friction");
     expectError("[[tools]]\nthreshold_N = 3\n", 1, "tools[0].name: every tool needs a name");
     expectError("[[tools]]\nname = \"knife\"\nsharpness = 3\n", 3, "tools[0].sharpness: unknown key");
     expectError("tools = 3\n", 1, "tools: expected a list");
@@ -87,9 +92,10 @@ TEST(SceneFile, EachDeviceHasItsOwnTableWithItsToolCouplingLimitsAndMapping) {
     EXPECT_FALSE(second.couplingDamping_Ns_per_m) << "not given: the loop's";
     EXPECT_EQ(second.maxForce_N, 2.0);
 
-    const auto mapped = parseScene("[[devices]]\ndevice = \"openhaptics:Left Touch\"\nworkspace = \"mapped\"\nworkspace_scale = 0.5\n"
-                                   "workspace_offset_m = [0, 0, 0.1]\nsdl_control = \"rate\"\n",
-                                   "s.toml", ".");
+    const auto mapped = parseScene(
+        "[[devices]]\ndevice = \"openhaptics:Left Touch\"\nworkspace = \"mapped\"\nworkspace_scale = 0.5\n"
+        "workspace_offset_m = [0, 0, 0.1]\nsdl_control = \"rate\"\n",
+        "s.toml", ".");
     ASSERT_TRUE(mapped.has_value()) << mapped.error().toString();
     EXPECT_EQ(mapped->devices[0].device.argument, "Left Touch");
     EXPECT_FALSE(mapped->devices[0].fitWorkspace);
@@ -104,10 +110,12 @@ TEST(SceneFile, DeviceTablesWithMistakesNameTheKeyAndLine) {
     };
     const std::string one = "[[devices]]\ndevice = \"virtual\"\n";
     expectError(one + one + one, 1, "devices: 3 devices; at most 2, one per hand");
-    expectError("[device]\nbackend = \"virtual\"\n" + one, 3, "either one [device] table or [[devices]] tables, not both");
+    expectError("[device]\nbackend = \"virtual\"\n" + one, 3,
+                "either one [device] table or [[devices]] tables, not both");
     expectError("[[devices]]\ntool = \"probe\"\n", 1, "devices[0].device: every device needs a name");
     expectError("[[devices]]\ndevice = \"phantom\"\n", 2, "devices[0].device: device 'phantom': unknown kind");
-    expectError(one + "tool = \"chisel\"\n", 3, "devices[0].tool: 'chisel' is not one of the scene's tools: probe, scalpel");
+    expectError(one + "tool = \"chisel\"\n", 3,
+                "devices[0].tool: 'chisel' is not one of the scene's tools: probe, scalpel");
     expectError(one + "workspace = \"stretched\"\n", 3, "'stretched' is not allowed; allowed: fit, mapped");
     expectError(one + "max_force_N = 80\n", 3, "devices[0].max_force_N: 80 is out of range");
     expectError(one + "colour = \"red\"\n", 3, "devices[0].colour: unknown key");

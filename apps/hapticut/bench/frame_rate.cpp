@@ -1,8 +1,8 @@
 // The frame-rate benchmark: a pressed heart, its loop at 1 kHz, frames drawn as fast as they go.
 #include "bench/frame_rate.h"
 
-#include <array>
 #include <epoxy/gl.h>
+#include <array>
 
 #include <chrono>
 #include <cmath>
@@ -44,8 +44,9 @@ struct PressedHeart {
 
 }  // namespace
 
-bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, std::vector<FrameRateResult>& results, std::string& renderer,
-                       std::string& error, const std::function<void(const FrameRateResult&)>& onResult) {
+bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, std::vector<FrameRateResult>& results,
+                       std::string& renderer, std::string& error,
+                       const std::function<void(const FrameRateResult&)>& onResult) {
     render::WindowOptions windowOptions;
     windowOptions.width = 64;
     windowOptions.height = 64;

@@ -18,7 +18,7 @@ struct FrameRateCase {
 
 struct FrameRateResult {
     FrameRateCase what;
-    int faces = 0;          // the heart's actual triangle count
+    int faces = 0;  // the heart's actual triangle count
     long frames = 0;
     double fps = 0;
     double hapticRate_hz = 0;  // the loop's steps per second while the frames were drawn
@@ -26,7 +26,8 @@ struct FrameRateResult {
 
 /// Each case for at least `seconds`; frames are finished (glFinish), so the rate is the GPU's too.
 /// Nothing, with `error`, when no GL context opens. `renderer` receives the GL renderer's name.
-bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, std::vector<FrameRateResult>& results, std::string& renderer,
-                       std::string& error, const std::function<void(const FrameRateResult&)>& onResult = {});
+bool measureFrameRates(const std::vector<FrameRateCase>& cases, double seconds, std::vector<FrameRateResult>& results,
+                       std::string& renderer, std::string& error,
+                       const std::function<void(const FrameRateResult&)>& onResult = {});
 
 }  // namespace hapticut::bench

@@ -7,7 +7,8 @@
 namespace hapticut::render {
 
 Vec3 OrbitCamera::forward() const {
-    return Vec3(-std::sin(yaw_rad) * std::cos(pitch_rad), -std::sin(pitch_rad), -std::cos(yaw_rad) * std::cos(pitch_rad));
+    return Vec3(-std::sin(yaw_rad) * std::cos(pitch_rad), -std::sin(pitch_rad),
+                -std::cos(yaw_rad) * std::cos(pitch_rad));
 }
 
 Vec3 OrbitCamera::right() const { return forward().cross(Vec3::UnitY()).normalized(); }

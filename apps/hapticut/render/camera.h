@@ -10,8 +10,8 @@ namespace hapticut::render {
 struct OrbitCamera {
     Vec3 target = Vec3::Zero();
     double distance_m = 0.35;
-    double yaw_rad = 0;     // about the world's y axis; 0 looks along -z (from +z)
-    double pitch_rad = 0.2; // up from the horizontal
+    double yaw_rad = 0;      // about the world's y axis; 0 looks along -z (from +z)
+    double pitch_rad = 0.2;  // up from the horizontal
     double fovY_rad = 0.7;
 
     Vec3 eye() const;

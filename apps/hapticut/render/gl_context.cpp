@@ -23,7 +23,9 @@ std::unique_ptr<GlWindow> GlWindow::open(const WindowOptions& options, std::stri
     if (openWindows == 0 && !glfwInit()) {
         error = "cannot open a window: " + lastGlfwError;
         if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY"))
-            error += " (no display here: run with a display, or under Xvfb: xvfb-run -a -s \"-screen 0 1920x1200x24\" hapticut ...)";
+            error +=
+                " (no display here: run with a display, or under Xvfb: xvfb-run -a -s \"-screen 0 1920x1200x24\" "
+                "hapticut ...)";
         return nullptr;
     }
     glfwDefaultWindowHints();

@@ -11,9 +11,9 @@ namespace hapticut::render {
 struct WindowOptions {
     int width = 1280, height = 1024;
     bool visible = true;
-    bool fullscreen = false;   // on the primary monitor, at its current mode
-    bool quadStereo = false;   // ask for a stereo (quad-buffer) framebuffer
-    int samples = 4;           // multisampling of the window's own framebuffer
+    bool fullscreen = false;  // on the primary monitor, at its current mode
+    bool quadStereo = false;  // ask for a stereo (quad-buffer) framebuffer
+    int samples = 4;          // multisampling of the window's own framebuffer
     std::string title = "Hapticut";
 };
 

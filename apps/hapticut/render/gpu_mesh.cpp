@@ -65,7 +65,8 @@ void GpuMesh::draw() const {
     glBindVertexArray(0);
 }
 
-void flattenWithCreases(const mesh::SurfaceMesh& m, double creaseAngle_rad, std::vector<float>& vertices, std::vector<std::uint32_t>& indices) {
+void flattenWithCreases(const mesh::SurfaceMesh& m, double creaseAngle_rad, std::vector<float>& vertices,
+                        std::vector<std::uint32_t>& indices) {
     const mesh::VertexFaces around = mesh::buildVertexFaces(m.faces, m.positions.size());
     std::vector<Vec3> faceNormal(m.faces.size());
     for (std::size_t f = 0; f < m.faces.size(); ++f) {

@@ -16,7 +16,8 @@ public:
     GpuMesh(const GpuMesh&) = delete;
     GpuMesh& operator=(const GpuMesh&) = delete;
 
-    /// Replaces the vertices (kFloatsPerVertex floats each) and, if given, the triangle indices. Buffers grow as needed.
+    /// Replaces the vertices (kFloatsPerVertex floats each) and, if given, the triangle indices. Buffers grow as
+    /// needed.
     void upload(std::span<const float> vertices, std::span<const std::uint32_t> indices);
     void uploadVertices(std::span<const float> vertices);
     void draw() const;
@@ -30,6 +31,7 @@ private:
 /// Flattens a static mesh (a tool, a marker) to the renderer's layout. Corners get the mean normal of
 /// the faces round their vertex that bend less than `creaseAngle_rad` from their own face, so round
 /// handles look round and the blade's edges stay sharp.
-void flattenWithCreases(const mesh::SurfaceMesh& mesh, double creaseAngle_rad, std::vector<float>& vertices, std::vector<std::uint32_t>& indices);
+void flattenWithCreases(const mesh::SurfaceMesh& mesh, double creaseAngle_rad, std::vector<float>& vertices,
+                        std::vector<std::uint32_t>& indices);
 
 }  // namespace hapticut::render

@@ -26,7 +26,8 @@ std::optional<Image> loadPng(const std::filesystem::path& file, std::string& err
     int w = 0, h = 0, channels = 0;
     stbi_uc* data = stbi_load(file.string().c_str(), &w, &h, &channels, 4);
     if (!data) {
-        error = file.string() + ": cannot read the image: " + (stbi_failure_reason() ? stbi_failure_reason() : "unknown reason");
+        error = file.string() +
+                ": cannot read the image: " + (stbi_failure_reason() ? stbi_failure_reason() : "unknown reason");
         return std::nullopt;
     }
     Image image(w, h);
@@ -38,7 +39,8 @@ std::optional<Image> loadPng(const std::filesystem::path& file, std::string& err
 void flipRows(Image& image) {
     const std::size_t row = static_cast<std::size_t>(image.width) * 4;
     for (int y = 0; y < image.height / 2; ++y)
-        std::swap_ranges(image.rgba.begin() + static_cast<std::ptrdiff_t>(y * row), image.rgba.begin() + static_cast<std::ptrdiff_t>((y + 1) * row),
+        std::swap_ranges(image.rgba.begin() + static_cast<std::ptrdiff_t>(y * row),
+                         image.rgba.begin() + static_cast<std::ptrdiff_t>((y + 1) * row),
                          image.rgba.begin() + static_cast<std::ptrdiff_t>((image.height - 1 - y) * row));
 }
 

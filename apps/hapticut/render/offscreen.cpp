@@ -12,8 +12,8 @@ std::unique_ptr<OffscreenTarget> OffscreenTarget::create(int width, int height, 
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
     glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
     if (width <= 0 || height <= 0 || width > maxSize || height > maxSize) {
-        error = "cannot render " + std::to_string(width) + "x" + std::to_string(height) + ": the driver allows 1 to " + std::to_string(maxSize) +
-                " pixels a side";
+        error = "cannot render " + std::to_string(width) + "x" + std::to_string(height) + ": the driver allows 1 to " +
+                std::to_string(maxSize) + " pixels a side";
         return nullptr;
     }
     auto t = std::unique_ptr<OffscreenTarget>(new OffscreenTarget);
@@ -41,7 +41,8 @@ std::unique_ptr<OffscreenTarget> OffscreenTarget::create(int width, int height, 
     const GLenum resolveStatus = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (drawStatus != GL_FRAMEBUFFER_COMPLETE || resolveStatus != GL_FRAMEBUFFER_COMPLETE) {
-        error = "the offscreen framebuffer is incomplete (status " + std::to_string(drawStatus) + ", " + std::to_string(resolveStatus) + ")";
+        error = "the offscreen framebuffer is incomplete (status " + std::to_string(drawStatus) + ", " +
+                std::to_string(resolveStatus) + ")";
         return nullptr;
     }
     return t;

@@ -7,7 +7,8 @@
 
 namespace hapticut::render {
 
-void OrganSurface::setTopology(std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs, std::size_t vertexCount) {
+void OrganSurface::setTopology(std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs,
+                               std::size_t vertexCount) {
     faces_.assign(faces.begin(), faces.end());
     source_.clear();
     uv_.clear();
@@ -20,7 +21,9 @@ void OrganSurface::setTopology(std::span<const mesh::Face> faces, std::span<cons
         bool operator==(const Key&) const = default;
     };
     struct Hash {
-        std::size_t operator()(const Key& k) const { return (std::size_t{k.vertex} * 0x9E3779B97F4A7C15ull) ^ (std::size_t{k.u} << 21) ^ k.v; }
+        std::size_t operator()(const Key& k) const {
+            return (std::size_t{k.vertex} * 0x9E3779B97F4A7C15ull) ^ (std::size_t{k.u} << 21) ^ k.v;
+        }
     };
     std::unordered_map<Key, std::uint32_t, Hash> index;
     index.reserve(faces.size() * 2);

@@ -27,7 +27,8 @@ GLuint uploadTexture2D(const Image& image) {
     GLuint id = 0;
     glGenTextures(1, &id);
     glBindTexture(GL_TEXTURE_2D, id);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                 image.rgba.data());
     glGenerateMipmap(GL_TEXTURE_2D);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -41,11 +42,12 @@ GLuint uploadCubeMap(const std::array<Image, 6>& faces) {
     glGenTextures(1, &id);
     glBindTexture(GL_TEXTURE_CUBE_MAP, id);
     for (int f = 0; f < 6; ++f)
-        glTexImage2D(static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f), 0, GL_RGBA8, faces[f].width, faces[f].height, 0, GL_RGBA,
-                     GL_UNSIGNED_BYTE, faces[f].rgba.data());
+        glTexImage2D(static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f), 0, GL_RGBA8, faces[f].width,
+                     faces[f].height, 0, GL_RGBA, GL_UNSIGNED_BYTE, faces[f].rgba.data());
     glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) glTexParameteri(GL_TEXTURE_CUBE_MAP, wrap, GL_CLAMP_TO_EDGE);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTexParameteri(GL_TEXTURE_CUBE_MAP, wrap, GL_CLAMP_TO_EDGE);
     return id;
 }
 
@@ -92,7 +94,8 @@ struct Renderer::Impl {
     std::vector<std::unique_ptr<GpuMesh>> tools;
     std::unique_ptr<GpuMesh> sphere, shaft, head;
 
-    Impl(ShaderProgram o, ShaderProgram m, ShaderProgram f) : organ(std::move(o)), metal(std::move(m)), flat(std::move(f)) {}
+    Impl(ShaderProgram o, ShaderProgram m, ShaderProgram f)
+        : organ(std::move(o)), metal(std::move(m)), flat(std::move(f)) {}
 
     void setLights(ShaderProgram& p) {
         p.set("uLightDirection[0]", Eigen::Vector3f(-0.45f, 0.6f, 0.65f));
@@ -116,7 +119,8 @@ struct Renderer::Impl {
         m.draw();
     }
 
-    void drawEye(const SceneFrame& frame, const ViewSettings& settings, Eye eye, int x, int y, int w, int h, bool monochrome) {
+    void drawEye(const SceneFrame& frame, const ViewSettings& settings, Eye eye, int x, int y, int w, int h,
+                 bool monochrome) {
         glViewport(x, y, w, h);
         const OrbitCamera& camera = settings.camera;
         Lens lens;
@@ -162,17 +166,21 @@ struct Renderer::Impl {
                 glBindTexture(GL_TEXTURE_CUBE_MAP, environment);
                 tools[static_cast<std::size_t>(hand.tool)]->draw();
             }
-            drawFlat(*sphere, placement(hand.proxy_m, Eigen::Quaterniond::Identity(), Vec3::Constant(r)), Eigen::Vector4f(1.0f, 0.85f, 0.2f, 1.0f));
+            drawFlat(*sphere, placement(hand.proxy_m, Eigen::Quaterniond::Identity(), Vec3::Constant(r)),
+                     Eigen::Vector4f(1.0f, 0.85f, 0.2f, 1.0f));
             // The force on the hand: an arrow from the proxy, green to red as it nears the device's maximum.
             const double magnitude = hand.force_N.norm();
             if (magnitude > 1e-3) {
                 const double length = magnitude * settings.forceArrowLength_m_per_N;
-                const Eigen::Quaterniond along = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), hand.force_N / magnitude);
+                const Eigen::Quaterniond along =
+                    Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), hand.force_N / magnitude);
                 const float t = static_cast<float>(std::clamp(magnitude / frame.maxForce_N, 0.0, 1.0));
                 const Eigen::Vector4f colour(0.2f + 0.8f * t, 0.9f - 0.7f * t, 0.2f, 1.0f);
                 const double headLength = std::min(length * 0.35, r * 4);
                 drawFlat(*shaft, placement(hand.proxy_m, along, Vec3(r * 0.45, r * 0.45, length - headLength)), colour);
-                drawFlat(*head, placement(hand.proxy_m + hand.force_N / magnitude * (length - headLength), along, Vec3(r * 1.3, r * 1.3, headLength)),
+                drawFlat(*head,
+                         placement(hand.proxy_m + hand.force_N / magnitude * (length - headLength), along,
+                                   Vec3(r * 1.3, r * 1.3, headLength)),
                          colour);
             }
         }
@@ -181,7 +189,9 @@ struct Renderer::Impl {
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
         for (int i = 0; i < handCount; ++i)
-            drawFlat(*sphere, placement(frame.hands[static_cast<std::size_t>(i)].device_m, Eigen::Quaterniond::Identity(), Vec3::Constant(r * 0.8)),
+            drawFlat(*sphere,
+                     placement(frame.hands[static_cast<std::size_t>(i)].device_m, Eigen::Quaterniond::Identity(),
+                               Vec3::Constant(r * 0.8)),
                      Eigen::Vector4f(0.3f, 0.8f, 1.0f, 0.55f));
         glDisable(GL_BLEND);
         glEnable(GL_DEPTH_TEST);
@@ -196,7 +206,8 @@ void ViewSettings::frameOrgan(std::span<const Vec3> positions, double zoom) {
     eyeSeparation_m = camera.distance_m / 30;
 }
 
-std::unique_ptr<Renderer> Renderer::create(std::span<const mesh::SurfaceMesh> tools, std::string& error, int textureSize) {
+std::unique_ptr<Renderer> Renderer::create(std::span<const mesh::SurfaceMesh> tools, std::string& error,
+                                           int textureSize) {
     const std::string header = std::string("#version 330 core\n") + shaders::kLightingCommon;
     auto organ = ShaderProgram::build("organ", shaders::kVertex, (header + shaders::kOrganFragment).c_str(), error);
     if (!organ) return nullptr;
@@ -272,7 +283,8 @@ void Renderer::draw(const SceneFrame& frame, const ViewSettings& view, int width
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);  // the inside of a wound must show
     glEnable(GL_MULTISAMPLE);
-    const bool anaglyph = view.stereo == StereoMode::Anaglyph || (view.stereo == StereoMode::QuadBuffer && !view.quadBufferAvailable);
+    const bool anaglyph =
+        view.stereo == StereoMode::Anaglyph || (view.stereo == StereoMode::QuadBuffer && !view.quadBufferAvailable);
     if (anaglyph)
         glClearColor(0.02f, 0.02f, 0.02f, 1.0f);
     else

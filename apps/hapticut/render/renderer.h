@@ -26,14 +26,14 @@ struct SceneFrame {
     long topologyVersion = 0;
     /// Each hand's tool: drawn at its proxy, with the device's marker and the force arrow.
     struct Hand {
-        int tool = 0;                      // index into the tools given to the renderer; -1: none
+        int tool = 0;  // index into the tools given to the renderer; -1: none
         Vec3 proxy_m = Vec3::Zero(), device_m = Vec3::Zero(), force_N = Vec3::Zero();
         bool contact = false;
     };
     std::array<Hand, 2> hands{};
     int handCount = 1;
-    bool showDevice = true;                // the tools, markers and force arrows
-    double maxForce_N = 3.3;               // the arrow turns red at this force
+    bool showDevice = true;   // the tools, markers and force arrows
+    double maxForce_N = 3.3;  // the arrow turns red at this force
 };
 
 struct ViewSettings {
@@ -42,8 +42,8 @@ struct ViewSettings {
     double eyeSeparation_m = 0.012, focalLength_m = 0.35;
     bool wireframe = false;
     bool normalMapping = true;
-    bool woundWalls = true;                // walls hang from the lips of opened cuts into the organ
-    bool quadBufferAvailable = false;      // the bound framebuffer has left and right back buffers
+    bool woundWalls = true;            // walls hang from the lips of opened cuts into the organ
+    bool quadBufferAvailable = false;  // the bound framebuffer has left and right back buffers
     double forceArrowLength_m_per_N = 0.01;
 
     /// Looks at the whole organ from the current direction (`zoom` times closer), with the stereo focal
@@ -55,7 +55,8 @@ class Renderer {
 public:
     /// Compiles the shaders and uploads the generated textures; nothing (with `error`) when the GL
     /// context lacks what is needed. `tools` are drawn with their tip at the proxy.
-    static std::unique_ptr<Renderer> create(std::span<const mesh::SurfaceMesh> tools, std::string& error, int textureSize = 512);
+    static std::unique_ptr<Renderer> create(std::span<const mesh::SurfaceMesh> tools, std::string& error,
+                                            int textureSize = 512);
     ~Renderer();
 
     /// Draws into the bound framebuffer's (0, 0, width, height).

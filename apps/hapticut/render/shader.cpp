@@ -14,7 +14,8 @@ std::string infoLog(GLuint object, bool program) {
     GLint length = 0;
     program ? glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length) : glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
     std::vector<char> log(static_cast<std::size_t>(std::max(length, 1)));
-    program ? glGetProgramInfoLog(object, length, nullptr, log.data()) : glGetShaderInfoLog(object, length, nullptr, log.data());
+    program ? glGetProgramInfoLog(object, length, nullptr, log.data())
+            : glGetShaderInfoLog(object, length, nullptr, log.data());
     return std::string(log.data());
 }
 
@@ -25,7 +26,8 @@ GLuint compile(GLenum stage, const char* source, std::string_view name, std::str
     GLint ok = GL_FALSE;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
     if (ok != GL_TRUE) {
-        error = std::string(name) + (stage == GL_VERTEX_SHADER ? " vertex" : " fragment") + " shader does not compile: " + infoLog(shader, false);
+        error = std::string(name) + (stage == GL_VERTEX_SHADER ? " vertex" : " fragment") +
+                " shader does not compile: " + infoLog(shader, false);
         glDeleteShader(shader);
         return 0;
     }
@@ -34,7 +36,8 @@ GLuint compile(GLenum stage, const char* source, std::string_view name, std::str
 
 }  // namespace
 
-std::optional<ShaderProgram> ShaderProgram::build(std::string_view name, const char* vertexSource, const char* fragmentSource, std::string& error) {
+std::optional<ShaderProgram> ShaderProgram::build(std::string_view name, const char* vertexSource,
+                                                  const char* fragmentSource, std::string& error) {
     const GLuint vs = compile(GL_VERTEX_SHADER, vertexSource, name, error);
     if (!vs) return std::nullopt;
     const GLuint fs = compile(GL_FRAGMENT_SHADER, fragmentSource, name, error);
@@ -58,7 +61,8 @@ std::optional<ShaderProgram> ShaderProgram::build(std::string_view name, const c
     return p;
 }
 
-ShaderProgram::ShaderProgram(ShaderProgram&& other) noexcept : id_(std::exchange(other.id_, 0)), locations_(std::move(other.locations_)) {}
+ShaderProgram::ShaderProgram(ShaderProgram&& other) noexcept
+    : id_(std::exchange(other.id_, 0)), locations_(std::move(other.locations_)) {}
 
 ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
     std::swap(id_, other.id_);
@@ -78,7 +82,9 @@ int ShaderProgram::location(const char* uniform) {
     return it->second;
 }
 
-void ShaderProgram::set(const char* uniform, const Eigen::Matrix4f& m) { glUniformMatrix4fv(location(uniform), 1, GL_FALSE, m.data()); }
+void ShaderProgram::set(const char* uniform, const Eigen::Matrix4f& m) {
+    glUniformMatrix4fv(location(uniform), 1, GL_FALSE, m.data());
+}
 void ShaderProgram::set(const char* uniform, const Eigen::Vector3f& v) { glUniform3fv(location(uniform), 1, v.data()); }
 void ShaderProgram::set(const char* uniform, const Eigen::Vector4f& v) { glUniform4fv(location(uniform), 1, v.data()); }
 void ShaderProgram::set(const char* uniform, float value) { glUniform1f(location(uniform), value); }

@@ -13,7 +13,8 @@ namespace hapticut::render {
 class ShaderProgram {
 public:
     /// Compiles and links; on failure nothing, with `error` naming the program, the stage and the log.
-    static std::optional<ShaderProgram> build(std::string_view name, const char* vertexSource, const char* fragmentSource, std::string& error);
+    static std::optional<ShaderProgram> build(std::string_view name, const char* vertexSource,
+                                              const char* fragmentSource, std::string& error);
     ShaderProgram(ShaderProgram&& other) noexcept;
     ShaderProgram& operator=(ShaderProgram&& other) noexcept;
     ~ShaderProgram();

@@ -13,7 +13,8 @@ namespace {
 double lattice(int x, int y, int periodX, int periodY, std::uint32_t seed) {
     x = ((x % periodX) + periodX) % periodX;
     y = ((y % periodY) + periodY) % periodY;
-    std::uint32_t h = static_cast<std::uint32_t>(x) * 374761393u + static_cast<std::uint32_t>(y) * 668265263u + seed * 2246822519u;
+    std::uint32_t h =
+        static_cast<std::uint32_t>(x) * 374761393u + static_cast<std::uint32_t>(y) * 668265263u + seed * 2246822519u;
     h = (h ^ (h >> 13)) * 1274126177u;
     h ^= h >> 16;
     return (h & 0xffffff) / double(0xffffff);
@@ -64,7 +65,8 @@ double tiledNoise(double u, double v, int cellsU, int cellsV, int octaves, std::
 
 OrganTextures makeOrganTextures(int size, std::uint32_t seed) {
     OrganTextures t{Image(size, size), Image(size, size)};
-    const Vec3 muscleDark(0.42, 0.04, 0.05), muscleLight(0.78, 0.13, 0.12), vein(0.30, 0.04, 0.16), fat(0.86, 0.70, 0.42);
+    const Vec3 muscleDark(0.42, 0.04, 0.05), muscleLight(0.78, 0.13, 0.12), vein(0.30, 0.04, 0.16),
+        fat(0.86, 0.70, 0.42);
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
             const double u = (x + 0.5) / size, v = (y + 0.5) / size;
@@ -111,9 +113,11 @@ std::array<Image, 6> makeStudioEnvironment(int size) {
         for (int y = 0; y < size; ++y)
             for (int x = 0; x < size; ++x) {
                 const Vec3 d = direction(f, 2 * (x + 0.5) / size - 1, 2 * (y + 0.5) / size - 1).normalized();
-                Vec3 c = d.y() < 0 ? horizon + (floor - horizon) * smoothstep(0.0, 0.3, -d.y()) : horizon + (sky - horizon) * smoothstep(0.0, 0.6, d.y());
+                Vec3 c = d.y() < 0 ? horizon + (floor - horizon) * smoothstep(0.0, 0.3, -d.y())
+                                   : horizon + (sky - horizon) * smoothstep(0.0, 0.6, d.y());
                 // Two soft light boxes: the bright streaks that make metal read as metal.
-                c += Vec3(1.6, 1.6, 1.5) * smoothstep(0.93, 0.97, d.dot(box1)) + Vec3(0.9, 0.95, 1.1) * smoothstep(0.95, 0.985, d.dot(box2));
+                c += Vec3(1.6, 1.6, 1.5) * smoothstep(0.93, 0.97, d.dot(box1)) +
+                     Vec3(0.9, 0.95, 1.1) * smoothstep(0.95, 0.985, d.dot(box2));
                 put(faces[f], x, y, c);
             }
     }

@@ -22,11 +22,16 @@ void ForcePlot::draw(double maxForce_N, float width, float height) const {
     const float zeroY = origin.y + height / 2;
     draw->AddLine(ImVec2(origin.x, zeroY), ImVec2(corner.x, zeroY), IM_COL32(70, 70, 80, 255));
     if (count_ >= 2) {
-        const auto at = [&](std::size_t i) -> const Sample& { return samples_[(next_ + kSamples - count_ + i) % kSamples]; };
+        const auto at = [&](std::size_t i) -> const Sample& {
+            return samples_[(next_ + kSamples - count_ + i) % kSamples];
+        };
         const double t0 = at(0).t_s, t1 = std::max(at(count_ - 1).t_s, t0 + 1e-6);
         const auto x = [&](double t) { return origin.x + static_cast<float>((t - t0) / (t1 - t0)) * width; };
-        const auto y = [&](double f) { return zeroY - static_cast<float>(std::clamp(f / maxForce_N, -1.0, 1.0)) * (height / 2 - 2); };
-        const ImU32 colours[4] = {IM_COL32(235, 90, 80, 255), IM_COL32(110, 210, 110, 255), IM_COL32(100, 150, 255, 255), IM_COL32(240, 240, 240, 255)};
+        const auto y = [&](double f) {
+            return zeroY - static_cast<float>(std::clamp(f / maxForce_N, -1.0, 1.0)) * (height / 2 - 2);
+        };
+        const ImU32 colours[4] = {IM_COL32(235, 90, 80, 255), IM_COL32(110, 210, 110, 255),
+                                  IM_COL32(100, 150, 255, 255), IM_COL32(240, 240, 240, 255)};
         for (int c = 0; c < 4; ++c)
             for (std::size_t i = 1; i < count_; ++i) {
                 const Sample &a = at(i - 1), &b = at(i);

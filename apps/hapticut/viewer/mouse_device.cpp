@@ -9,21 +9,24 @@
 
 namespace hapticut::viewer {
 
-std::optional<Vec3> pickSurface(const render::Ray& ray, std::span<const Vec3> positions, std::span<const mesh::Face> faces) {
+std::optional<Vec3> pickSurface(const render::Ray& ray, std::span<const Vec3> positions,
+                                std::span<const mesh::Face> faces) {
     // Brute force: runs once per frame when the cursor moves, far from the haptic loop.
     const double reach_m = 100;
     const Vec3 to = ray.origin + ray.direction * reach_m;
     double nearest = std::numeric_limits<double>::infinity();
     for (const mesh::Face& f : faces) {
         if (f[0] >= positions.size() || f[1] >= positions.size() || f[2] >= positions.size()) continue;
-        if (const auto hit = geometry::intersectSegmentTriangle(ray.origin, to, positions[f[0]], positions[f[1]], positions[f[2]]))
+        if (const auto hit =
+                geometry::intersectSegmentTriangle(ray.origin, to, positions[f[0]], positions[f[1]], positions[f[2]]))
             nearest = std::min(nearest, hit->t);
     }
     if (!std::isfinite(nearest)) return std::nullopt;
     return ray.origin + ray.direction * (nearest * reach_m);
 }
 
-Vec3 MouseDriver::hover(const render::OrbitCamera& camera, const render::Ray& ray, const std::optional<Vec3>& hit) const {
+Vec3 MouseDriver::hover(const render::OrbitCamera& camera, const render::Ray& ray,
+                        const std::optional<Vec3>& hit) const {
     if (hit) return *hit - camera.forward() * kHoverStandoff_m;
     return render::onPlaneFacingCamera(camera, ray, camera.target);
 }
@@ -34,7 +37,9 @@ void MouseDriver::engage(const render::OrbitCamera& camera, const render::Ray& r
     anchor_m_ = hit ? *hit : render::onPlaneFacingCamera(camera, ray, camera.target);
 }
 
-void MouseDriver::push(double clicks) { push_m_ = std::clamp(push_m_ + clicks * kPushPerClick_m, -kMaxPush_m, kMaxPush_m); }
+void MouseDriver::push(double clicks) {
+    push_m_ = std::clamp(push_m_ + clicks * kPushPerClick_m, -kMaxPush_m, kMaxPush_m);
+}
 
 Vec3 MouseDriver::drag(const render::OrbitCamera& camera, const render::Ray& ray) const {
     return render::onPlaneFacingCamera(camera, ray, anchor_m_) + camera.forward() * push_m_;

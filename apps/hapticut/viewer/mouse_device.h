@@ -12,7 +12,8 @@
 namespace hapticut::viewer {
 
 /// The nearest point where the ray meets the surface, if it does.
-std::optional<Vec3> pickSurface(const render::Ray& ray, std::span<const Vec3> positions, std::span<const mesh::Face> faces);
+std::optional<Vec3> pickSurface(const render::Ray& ray, std::span<const Vec3> positions,
+                                std::span<const mesh::Face> faces);
 
 class MouseDriver {
 public:

@@ -4,9 +4,9 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "hapticut/common/text_file.h"
 #include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/haptics/step_log.h"
-#include "hapticut/common/text_file.h"
 
 namespace hapticut::viewer {
 
@@ -31,7 +31,8 @@ const std::vector<KeyHelp> kKeyHelp = {
 };
 
 void drawHelp() {
-    ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x * 0.5f, ImGui::GetIO().DisplaySize.y * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x * 0.5f, ImGui::GetIO().DisplaySize.y * 0.5f),
+                            ImGuiCond_Always, ImVec2(0.5f, 0.5f));
     ImGui::SetNextWindowBgAlpha(0.85f);
     ImGui::Begin("Keys", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
     if (ImGui::BeginTable("keys", 2)) {
@@ -57,12 +58,14 @@ void section(const char* title) {
 
 void materialSlider(scene::Simulation& session, const char* label, scene::MaterialKnob knob) {
     float scale = static_cast<float>(session.materialScale(knob));
-    if (ImGui::SliderFloat(label, &scale, 0.1f, 10.0f, "x %.2f", ImGuiSliderFlags_Logarithmic)) session.setMaterialScale(knob, scale);
+    if (ImGui::SliderFloat(label, &scale, 0.1f, 10.0f, "x %.2f", ImGuiSliderFlags_Logarithmic))
+        session.setMaterialScale(knob, scale);
 }
 
 void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const Rates& rates) {
     ImGui::Text("render %.0f fps   haptic %.0f Hz", rates.renderFps, rates.hapticRate_hz);
-    ImGui::Text("step %.1f us (max %.1f us)   %d substep%s", s.stepTime_us, s.maxStepTime_us, s.substeps, s.substeps == 1 ? "" : "s");
+    ImGui::Text("step %.1f us (max %.1f us)   %d substep%s", s.stepTime_us, s.maxStepTime_us, s.substeps,
+                s.substeps == 1 ? "" : "s");
     ImGui::Text("stable step %.2f ms   overruns %ld   cut events %ld", s.stableStep_s * 1e3, s.overruns, s.cutEvents);
     if (s.watchdogTripped) {
         ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "watchdog tripped: force is zero");
@@ -86,7 +89,8 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
 
 }  // namespace
 
-void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& s, const Rates& rates, const ForcePlot& plot, PanelState& state) {
+void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& s, const Rates& rates,
+               const ForcePlot& plot, PanelState& state) {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin("Hapticut");
@@ -95,8 +99,9 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
     section("Force");
     for (int h = 0; h < s.handCount; ++h) {
         const haptics::HandStep& hand = s.hands[static_cast<std::size_t>(h)];
-        ImGui::Text("%s|F| %.2f N  (%.2f, %.2f, %.2f)  %s", s.handCount > 1 ? (h == 0 ? "right  " : "left   ") : "", hand.force_N.norm(),
-                    hand.force_N.x(), hand.force_N.y(), hand.force_N.z(), hand.contact ? "contact" : "free");
+        ImGui::Text("%s|F| %.2f N  (%.2f, %.2f, %.2f)  %s", s.handCount > 1 ? (h == 0 ? "right  " : "left   ") : "",
+                    hand.force_N.norm(), hand.force_N.x(), hand.force_N.y(), hand.force_N.z(),
+                    hand.contact ? "contact" : "free");
     }
     plot.draw(session.scene().settings.maxForce_N, ImGui::GetContentRegionAvail().x, 110);
 
@@ -114,7 +119,8 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
         session.setActiveHand(active);
     }
 
-    section(session.handCount() == 2 ? (session.activeHand() == 0 ? "Tool in the right hand" : "Tool in the left hand") : "Tool");
+    section(session.handCount() == 2 ? (session.activeHand() == 0 ? "Tool in the right hand" : "Tool in the left hand")
+                                     : "Tool");
     const auto& tools = session.scene().tools;
     for (std::size_t i = 0; i < tools.size(); ++i) {
         if (i) ImGui::SameLine();
@@ -122,13 +128,15 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
     }
     haptics::LoopConfig& c = session.config();
     float threshold = static_cast<float>(std::min(session.cutThreshold(), 100.0));
-    if (ImGui::SliderFloat("cut threshold", &threshold, 0.2f, 100.0f, threshold >= 100 ? "never cuts" : "%.2f N", ImGuiSliderFlags_Logarithmic))
+    if (ImGui::SliderFloat("cut threshold", &threshold, 0.2f, 100.0f, threshold >= 100 ? "never cuts" : "%.2f N",
+                           ImGuiSliderFlags_Logarithmic))
         session.setCutThreshold(threshold >= 100 ? 1e9 : threshold);
 
     section("Device");
     if (session.replaying()) ImGui::Text("replaying %s", session.replayFile().c_str());
     if (const auto* hd = dynamic_cast<const haptics::OpenHapticsDevice*>(session.hardwareDevice())) {
-        ImGui::Text("%s (%s), servo %.0f Hz, max %.1f N", hd->model().c_str(), hd->serial().c_str(), hd->servoRate_hz(), hd->maxForce_N());
+        ImGui::Text("%s (%s), servo %.0f Hz, max %.1f N", hd->model().c_str(), hd->serial().c_str(), hd->servoRate_hz(),
+                    hd->maxForce_N());
         if (hd->faulted()) ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "device fault: %s", hd->faultMessage().c_str());
     }
     float k = static_cast<float>(c.couplingStiffness_N_per_m);
@@ -136,7 +144,8 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
         c.couplingStiffness_N_per_m = k;
         session.loop().commands().push({haptics::LoopCommand::Kind::SetCouplingStiffness, k});
     }
-    if (ImGui::IsItemDeactivatedAfterEdit()) session.restartLoop();  // a stiffer coupling needs the stable step prepared for it
+    if (ImGui::IsItemDeactivatedAfterEdit())
+        session.restartLoop();  // a stiffer coupling needs the stable step prepared for it
     float b = static_cast<float>(c.couplingDamping_Ns_per_m);
     if (ImGui::SliderFloat("damping b_h", &b, 0.0f, 3.0f, "%.2f Ns/m")) {
         c.couplingDamping_Ns_per_m = b;
@@ -160,9 +169,12 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
     int stereo = static_cast<int>(view.stereo);
     const char* modes[] = {"off", "quad buffer", "anaglyph", "side by side"};
     if (ImGui::Combo("stereo (s)", &stereo, modes, 4)) view.stereo = static_cast<render::StereoMode>(stereo);
-    float separation = static_cast<float>(view.eyeSeparation_m * 1e3), focal = static_cast<float>(view.focalLength_m * 1e3);
-    if (ImGui::SliderFloat("eye separation", &separation, 0.0f, 60.0f, "%.1f mm")) view.eyeSeparation_m = separation * 1e-3;
-    if (ImGui::SliderFloat("focal length", &focal, 20.0f, 2000.0f, "%.0f mm", ImGuiSliderFlags_Logarithmic)) view.focalLength_m = focal * 1e-3;
+    float separation = static_cast<float>(view.eyeSeparation_m * 1e3),
+          focal = static_cast<float>(view.focalLength_m * 1e3);
+    if (ImGui::SliderFloat("eye separation", &separation, 0.0f, 60.0f, "%.1f mm"))
+        view.eyeSeparation_m = separation * 1e-3;
+    if (ImGui::SliderFloat("focal length", &focal, 20.0f, 2000.0f, "%.0f mm", ImGuiSliderFlags_Logarithmic))
+        view.focalLength_m = focal * 1e-3;
 
     section("Files");
     ImGui::InputText("##model", &state.modelPath);
@@ -191,8 +203,10 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
         state.message = "recording the device path";
     } else if (state.recording && ImGui::Button("stop")) {
         state.recording = false;
-        const auto error = writeTextFileAtomically(state.recordPath, haptics::formatStepLog(state.recorded, haptics::StepLogColumns::Recording));
-        state.message = error ? error->toString() : "wrote " + std::to_string(state.recorded.size()) + " samples to " + state.recordPath;
+        const auto error = writeTextFileAtomically(
+            state.recordPath, haptics::formatStepLog(state.recorded, haptics::StepLogColumns::Recording));
+        state.message = error ? error->toString()
+                              : "wrote " + std::to_string(state.recorded.size()) + " samples to " + state.recordPath;
     }
     ImGui::InputText("##replay", &state.replayPath);
     ImGui::SameLine();

@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/scene/simulation.h"
 #include "render/renderer.h"
 #include "viewer/force_plot.h"
-#include "hapticut/scene/simulation.h"
 
 namespace hapticut::viewer {
 
@@ -21,12 +21,12 @@ struct PanelState {
     std::string modelPath, toolPath, exportPath = "heart-cut.obj", replayPath, recordPath = "recording.csv";
     std::string message;
     bool recording = false;
-    float maxForceScale = 1;  // of the device's maximum force
+    float maxForceScale = 1;                    // of the device's maximum force
     std::vector<haptics::StepOutput> recorded;  // the device path at the display rate, while recording
 };
 
-void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& snapshot, const Rates& rates, const ForcePlot& plot,
-               PanelState& state);
+void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& snapshot,
+               const Rates& rates, const ForcePlot& plot, PanelState& state);
 
 struct KeyHelp {
     const char* key;

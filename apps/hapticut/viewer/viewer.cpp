@@ -16,9 +16,11 @@
 #include <nlohmann/json.hpp>
 
 #include "hapticut/common/stop_signal.h"
+#include "hapticut/common/text_file.h"
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/haptics/openhaptics_device.h"
-#include "hapticut/common/text_file.h"
+#include "hapticut/scene/open_device.h"
+#include "hapticut/scene/simulation.h"
 #include "render/gl_context.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
@@ -26,8 +28,6 @@
 #include "viewer/force_plot.h"
 #include "viewer/mouse_device.h"
 #include "viewer/panel.h"
-#include "hapticut/scene/open_device.h"
-#include "hapticut/scene/simulation.h"
 
 namespace hapticut::viewer {
 
@@ -37,7 +37,8 @@ using Clock = std::chrono::steady_clock;
 
 class Viewer {
 public:
-    Viewer(const ViewerOptions& options, std::unique_ptr<render::GlWindow> window, std::unique_ptr<render::Renderer> renderer, scene::Scene scene)
+    Viewer(const ViewerOptions& options, std::unique_ptr<render::GlWindow> window,
+           std::unique_ptr<render::Renderer> renderer, scene::Scene scene)
         : options_(options), window_(std::move(window)), renderer_(std::move(renderer)), session_(std::move(scene)) {
         view_.stereo = options.stereo;
         view_.quadBufferAvailable = window_->hasQuadStereo();
@@ -79,7 +80,8 @@ void Viewer::frameOrgan() {
     framedModel_ = session_.scene().source.name;
     const auto& positions = session_.scene().source.mesh.positions;
     view_.frameOrgan(positions);
-    view_.forceArrowLength_m_per_N = 0.1 * geometry::boundsOf(positions).extent().norm() / std::max(session_.scene().settings.maxForce_N, 0.1);
+    view_.forceArrowLength_m_per_N =
+        0.1 * geometry::boundsOf(positions).extent().norm() / std::max(session_.scene().settings.maxForce_N, 0.1);
 }
 
 render::Ray Viewer::cursorRay() const {
@@ -110,12 +112,14 @@ void Viewer::onKey(int key, int mods) {
         case GLFW_KEY_W: view_.wireframe = !view_.wireframe; break;
         case GLFW_KEY_B: view_.normalMapping = !view_.normalMapping; break;
         case GLFW_KEY_S:
-            view_.stereo = view_.stereo == StereoMode::Off        ? StereoMode::Anaglyph
-                           : view_.stereo == StereoMode::Anaglyph ? StereoMode::SideBySide
+            view_.stereo = view_.stereo == StereoMode::Off          ? StereoMode::Anaglyph
+                           : view_.stereo == StereoMode::Anaglyph   ? StereoMode::SideBySide
                            : view_.stereo == StereoMode::SideBySide ? StereoMode::QuadBuffer
                                                                     : StereoMode::Off;
             if (view_.stereo == StereoMode::QuadBuffer && !view_.quadBufferAvailable)
-                panel_.message = "no quad-buffer stereo on this display: showing anaglyph (start with --stereo quad on a stereo-capable GPU)";
+                panel_.message =
+                    "no quad-buffer stereo on this display: showing anaglyph (start with --stereo quad on a "
+                    "stereo-capable GPU)";
             break;
         case GLFW_KEY_4: view_.eyeSeparation_m = std::max(0.0, view_.eyeSeparation_m * 0.9); break;
         case GLFW_KEY_5: view_.eyeSeparation_m = std::max(1e-4, view_.eyeSeparation_m * 1.1); break;
@@ -127,7 +131,8 @@ void Viewer::onKey(int key, int mods) {
             break;
         case GLFW_KEY_SPACE:
             paused_ = !paused_;
-            session_.loop().commands().push({paused_ ? haptics::LoopCommand::Kind::Pause : haptics::LoopCommand::Kind::Resume, 0});
+            session_.loop().commands().push(
+                {paused_ ? haptics::LoopCommand::Kind::Pause : haptics::LoopCommand::Kind::Resume, 0});
             break;
         case GLFW_KEY_F: frameOrgan(); break;
         case GLFW_KEY_H: showHelp_ = !showHelp_; break;
@@ -266,17 +271,23 @@ int Viewer::run() {
     auto rateClock = start;
     long rateFrames = 0, rateStep = session_.loop().snapshots().readLatest().step;
     Rates rates;
-    const auto timeIsUp = [&] { return options_.quitAfter_s >= 0 && std::chrono::duration<double>(Clock::now() - start).count() >= options_.quitAfter_s; };
+    const auto timeIsUp = [&] {
+        return options_.quitAfter_s >= 0 &&
+               std::chrono::duration<double>(Clock::now() - start).count() >= options_.quitAfter_s;
+    };
     // Ctrl-C or SIGTERM closes the window like q: the loop stops and every device is left at zero force.
     const StopSignal stopSignal;
-    while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames) && !timeIsUp() && !StopSignal::requested()) {
+    while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames) && !timeIsUp() &&
+           !StopSignal::requested()) {
         glfwPollEvents();
         if (session_.scene().source.name != framedModel_) frameOrgan();  // a model loaded from the panel
-        while (renderer_->toolCount() < session_.scene().tools.size()) renderer_->addTool(session_.scene().tools[renderer_->toolCount()].mesh);
+        while (renderer_->toolCount() < session_.scene().tools.size())
+            renderer_->addTool(session_.scene().tools[renderer_->toolCount()].mesh);
         const haptics::Snapshot& s = session_.loop().snapshots().readLatest();
         updateDevice(s);
         const double t_s = std::chrono::duration<double>(Clock::now() - start).count();
-        const haptics::HandStep& hand = s.hands[static_cast<std::size_t>(std::min(session_.activeHand(), s.handCount - 1))];
+        const haptics::HandStep& hand =
+            s.hands[static_cast<std::size_t>(std::min(session_.activeHand(), s.handCount - 1))];
         plot_.add(t_s, hand.force_N);
         if (panel_.recording) {
             haptics::StepOutput sample;
@@ -305,7 +316,8 @@ int Viewer::run() {
             ImGui::SetNextWindowPos(ImVec2(10, 10));
             ImGui::SetNextWindowBgAlpha(0.5f);
             ImGui::Begin("##rates", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize);
-            ImGui::Text("%.0f fps  %.0f Hz  |F| %.2f N   h: keys", rates.renderFps, rates.hapticRate_hz, hand.force_N.norm());
+            ImGui::Text("%.0f fps  %.0f Hz  |F| %.2f N   h: keys", rates.renderFps, rates.hapticRate_hz,
+                        hand.force_N.norm());
             ImGui::End();
         }
         ImGui::Render();
@@ -335,8 +347,9 @@ int Viewer::run() {
     const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     const haptics::Snapshot& last = session_.loop().snapshots().readLatest();
     const double fps = static_cast<double>(frames) / std::max(wall_s, 1e-9);
-    std::cout << "rendered " << frames << " frames in " << wall_s << " s: " << fps << " fps (" << window_->rendererDescription() << "); haptic loop "
-              << last.step << " steps, " << last.overruns << " overruns\n";
+    std::cout << "rendered " << frames << " frames in " << wall_s << " s: " << fps << " fps ("
+              << window_->rendererDescription() << "); haptic loop " << last.step << " steps, " << last.overruns
+              << " overruns\n";
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();

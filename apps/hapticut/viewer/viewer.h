@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "render/stereo.h"
 #include "hapticut/scene/scene.h"
+#include "render/stereo.h"
 
 namespace hapticut::viewer {
 
@@ -14,16 +14,17 @@ struct ViewerOptions {
     render::StereoMode stereo = render::StereoMode::Off;
     bool fullscreen = false;
     int width = 1280, height = 1024;
-    long frames = -1;            // quit after this many frames (scripted runs, benchmarks); negative: until closed
-    double quitAfter_s = -1;     // quit after this long on the wall clock; negative: until closed
-    std::string screenshot;      // with frames: the last frame, panel and all, as a PNG
-    std::string trajectory;      // replay this device path instead of following the mouse
+    long frames = -1;         // quit after this many frames (scripted runs, benchmarks); negative: until closed
+    double quitAfter_s = -1;  // quit after this long on the wall clock; negative: until closed
+    std::string screenshot;   // with frames: the last frame, panel and all, as a PNG
+    std::string trajectory;   // replay this device path instead of following the mouse
     std::string tool = "probe";
-    std::vector<std::string> devices{"virtual"};  // one per hand: virtual (the mouse), replay:FILE, openhaptics[:NAME], sdl[:INDEX]
-    bool devicesGiven = false;    // --device was given: it replaces the scene's [[devices]]
-    int hands = 1;                // two: a second hand (Tab switches the one the mouse drives)
-    bool fitWorkspace = true;     // fit each hardware device's reach to the organ
-    std::string report;          // JSON: frames, frame rate, haptic rate, renderer
+    std::vector<std::string> devices{
+        "virtual"};             // one per hand: virtual (the mouse), replay:FILE, openhaptics[:NAME], sdl[:INDEX]
+    bool devicesGiven = false;  // --device was given: it replaces the scene's [[devices]]
+    int hands = 1;              // two: a second hand (Tab switches the one the mouse drives)
+    bool fitWorkspace = true;   // fit each hardware device's reach to the organ
+    std::string report;         // JSON: frames, frame rate, haptic rate, renderer
     bool wireframe = false;
     bool hidePanel = false;
 };

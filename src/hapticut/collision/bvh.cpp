@@ -89,7 +89,8 @@ void Bvh::build(const SurfaceView& s) {
     addedFaces_ = 0;
 }
 
-std::uint32_t Bvh::buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count, std::vector<Vec3>& centroids, int depth) {
+std::uint32_t Bvh::buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count,
+                             std::vector<Vec3>& centroids, int depth) {
     const auto index = static_cast<std::uint32_t>(nodes_.size());
     nodes_.push_back({});
     geometry::Aabb box, centres;
@@ -111,7 +112,8 @@ std::uint32_t Bvh::buildNode(const SurfaceView& s, std::uint32_t start, std::uin
     const int axis = extent.x() > extent.y() ? (extent.x() > extent.z() ? 0 : 2) : (extent.y() > extent.z() ? 1 : 2);
     const std::uint32_t half = count / 2;
     auto first = faceOrder_.begin() + start;
-    std::nth_element(first, first + half, first + count, [&](std::uint32_t a, std::uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    std::nth_element(first, first + half, first + count,
+                     [&](std::uint32_t a, std::uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
     const std::uint32_t left = buildNode(s, start, half, centroids, depth + 1);
     const std::uint32_t right = buildNode(s, start + half, count - half, centroids, depth + 1);
     nodes_[index].right = right;
@@ -139,7 +141,8 @@ void Bvh::refit(const SurfaceView& s) {
 void Bvh::growToContain(std::uint32_t node, const geometry::Aabb& box) {
     for (; node != kNone; node = nodes_[node].parent) {
         geometry::Aabb& b = nodes_[node].box;
-        if ((b.min.array() <= box.min.array()).all() && (b.max.array() >= box.max.array()).all()) return;  // so are its ancestors
+        if ((b.min.array() <= box.min.array()).all() && (b.max.array() >= box.max.array()).all())
+            return;  // so are its ancestors
         b.grow(box.min);
         b.grow(box.max);
     }
@@ -187,7 +190,8 @@ std::optional<SurfacePoint> Bvh::closestPoint(const SurfaceView& s, const Vec3& 
     double bestD2 = max_distance * max_distance;
     auto consider = [&](std::uint32_t f) {
         const mesh::Face& face = s.faces[f];
-        const auto c = geometry::closestPointOnTriangle(p, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+        const auto c =
+            geometry::closestPointOnTriangle(p, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
         const double d2 = (c.point - p).squaredNorm();
         if (d2 < bestD2 || (!best && d2 <= bestD2)) {
             bestD2 = d2;
@@ -206,7 +210,8 @@ std::optional<SurfacePoint> Bvh::closestPoint(const SurfaceView& s, const Vec3& 
                 continue;
             }
             const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
-            const double dl = boxDistanceSquared(nodes_[left].box, p), dr = boxDistanceSquared(nodes_[node.right].box, p);
+            const double dl = boxDistanceSquared(nodes_[left].box, p),
+                         dr = boxDistanceSquared(nodes_[node.right].box, p);
             // Push the farther child first, so the nearer one is searched first and tightens the bound.
             if (dl < dr) {
                 stack[top++] = node.right;
@@ -229,7 +234,8 @@ std::optional<SegmentHit> Bvh::firstHit(const SurfaceView& s, const Vec3& from, 
     traverse([&](const geometry::Aabb& box) { return segmentTouchesBox(box, from, invDir, bestT); },
              [&](std::uint32_t f) {
                  const mesh::Face& face = s.faces[f];
-                 const auto hit = geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+                 const auto hit = geometry::intersectSegmentTriangle(from, to, s.positions[face[0]],
+                                                                     s.positions[face[1]], s.positions[face[2]]);
                  if (hit && (hit->t < bestT || !best)) {
                      bestT = hit->t;
                      best = SegmentHit{f, hit->t, from + hit->t * dir, hit->bary};
@@ -244,7 +250,9 @@ int Bvh::countCrossings(const SurfaceView& s, const Vec3& from, const Vec3& to) 
     traverse([&](const geometry::Aabb& box) { return segmentTouchesBox(box, from, invDir, 1); },
              [&](std::uint32_t f) {
                  const mesh::Face& face = s.faces[f];
-                 if (geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]])) ++crossings;
+                 if (geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]],
+                                                        s.positions[face[2]]))
+                     ++crossings;
              });
     return crossings;
 }
@@ -255,7 +263,8 @@ void Bvh::facesWithinRadius(const SurfaceView& s, const Vec3& p, double radius, 
     traverse([&](const geometry::Aabb& box) { return boxDistanceSquared(box, p) <= r2; },
              [&](std::uint32_t f) {
                  const mesh::Face& face = s.faces[f];
-                 const auto c = geometry::closestPointOnTriangle(p, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+                 const auto c = geometry::closestPointOnTriangle(p, s.positions[face[0]], s.positions[face[1]],
+                                                                 s.positions[face[2]]);
                  if ((c.point - p).squaredNorm() <= r2) out.push_back(f);
              });
 }

@@ -55,7 +55,8 @@ public:
     /// How many faces the segment crosses: odd means the end points are on different sides of a closed surface.
     int countCrossings(const SurfaceView& surface, const Vec3& from, const Vec3& to) const;
     /// Faces with a point within `radius` of p, appended to `out` (cleared first).
-    void facesWithinRadius(const SurfaceView& surface, const Vec3& p, double radius, std::vector<std::uint32_t>& out) const;
+    void facesWithinRadius(const SurfaceView& surface, const Vec3& p, double radius,
+                           std::vector<std::uint32_t>& out) const;
 
     std::size_t nodeCount() const { return nodes_.size(); }
     /// Faces added since the last build, held in chains at the leaves.
@@ -68,11 +69,12 @@ private:
         std::uint32_t start = 0, count = 0;  // leaf: faceOrder_[start, start + count)
         std::uint32_t right = 0;             // inner: the left child is the next node (preorder)
         std::uint32_t parent = kNone;
-        std::uint32_t added = kNone;         // leaf: the first face added since the build (see addedNext_)
+        std::uint32_t added = kNone;  // leaf: the first face added since the build (see addedNext_)
     };
     static constexpr int kMaxDepth = 64;
 
-    std::uint32_t buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count, std::vector<Vec3>& centroids, int depth);
+    std::uint32_t buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count,
+                            std::vector<Vec3>& centroids, int depth);
     geometry::Aabb faceBox(const SurfaceView& s, std::uint32_t f) const;
     /// Visits the faces of every leaf whose box (and ancestors' boxes) `enter` accepts.
     template <class Enter, class Visit>

@@ -4,7 +4,8 @@
 namespace hapticut::collision {
 
 bool insideClosedSurface(const Bvh& bvh, const SurfaceView& surface, const Vec3& p) {
-    static const Vec3 kDirections[3] = {Vec3(0.5773, 0.6181, 0.5335).normalized(), Vec3(-0.7071, 0.1201, 0.6967).normalized(),
+    static const Vec3 kDirections[3] = {Vec3(0.5773, 0.6181, 0.5335).normalized(),
+                                        Vec3(-0.7071, 0.1201, 0.6967).normalized(),
                                         Vec3(0.2113, -0.9123, 0.3507).normalized()};
     constexpr double kFar_m = 100;  // well outside any organ model
     int inside = 0;

@@ -18,9 +18,9 @@ void assertFailed(const char* file, int line, const char* condition);
 }  // namespace hapticut
 
 #if !defined(NDEBUG) || defined(HAPTICUT_ENABLE_ASSERTS)
-#define HAPTICUT_ASSERT(cond)                                                    \
-    do {                                                                         \
-        if (!(cond)) ::hapticut::assertFailed(__FILE__, __LINE__, #cond);        \
+#define HAPTICUT_ASSERT(cond)                                             \
+    do {                                                                  \
+        if (!(cond)) ::hapticut::assertFailed(__FILE__, __LINE__, #cond); \
     } while (0)
 #else
 #define HAPTICUT_ASSERT(cond) ((void)0)

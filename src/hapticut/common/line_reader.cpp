@@ -13,7 +13,8 @@ constexpr std::size_t kMaxLineLength = 64 * 1024;
 std::string quoted(std::string_view s) {
     constexpr std::size_t kShown = 40;
     std::string out = "'";
-    for (char c : s.substr(0, kShown)) out += (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) ? '?' : c;
+    for (char c : s.substr(0, kShown))
+        out += (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126) ? '?' : c;
     if (s.size() > kShown) out += "...";
     return out + "'";
 }
@@ -48,8 +49,8 @@ bool LineReader::next() {
 
 void LineReader::expectTokens(std::size_t n, std::string_view what) const {
     if (tokens_.size() != n)
-        fail("expected " + std::string(what) + " (" + std::to_string(n) + " values), found " + std::to_string(tokens_.size()) +
-             " value" + (tokens_.size() == 1 ? "" : "s") + ": " + quoted(raw_));
+        fail("expected " + std::string(what) + " (" + std::to_string(n) + " values), found " +
+             std::to_string(tokens_.size()) + " value" + (tokens_.size() == 1 ? "" : "s") + ": " + quoted(raw_));
 }
 
 double LineReader::number(std::size_t i, std::string_view what) const {
@@ -61,7 +62,8 @@ double LineReader::number(std::size_t i, std::string_view what) const {
 
 std::uint64_t LineReader::count(std::size_t i, std::string_view what) const {
     std::uint64_t v = 0;
-    if (!parseUnsigned(tokens_[i], v)) fail("expected a non-negative whole number for " + std::string(what) + ", found " + quoted(tokens_[i]));
+    if (!parseUnsigned(tokens_[i], v))
+        fail("expected a non-negative whole number for " + std::string(what) + ", found " + quoted(tokens_[i]));
     return v;
 }
 

@@ -17,7 +17,9 @@ Result<std::string, Error> readTextFile(const std::filesystem::path& file, std::
     if (!in) return fail(std::string("cannot open: ") + std::strerror(errno));
     in.seekg(0, std::ios::end);
     const auto size = static_cast<std::size_t>(std::max<std::streamoff>(in.tellg(), 0));
-    if (size > max_bytes) return fail("file is " + std::to_string(size) + " bytes, more than the " + std::to_string(max_bytes) + " this reader accepts");
+    if (size > max_bytes)
+        return fail("file is " + std::to_string(size) + " bytes, more than the " + std::to_string(max_bytes) +
+                    " this reader accepts");
     in.seekg(0);
     std::string text(size, '\0');
     in.read(text.data(), static_cast<std::streamsize>(size));

@@ -11,7 +11,8 @@
 namespace hapticut {
 
 /// Reads a whole file as text; refuses a folder, a file it cannot open, or one larger than max_bytes.
-Result<std::string, Error> readTextFile(const std::filesystem::path& file, std::size_t max_bytes = std::size_t{4} << 30);
+Result<std::string, Error> readTextFile(const std::filesystem::path& file,
+                                        std::size_t max_bytes = std::size_t{4} << 30);
 
 /// Writes through a temporary file and a rename, so a failed write never destroys an existing file.
 [[nodiscard]] WriteStatus writeTextFileAtomically(const std::filesystem::path& file, const std::string& text);

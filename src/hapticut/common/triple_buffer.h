@@ -14,7 +14,8 @@ public:
     void publish() { write_ = shared_.exchange(write_ | kFresh, std::memory_order_acq_rel) & kIndex; }
     /// The newest published value (the same one again if nothing new was published).
     const T& readLatest() {
-        if (shared_.load(std::memory_order_relaxed) & kFresh) read_ = shared_.exchange(read_, std::memory_order_acq_rel) & kIndex;
+        if (shared_.load(std::memory_order_relaxed) & kFresh)
+            read_ = shared_.exchange(read_, std::memory_order_acq_rel) & kIndex;
         return slots_[read_];
     }
     /// All three slots, e.g. to reserve capacity before the writer starts.

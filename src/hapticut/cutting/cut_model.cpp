@@ -11,7 +11,8 @@ namespace hapticut::cutting {
 
 using mesh::edgeKey;
 
-CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model) : mesh_(std::move(mesh)), model_(std::move(model)) {
+CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model)
+    : mesh_(std::move(mesh)), model_(std::move(model)) {
     HAPTICUT_ASSERT(mesh_.positions.size() == model_.nodes.size());
     mesh::completeMesh(mesh_);
     facesAround_ = mesh::buildVertexFaces(mesh_.faces, mesh_.positions.size());
@@ -20,14 +21,18 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model) : mes
     // New springs and anchors follow the model's material: springs scale as 1/L (as the
     // resolution-independent material does), anchors with the node's mass (mass follows area).
     double kl = 0, dl = 0, km = 0, dm = 0, mass = 0;
-    for (std::size_t k = 0; k < s.size(); ++k) kl += s.stiffness[k] * s.restLength[k], dl += s.damping[k] * s.restLength[k];
+    for (std::size_t k = 0; k < s.size(); ++k)
+        kl += s.stiffness[k] * s.restLength[k], dl += s.damping[k] * s.restLength[k];
     for (std::size_t i = 0; i < model_.nodes.size(); ++i)
         km += model_.nodes.anchorStiffness[i], dm += model_.nodes.anchorDamping[i], mass += model_.nodes.mass[i];
-    if (s.size() > 0) stiffnessTimesLength_ = kl / static_cast<double>(s.size()), dampingTimesLength_ = dl / static_cast<double>(s.size());
+    if (s.size() > 0)
+        stiffnessTimesLength_ = kl / static_cast<double>(s.size()),
+        dampingTimesLength_ = dl / static_cast<double>(s.size());
     if (mass > 0) anchorStiffnessPerKg_ = km / mass, anchorDampingPerKg_ = dm / mass;
     // Room to grow: a cut appends to every array, and a reallocation of a large organ's arrays in the
     // haptic loop would cost milliseconds. Half as much again covers hours of cutting.
-    const std::size_t nodes = roomToGrow(mesh_.positions.size()), springs = roomToGrow(s.size()), faces = roomToGrow(mesh_.faces.size());
+    const std::size_t nodes = roomToGrow(mesh_.positions.size()), springs = roomToGrow(s.size()),
+                      faces = roomToGrow(mesh_.faces.size());
     reserveTouched(mesh_.positions, nodes);
     facesAround_.around.reserve(nodes);
     physics::Nodes& n = model_.nodes;
@@ -121,7 +126,8 @@ void CutModel::replaceFace(std::uint32_t face, const mesh::Face& corners, const 
     }
     mesh_.faces[face] = corners;
     mesh_.uvs[face] = uvs;
-    mesh_.normals[face] = geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]);
+    mesh_.normals[face] =
+        geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]);
     for (std::uint32_t v : corners) facesAround_.around[v].push_back(face);
     changes_.faces.push_back(face);
 }
@@ -130,7 +136,8 @@ std::uint32_t CutModel::appendFace(const mesh::Face& corners, const mesh::FaceUv
     const auto face = static_cast<std::uint32_t>(mesh_.faces.size());
     mesh_.faces.push_back(corners);
     mesh_.uvs.push_back(uvs);
-    mesh_.normals.push_back(geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]));
+    mesh_.normals.push_back(
+        geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]));
     for (std::uint32_t v : corners) facesAround_.around[v].push_back(face);
     changes_.faces.push_back(face);
     return face;
@@ -141,7 +148,9 @@ std::uint32_t CutModel::splitFace(std::uint32_t face, const Vec3& bary) {
     const mesh::FaceUvs uv = mesh_.uvs[face];
     const physics::Nodes& n = model_.nodes;
     // Returns a Vec3, not an Eigen expression: an expression would refer to temporaries gone by then.
-    auto mix = [&](const std::vector<Vec3>& values) -> Vec3 { return bary.x() * values[f[0]] + bary.y() * values[f[1]] + bary.z() * values[f[2]]; };
+    auto mix = [&](const std::vector<Vec3>& values) -> Vec3 {
+        return bary.x() * values[f[0]] + bary.y() * values[f[1]] + bary.z() * values[f[2]];
+    };
     // The rest point lies on the undeformed face (R15's k' = k - N((k - a)·N) for a point given in the
     // face's own barycentric coordinates), so the new springs' rest lengths are right.
     const Vec3 rest = mix(mesh_.positions);
@@ -199,7 +208,8 @@ std::uint32_t CutModel::splitEdge(std::uint32_t a, std::uint32_t b, double u) {
     return p;
 }
 
-std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten, double retract) {
+std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten,
+                                               double retract) {
     // In a consistently oriented mesh the face whose winding runs v -> next lies on the left of the cut.
     auto runs = [&](std::uint32_t f, std::uint32_t from, std::uint32_t to) {
         const mesh::Face& face = mesh_.faces[f];
@@ -227,7 +237,8 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
         std::optional<std::uint32_t> across;
         for (std::uint32_t g : facesAround_.around[v])
             if (g != face && runs(g, v, y)) across = g;
-        if (!across || std::find(left.begin(), left.end(), *across) != left.end()) break;  // a boundary, or all the way round
+        if (!across || std::find(left.begin(), left.end(), *across) != left.end())
+            break;  // a boundary, or all the way round
         face = *across;
     }
     if (left.size() == facesAround_.around[v].size()) return std::nullopt;  // no right side: nothing to open
@@ -242,8 +253,10 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     for (std::uint32_t f : left) {
         mesh::Face corners = mesh_.faces[f];
         for (std::uint32_t& c : corners) {
-            if (c == v) c = w;
-            else leftVertices.push_back(c);
+            if (c == v)
+                c = w;
+            else
+                leftVertices.push_back(c);
         }
         replaceFace(f, corners, mesh_.uvs[f]);
     }
@@ -253,7 +266,8 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     for (std::uint32_t x : leftVertices) {
         const auto k = springOf(v, x);
         if (!k) continue;
-        if (!facesOfEdge(v, x).empty()) {  // the edge still has a right-side face: it is a cut edge, both lips need a spring
+        if (!facesOfEdge(v, x)
+                 .empty()) {  // the edge still has a right-side face: it is a cut edge, both lips need a spring
             addSpring(w, x);
             continue;
         }
@@ -278,11 +292,13 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
         for (std::uint32_t copy : {v, w})
             for (std::uint32_t f : facesAround_.around[copy]) {
                 const mesh::Face& c = mesh_.faces[f];
-                normal += (mesh_.positions[c[1]] - mesh_.positions[c[0]]).cross(mesh_.positions[c[2]] - mesh_.positions[c[0]]);
+                normal += (mesh_.positions[c[1]] - mesh_.positions[c[0]])
+                              .cross(mesh_.positions[c[2]] - mesh_.positions[c[0]]);
             }
         const Vec3 side = normal.cross(along);
         if (side.norm() > 0) {
-            const double edge = 0.5 * ((mesh_.positions[v] - mesh_.positions[prev]).norm() + (mesh_.positions[next] - mesh_.positions[v]).norm());
+            const double edge = 0.5 * ((mesh_.positions[v] - mesh_.positions[prev]).norm() +
+                                       (mesh_.positions[next] - mesh_.positions[v]).norm());
             const Vec3 shift = side.normalized() * (retract * edge);
             n.restPosition[w] += shift;
             n.restPosition[v] -= shift;
@@ -291,7 +307,8 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     return w;
 }
 
-void CutModel::fansAround(std::uint32_t v, std::vector<std::uint32_t>& faces, std::vector<std::uint32_t>& fanStart) const {
+void CutModel::fansAround(std::uint32_t v, std::vector<std::uint32_t>& faces,
+                          std::vector<std::uint32_t>& fanStart) const {
     faces.clear();
     fanStart.clear();
     const std::vector<std::uint32_t>& around = facesAround_.around[v];
@@ -370,7 +387,8 @@ double CutModel::splitFaceMinAngle_deg(std::uint32_t face, const Vec3& bary) con
 
 std::optional<std::uint32_t> CutModel::snapVertex(std::uint32_t face, const Vec3& bary, double radius_m) const {
     const mesh::Face& f = mesh_.faces[face];
-    const Vec3 point = bary.x() * mesh_.positions[f[0]] + bary.y() * mesh_.positions[f[1]] + bary.z() * mesh_.positions[f[2]];
+    const Vec3 point =
+        bary.x() * mesh_.positions[f[0]] + bary.y() * mesh_.positions[f[1]] + bary.z() * mesh_.positions[f[2]];
     std::optional<std::uint32_t> best;
     double bestDistance = radius_m;
     for (std::uint32_t v : f) {

@@ -18,7 +18,8 @@ namespace hapticut::cutting {
 /// tree and snapshots up to date in time proportional to the cut rather than to the organ. Entries
 /// may repeat; every consumer treats them as a set.
 struct TopologyChanges {
-    std::vector<std::uint32_t> nodes;    // new, or their mass, anchor or springs changed (both ends of every listed spring)
+    std::vector<std::uint32_t>
+        nodes;  // new, or their mass, anchor or springs changed (both ends of every listed spring)
     std::vector<std::uint32_t> springs;  // new, or their ends, rest length or stiffness changed
     std::vector<std::uint32_t> faces;    // new, or their corners changed
     bool empty() const { return nodes.empty() && springs.empty() && faces.empty(); }
@@ -68,7 +69,8 @@ public:
     /// tissue under tension retracts. The walk round v stops at the edge to prev or at a
     /// boundary, so an already opened prev (a progressive cut) works the same. Returns v', or nothing
     /// when v has no face on the left of v -> next.
-    std::optional<std::uint32_t> openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten = 0.1, double retract = 0);
+    std::optional<std::uint32_t> openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten = 0.1,
+                                         double retract = 0);
 
     /// Where a cut meets an open boundary or an earlier wound, or starts on one, the vertex there is left
     /// joining two fans of faces that touch only at it. This gives each fan beyond the first its own
@@ -107,7 +109,8 @@ private:
     std::unordered_map<std::uint64_t, std::uint32_t> springOfEdge_;
     TopologyChanges changes_;
     std::unordered_set<std::uint64_t> shortened_;
-    std::vector<std::uint32_t> fanFaces_, fanStart_;  // scratch for separateFans  // scratch for openCut: each spring shortened once
+    std::vector<std::uint32_t> fanFaces_,
+        fanStart_;  // scratch for separateFans  // scratch for openCut: each spring shortened once
     // Material of new springs and anchors: the means of the model's own, per unit length and mass.
     double stiffnessTimesLength_ = 0, dampingTimesLength_ = 0, anchorStiffnessPerKg_ = 0, anchorDampingPerKg_ = 0;
 };

@@ -18,21 +18,27 @@ InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_
     const mesh::SurfaceMesh& m = cut.mesh();
     const physics::MassSpringModel& model = cut.model();
     const physics::Springs& s = model.springs;
-    if (model.nodes.size() != m.positions.size()) problem("the model has " + std::to_string(model.nodes.size()) + " nodes for " + std::to_string(m.positions.size()) + " vertices");
+    if (model.nodes.size() != m.positions.size())
+        problem("the model has " + std::to_string(model.nodes.size()) + " nodes for " +
+                std::to_string(m.positions.size()) + " vertices");
     if (m.uvs.size() != m.faces.size()) problem("UVs and faces differ in count");
 
     const mesh::MeshAdjacency adj = mesh::buildAdjacency(m.faces);
     for (std::size_t e = 0; e < adj.edges.size(); ++e) {
         const auto faces = adj.facesOfEdge(e);
         const auto [a, b] = adj.edges[e];
-        if (faces.size() > 2) problem("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") has " + std::to_string(faces.size()) + " faces");
+        if (faces.size() > 2)
+            problem("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") has " + std::to_string(faces.size()) +
+                    " faces");
         if (faces.size() == 2) {
             auto forward = [&](std::uint32_t f) {
                 for (int k = 0; k < 3; ++k)
                     if (m.faces[f][k] == a && m.faces[f][(k + 1) % 3] == b) return true;
                 return false;
             };
-            if (forward(faces[0]) == forward(faces[1])) problem("faces " + std::to_string(faces[0]) + " and " + std::to_string(faces[1]) + " disagree in orientation");
+            if (forward(faces[0]) == forward(faces[1]))
+                problem("faces " + std::to_string(faces[0]) + " and " + std::to_string(faces[1]) +
+                        " disagree in orientation");
         }
         const auto spring = cut.springOf(a, b);
         if (!spring) problem("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") has no spring");
@@ -60,27 +66,35 @@ InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_
     for (std::uint32_t c = 0; c < parent.size(); ++c)
         if (root(c) == c && m.faces[c / 3][c % 3] < fans.size()) ++fans[m.faces[c / 3][c % 3]];
     for (std::uint32_t v = 0; v < fans.size(); ++v)
-        if (fans[v] > 1) problem("vertex " + std::to_string(v) + " joins " + std::to_string(fans[v]) + " fans of faces that touch only there");
+        if (fans[v] > 1)
+            problem("vertex " + std::to_string(v) + " joins " + std::to_string(fans[v]) +
+                    " fans of faces that touch only there");
 
     std::vector<mesh::Edge> springEdges;
     for (std::size_t k = 0; k < s.size(); ++k) {
         const mesh::Edge e{std::min(s.a[k], s.b[k]), std::max(s.a[k], s.b[k])};
         springEdges.push_back(e);
-        if (!std::binary_search(adj.edges.begin(), adj.edges.end(), e)) problem("spring " + std::to_string(k) + " is on no face");
+        if (!std::binary_search(adj.edges.begin(), adj.edges.end(), e))
+            problem("spring " + std::to_string(k) + " is on no face");
         if (cut.springOf(e[0], e[1]) != k) problem("spring " + std::to_string(k) + " is not the one its edge looks up");
-        if (!(s.restLength[k] > 0) || !std::isfinite(s.stiffness[k])) problem("spring " + std::to_string(k) + " has a bad rest length or stiffness");
-        if (k < m.edges.size() && (std::min(m.edges[k][0], m.edges[k][1]) != e[0] || std::max(m.edges[k][0], m.edges[k][1]) != e[1]))
+        if (!(s.restLength[k] > 0) || !std::isfinite(s.stiffness[k]))
+            problem("spring " + std::to_string(k) + " has a bad rest length or stiffness");
+        if (k < m.edges.size() &&
+            (std::min(m.edges[k][0], m.edges[k][1]) != e[0] || std::max(m.edges[k][0], m.edges[k][1]) != e[1]))
             problem("edge list entry " + std::to_string(k) + " is not spring " + std::to_string(k));
     }
     std::sort(springEdges.begin(), springEdges.end());
-    if (std::adjacent_find(springEdges.begin(), springEdges.end()) != springEdges.end()) problem("an edge has two springs");
+    if (std::adjacent_find(springEdges.begin(), springEdges.end()) != springEdges.end())
+        problem("an edge has two springs");
 
     for (std::uint32_t f = 0; f < m.faces.size(); ++f) {
         const mesh::Face& face = m.faces[f];
-        if (geometry::minAngle(m.positions[face[0]], m.positions[face[1]], m.positions[face[2]]) <= 0) problem("face " + std::to_string(f) + " is degenerate");
+        if (geometry::minAngle(m.positions[face[0]], m.positions[face[1]], m.positions[face[2]]) <= 0)
+            problem("face " + std::to_string(f) + " is degenerate");
         for (std::uint32_t v : face) {
             const auto& around = cut.facesAround(v);
-            if (std::find(around.begin(), around.end(), f) == around.end()) problem("vertex " + std::to_string(v) + " does not list face " + std::to_string(f));
+            if (std::find(around.begin(), around.end(), f) == around.end())
+                problem("vertex " + std::to_string(v) + " does not list face " + std::to_string(f));
         }
         for (const Vec2& uv : m.uvs[f])
             if (!uv.allFinite()) problem("face " + std::to_string(f) + " has a non-finite UV");
@@ -91,7 +105,8 @@ InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_
         if (!model.nodes.position[i].allFinite() || !model.nodes.velocity[i].allFinite() || !m.positions[i].allFinite())
             problem("node " + std::to_string(i) + " is not finite");
     }
-    if (std::abs(mass - expected_mass_kg) > 1e-12 * std::max(1.0, expected_mass_kg)) problem("total mass " + std::to_string(mass) + " kg, expected " + std::to_string(expected_mass_kg));
+    if (std::abs(mass - expected_mass_kg) > 1e-12 * std::max(1.0, expected_mass_kg))
+        problem("total mass " + std::to_string(mass) + " kg, expected " + std::to_string(expected_mass_kg));
     return r;
 }
 

@@ -13,9 +13,9 @@ struct InvariantReport {
     bool ok() const { return problems.empty(); }
 };
 
-/// Edge- and vertex-manifold (no two fans of faces pinched at a vertex); consistently oriented; no degenerate rest triangle; every face edge has exactly one
-/// structural spring and every spring is a face edge; springs, edges and lookups agree; total mass
-/// equals `expected_mass_kg` (to 1e-12 relative); every position, velocity and UV finite.
+/// Edge- and vertex-manifold (no two fans of faces pinched at a vertex); consistently oriented; no degenerate rest
+/// triangle; every face edge has exactly one structural spring and every spring is a face edge; springs, edges and
+/// lookups agree; total mass equals `expected_mass_kg` (to 1e-12 relative); every position, velocity and UV finite.
 InvariantReport checkInvariants(const CutModel& model, double expected_mass_kg);
 
 }  // namespace hapticut::cutting

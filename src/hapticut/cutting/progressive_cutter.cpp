@@ -26,7 +26,8 @@ bool ProgressiveCutter::onBoundary(std::uint32_t v) const {
 }
 
 void ProgressiveCutter::addPoint(std::uint32_t vertex) {
-    if (!points_.empty()) stats_.length_m += (model_.mesh().positions[vertex] - model_.mesh().positions[points_.back()]).norm();
+    if (!points_.empty())
+        stats_.length_m += (model_.mesh().positions[vertex] - model_.mesh().positions[points_.back()]).norm();
     points_.push_back(vertex);
     lipVertices_.push_back(vertex);
     ++stats_.cutPoints;
@@ -34,7 +35,8 @@ void ProgressiveCutter::addPoint(std::uint32_t vertex) {
     if (points_.size() >= 3) {
         const std::size_t n = points_.size();
         const std::size_t before = model_.mesh().positions.size();
-        if (const auto copy = model_.openCut(points_[n - 3], points_[n - 2], points_[n - 1], params_.shorten, params_.retract)) {
+        if (const auto copy =
+                model_.openCut(points_[n - 3], points_[n - 2], points_[n - 1], params_.shorten, params_.retract)) {
             stats_.opened = true;
             lipVertices_.push_back(*copy);
         }
@@ -60,7 +62,8 @@ bool ProgressiveCutter::fanContains(std::uint32_t vertex, const Vec3& q) const {
     const mesh::SurfaceMesh& m = model_.mesh();
     for (std::uint32_t f : model_.facesAround(vertex)) {
         const mesh::Face& face = m.faces[f];
-        const auto c = geometry::closestPointOnTriangle(q, m.positions[face[0]], m.positions[face[1]], m.positions[face[2]]);
+        const auto c =
+            geometry::closestPointOnTriangle(q, m.positions[face[0]], m.positions[face[1]], m.positions[face[2]]);
         const double scale = (m.positions[face[1]] - m.positions[face[0]]).norm();
         if ((c.point - q).norm() < 1e-6 * scale) return true;  // on the fan, its edges included
     }
@@ -132,15 +135,19 @@ void ProgressiveCutter::advanceTo(std::uint32_t next) {
         lipVertices_.assign(1, next);
         return;
     }
-    if (onBoundary(next)) joinAt(next);
-    else addPoint(next);
+    if (onBoundary(next))
+        joinAt(next);
+    else
+        addPoint(next);
 }
 
 bool ProgressiveCutter::reachBoundary(const Vec3& q) {
     const mesh::SurfaceMesh& m = model_.mesh();
     const std::uint32_t last = points_.back();
     // The last point already touches this cut's own lips; those are not what the blade runs into.
-    auto ownLip = [&](std::uint32_t v) { return std::find(lipVertices_.begin(), lipVertices_.end(), v) != lipVertices_.end(); };
+    auto ownLip = [&](std::uint32_t v) {
+        return std::find(lipVertices_.begin(), lipVertices_.end(), v) != lipVertices_.end();
+    };
     for (std::uint32_t f : model_.facesAround(last)) {
         const mesh::Face& face = m.faces[f];
         int k = 0;
@@ -214,7 +221,8 @@ bool ProgressiveCutter::cutAtUnchecked(std::uint32_t face, const Vec3& bary) {
         // R15: start at a corner if one is close, else in the face (one face becomes three).
         const mesh::Face& f = m.faces[face];
         double shortest = 1e300;
-        for (int k = 0; k < 3; ++k) shortest = std::min(shortest, (m.positions[f[(k + 1) % 3]] - m.positions[f[k]]).norm());
+        for (int k = 0; k < 3; ++k)
+            shortest = std::min(shortest, (m.positions[f[(k + 1) % 3]] - m.positions[f[k]]).norm());
         ++stats_.cuts;
         if (const auto corner = model_.snapVertex(face, bary, params_.snapFraction * shortest)) {
             addPoint(*corner);

@@ -83,7 +83,7 @@ private:
     std::vector<std::uint32_t> points_;
     std::vector<std::uint32_t> lipVertices_;  // the current cut's points and their opened copies
     CutStats stats_;
-    double expectedMass_kg_ = 0;  // cutting conserves the organ's mass exactly
+    double expectedMass_kg_ = 0;                     // cutting conserves the organ's mass exactly
     std::vector<std::uint32_t> nearbyFaces_, ring_;  // scratch for projectBlade
 };
 

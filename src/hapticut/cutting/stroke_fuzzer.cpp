@@ -18,14 +18,16 @@ RestTouch touchRestSurface(const CutModel& cut, const Vec3& p) {
     RestTouch best;
     double bestD = 1e300;
     for (std::uint32_t f = 0; f < m.faces.size(); ++f) {
-        const auto c = geometry::closestPointOnTriangle(p, m.positions[m.faces[f][0]], m.positions[m.faces[f][1]], m.positions[m.faces[f][2]]);
+        const auto c = geometry::closestPointOnTriangle(p, m.positions[m.faces[f][0]], m.positions[m.faces[f][1]],
+                                                        m.positions[m.faces[f][2]]);
         const double d = (c.point - p).squaredNorm();
         if (d < bestD) bestD = d, best = {f, c.bary, c.point};
     }
     return best;
 }
 
-StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzConfig& config, const std::function<void(long, long)>& progress) {
+StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzConfig& config,
+                             const std::function<void(long, long)>& progress) {
     const auto start = std::chrono::steady_clock::now();
     StrokeFuzzResult r;
     std::mt19937_64 rng(config.seed);
@@ -45,12 +47,16 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
         std::vector<std::uint32_t> woken;  // every node the edits touched, which `live` woke
         ++r.organs;
         const auto fail = [&](long stroke, long operation, const std::string& what) {
-            r.problems.push_back("seed " + std::to_string(config.seed) + ", organ " + std::to_string(organIndex) + ", stroke " + std::to_string(stroke) +
-                                 (operation >= 0 ? ", operation " + std::to_string(operation) : std::string()) + ": " + what);
+            r.problems.push_back("seed " + std::to_string(config.seed) + ", organ " + std::to_string(organIndex) +
+                                 ", stroke " + std::to_string(stroke) +
+                                 (operation >= 0 ? ", operation " + std::to_string(operation) : std::string()) + ": " +
+                                 what);
         };
         for (long s = 0; s < config.strokesPerOrgan && r.strokes < config.strokes; ++s, ++r.strokes) {
-            const Vec3 from = touchRestSurface(cut, box.center() + Vec3(unit(rng), unit(rng), unit(rng)).normalized() * reach).point;
-            const Vec3 to = touchRestSurface(cut, from + length(rng) * Vec3(unit(rng), unit(rng), unit(rng)).normalized()).point;
+            const Vec3 from =
+                touchRestSurface(cut, box.center() + Vec3(unit(rng), unit(rng), unit(rng)).normalized() * reach).point;
+            const Vec3 to =
+                touchRestSurface(cut, from + length(rng) * Vec3(unit(rng), unit(rng), unit(rng)).normalized()).point;
             const int samples = 1 + static_cast<int>(rng() % 40);
             for (int i = 0; i <= samples; ++i) {
                 const RestTouch t = touchRestSurface(cut, from + (to - from) * (static_cast<double>(i) / samples));
@@ -90,15 +96,20 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
         for (std::uint32_t n : woken) fresh.wake(n);  // the same region awake in both
         if (live.stableStep_s() > fresh.stableStep_s() * (1 + 1e-12))
             fail(config.strokesPerOrgan, -1,
-                 "the stable step kept through the edits (" + std::to_string(live.stableStep_s()) + " s) exceeds the model's (" + std::to_string(fresh.stableStep_s()) + " s)");
+                 "the stable step kept through the edits (" + std::to_string(live.stableStep_s()) +
+                     " s) exceeds the model's (" + std::to_string(fresh.stableStep_s()) + " s)");
         physics::MassSpringModel copy = cut.model();
         const double dt = live.stableStep_s();
         for (int i = 0; i < config.simulateSteps && r.problems.empty(); ++i) {
-            if (!live.step(cut.model(), dt).finite || !fresh.step(copy, dt).finite) fail(config.strokesPerOrgan, -1, "the cut organ's simulation produced a non-finite value");
+            if (!live.step(cut.model(), dt).finite || !fresh.step(copy, dt).finite)
+                fail(config.strokesPerOrgan, -1, "the cut organ's simulation produced a non-finite value");
             double apart = 0;
-            for (std::size_t n = 0; n < copy.nodes.size(); ++n) apart = std::max(apart, (copy.nodes.position[n] - cut.model().nodes.position[n]).norm());
+            for (std::size_t n = 0; n < copy.nodes.size(); ++n)
+                apart = std::max(apart, (copy.nodes.position[n] - cut.model().nodes.position[n]).norm());
             if (apart > 1e-9)
-                fail(config.strokesPerOrgan, -1, "after " + std::to_string(i + 1) + " steps the incrementally updated stepper is " + std::to_string(apart * 1e9) + " nm from a fresh one");
+                fail(config.strokesPerOrgan, -1,
+                     "after " + std::to_string(i + 1) + " steps the incrementally updated stepper is " +
+                         std::to_string(apart * 1e9) + " nm from a fresh one");
         }
         if (!r.problems.empty()) break;
     }

@@ -59,7 +59,8 @@ void WoundWalls::setLips(std::span<const LipEdge> lips) {
     depth_m_ = 0;
 }
 
-void WoundWalls::update(std::span<const Vec3> positions, std::span<const Vec3> vertexNormals, const WallParams& params) {
+void WoundWalls::update(std::span<const Vec3> positions, std::span<const Vec3> vertexNormals,
+                        const WallParams& params) {
     if (lips_.empty()) return;
     const std::size_t n = lipVertex_.size();
     double length = 0;

@@ -42,7 +42,9 @@ public:
     /// Never allocates.
     void update(std::span<const Vec3> positions, std::span<const Vec3> vertexNormals, const WallParams& params = {});
 
-    std::span<const std::uint32_t> lipVertices() const { return lipVertex_; }  // the surface vertex of wall vertex i < n
+    std::span<const std::uint32_t> lipVertices() const {
+        return lipVertex_;
+    }  // the surface vertex of wall vertex i < n
     std::span<const Vec3> positions() const { return positions_; }
     std::span<const Vec3> normals() const { return normals_; }  // unit, facing into the gap
     std::span<const Vec2> uvs() const { return uvs_; }

@@ -36,7 +36,8 @@ ClosestOnTriangle closestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec
     return {a + ab * v + ac * w, Vec3(1 - v - w, v, w)};
 }
 
-std::optional<SegmentHit> intersectSegmentTriangle(const Vec3& from, const Vec3& to, const Vec3& a, const Vec3& b, const Vec3& c) {
+std::optional<SegmentHit> intersectSegmentTriangle(const Vec3& from, const Vec3& to, const Vec3& a, const Vec3& b,
+                                                   const Vec3& c) {
     // Moller-Trumbore, two-sided, with a tolerance that closes the cracks along shared edges.
     constexpr double kEdgeTolerance = 1e-12;
     const Vec3 dir = to - from, e1 = b - a, e2 = c - a;

@@ -22,6 +22,7 @@ struct SegmentHit {
 
 /// Where the segment from -> to crosses triangle abc, from either side (back faces count, R10).
 /// Edges and corners count as inside, so a segment through a shared edge hits one of its faces.
-std::optional<SegmentHit> intersectSegmentTriangle(const Vec3& from, const Vec3& to, const Vec3& a, const Vec3& b, const Vec3& c);
+std::optional<SegmentHit> intersectSegmentTriangle(const Vec3& from, const Vec3& to, const Vec3& a, const Vec3& b,
+                                                   const Vec3& c);
 
 }  // namespace hapticut::geometry

@@ -27,8 +27,11 @@ Result<DeviceName, Error> parseDeviceName(std::string_view text) {
     const std::string_view argument = colon == std::string_view::npos ? std::string_view() : text.substr(colon + 1);
     const bool hasArgument = colon != std::string_view::npos;
     auto fail = [&](const std::string& why) {
-        return unexpected(Error{{}, 0, "device '" + std::string(text) + "': " + why +
-                                           "; expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX] (hapticut devices lists what works here)"});
+        return unexpected(Error{{},
+                                0,
+                                "device '" + std::string(text) + "': " + why +
+                                    "; expected virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX] (hapticut "
+                                    "devices lists what works here)"});
     };
     DeviceName spec;
     spec.argument = std::string(argument);

@@ -18,7 +18,8 @@ namespace {
 ProxyParams withClosedFlag(ProxyParams params, std::span<const mesh::Face> faces) {
     const mesh::MeshAdjacency adj = mesh::buildAdjacency(faces);
     params.closedSurface = true;
-    for (std::size_t e = 0; e < adj.edges.size() && params.closedSurface; ++e) params.closedSurface = adj.facesOfEdge(e).size() == 2;
+    for (std::size_t e = 0; e < adj.edges.size() && params.closedSurface; ++e)
+        params.closedSurface = adj.facesOfEdge(e).size() == 2;
     return params;
 }
 
@@ -30,25 +31,35 @@ std::vector<Hand> oneHand(Device& device, const LoopConfig& config) {
 }
 }  // namespace
 
-HapticLoop::HapticLoop(cutting::CutModel& organ, Device& device, LoopConfig config) : HapticLoop(organ, oneHand(device, config), config) {}
+HapticLoop::HapticLoop(cutting::CutModel& organ, Device& device, LoopConfig config)
+    : HapticLoop(organ, oneHand(device, config), config) {}
 
 HapticLoop::HapticLoop(cutting::CutModel& organ, std::span<const Hand> hands, LoopConfig config)
-    : organ_(organ), model_(organ.model()), faces_(organ.mesh().faces), config_(config), stepper_(config.scheme), cutter_(organ, config.cutter) {
+    : organ_(organ),
+      model_(organ.model()),
+      faces_(organ.mesh().faces),
+      config_(config),
+      stepper_(config.scheme),
+      cutter_(organ, config.cutter) {
     initialise(hands);
 }
 
-Result<std::unique_ptr<HapticLoop>, Error> HapticLoop::create(cutting::CutModel& organ, std::span<const Hand> hands, LoopConfig config) {
+Result<std::unique_ptr<HapticLoop>, Error> HapticLoop::create(cutting::CutModel& organ, std::span<const Hand> hands,
+                                                              LoopConfig config) {
     auto fail = [](std::string message) { return unexpected(Error{{}, 0, std::move(message)}); };
     if (hands.empty() || hands.size() > static_cast<std::size_t>(kMaxHands))
-        return fail("a haptic loop takes 1 to " + std::to_string(kMaxHands) + " hands, not " + std::to_string(hands.size()));
+        return fail("a haptic loop takes 1 to " + std::to_string(kMaxHands) + " hands, not " +
+                    std::to_string(hands.size()));
     for (const Hand& h : hands)
         if (!h.device) return fail("a hand without a device");
-    if (!(config.rate_hz >= 1 && config.rate_hz <= 1e5)) return fail("a haptic rate of " + std::to_string(config.rate_hz) + " Hz: expected 1 Hz to 100 kHz");
+    if (!(config.rate_hz >= 1 && config.rate_hz <= 1e5))
+        return fail("a haptic rate of " + std::to_string(config.rate_hz) + " Hz: expected 1 Hz to 100 kHz");
     if (organ.mesh().faces.empty()) return fail("an organ without faces: nothing to touch");
     try {
         return std::unique_ptr<HapticLoop>(new HapticLoop(organ, hands, config));
     } catch (const std::bad_alloc&) {
-        return fail("out of memory preparing the haptic loop for " + std::to_string(organ.model().nodes.size()) + " nodes");
+        return fail("out of memory preparing the haptic loop for " + std::to_string(organ.model().nodes.size()) +
+                    " nodes");
     }
 }
 
@@ -64,7 +75,8 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
     // The stable step allows for every hand pressing the same node at its full coupling.
     preparedCouplingStiffness_ = config_.couplingStiffness_N_per_m;
     double allHands_N_per_m = 0;
-    for (const HandState& hand : hands_) allHands_N_per_m += hand.setup.couplingStiffness_N_per_m.value_or(preparedCouplingStiffness_);
+    for (const HandState& hand : hands_)
+        allHands_N_per_m += hand.setup.couplingStiffness_N_per_m.value_or(preparedCouplingStiffness_);
     stepper_.setToolStiffness(allHands_N_per_m);
     stepper_.setActiveRegion(config_.activeRegion);
     stepper_.prepare(model_);
@@ -83,7 +95,8 @@ HapticLoop::~HapticLoop() { zeroAllForces(); }  // a real device must never be l
 
 double HapticLoop::couplingStiffness_N_per_m(int hand) const {
     const HandState& h = hands_[static_cast<std::size_t>(hand)];
-    return std::min(h.setup.couplingStiffness_N_per_m.value_or(config_.couplingStiffness_N_per_m), h.stiffnessCap_N_per_m);
+    return std::min(h.setup.couplingStiffness_N_per_m.value_or(config_.couplingStiffness_N_per_m),
+                    h.stiffnessCap_N_per_m);
 }
 
 std::vector<ServoClock*> HapticLoop::servoClocks() const {
@@ -107,7 +120,8 @@ void HapticLoop::tripWatchdog() noexcept {
 
 bool HapticLoop::touching(const Frame& frame, std::size_t h) const {
     const GodObjectProxy& proxy = hands_[h].proxy;
-    return frame[h].deviceOk && proxy.contact().active && (proxy.position() - frame[h].sample.position_m).squaredNorm() > 1e-18;
+    return frame[h].deviceOk && proxy.contact().active &&
+           (proxy.position() - frame[h].sample.position_m).squaredNorm() > 1e-18;
 }
 
 StepOutput HapticLoop::step() noexcept {
@@ -168,16 +182,21 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
     bool changed = false;
     for (std::size_t h = 0; h < hands_.size(); ++h) {
         HandState& hand = hands_[h];
-        const bool pressing = touching(frame, h) && hand.lastForce_N > hand.setup.cutThreshold_N && !stats_.watchdogTripped;
+        const bool pressing =
+            touching(frame, h) && hand.lastForce_N > hand.setup.cutThreshold_N && !stats_.watchdogTripped;
         bool changedHere = false;
         if (!cutter_.cutting()) {
             if (pressing) changedHere = cutter_.cutAt(hand.proxy.contact().face, hand.proxy.contact().bary);
             if (cutter_.cutting()) cuttingHand_ = static_cast<int>(h);
         } else if (cuttingHand_ == static_cast<int>(h)) {
-            const auto blade = frame[h].deviceOk && !stats_.watchdogTripped ? cutter_.projectBlade(frame[h].sample.position_m) : std::nullopt;
+            const auto blade = frame[h].deviceOk && !stats_.watchdogTripped
+                                   ? cutter_.projectBlade(frame[h].sample.position_m)
+                                   : std::nullopt;
             const bool inWound = !touching(frame, h) && blade && blade->depth_m > 0;
-            if (blade && (pressing || inWound)) changedHere = cutter_.cutAt(blade->face, blade->bary);
-            else cutter_.endCut();
+            if (blade && (pressing || inWound))
+                changedHere = cutter_.cutAt(blade->face, blade->bary);
+            else
+                cutter_.endCut();
         }
         if (changedHere) afterTopologyChange();  // before the next hand reads the faces
         changed = changed || changedHere;
@@ -211,7 +230,8 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         // Anchor so that at this instant the spring reads k (proxy - device): the proxy sits a small
         // offset off the contact point.
         tool.anchor_m = f.sample.position_m - (hand.proxy.position() - pointOnFace(view, contact.face, contact.bary));
-        tool.bias_N = hand.setup.couplingDamping_Ns_per_m.value_or(config_.couplingDamping_Ns_per_m) * f.sample.velocity_m_per_s;
+        tool.bias_N =
+            hand.setup.couplingDamping_Ns_per_m.value_or(config_.couplingDamping_Ns_per_m) * f.sample.velocity_m_per_s;
         tool.stiffness_N_per_m = couplingStiffness_N_per_m(static_cast<int>(h));
         tool.maxForce_N = std::min(hand.setup.device->maxForce_N(), hand.setup.maxForce_N) * maxForceScale_;
         tool.scale = ramp;
@@ -281,10 +301,12 @@ void HapticLoop::applyPendingCommands() noexcept {
             case LoopCommand::Kind::SetCouplingDamping: config_.couplingDamping_Ns_per_m = c->value; break;
             case LoopCommand::Kind::SetMaxForceScale: maxForceScale_ = std::clamp(c->value, 0.0, 1.0); break;
             case LoopCommand::Kind::SetCutThreshold:
-                if (c->hand >= 0 && c->hand < handCount()) hands_[static_cast<std::size_t>(c->hand)].setup.cutThreshold_N = std::max(c->value, 0.0);
+                if (c->hand >= 0 && c->hand < handCount())
+                    hands_[static_cast<std::size_t>(c->hand)].setup.cutThreshold_N = std::max(c->value, 0.0);
                 break;
             case LoopCommand::Kind::ResetModel:
-                std::copy(model_.nodes.restPosition.begin(), model_.nodes.restPosition.end(), model_.nodes.position.begin());
+                std::copy(model_.nodes.restPosition.begin(), model_.nodes.restPosition.end(),
+                          model_.nodes.position.begin());
                 std::fill(model_.nodes.velocity.begin(), model_.nodes.velocity.end(), Vec3::Zero());
                 break;  // the awake nodes find themselves at rest and fall asleep
             case LoopCommand::Kind::ResetWatchdog:
@@ -337,7 +359,8 @@ void HapticLoop::afterTopologyChange() {
     bvh_.facesChanged(view, changes.faces);
     stepper_.topologyChanged(model_, changes.nodes, changes.springs);
     // Once a cut has opened, the surface has lips: no longer closed, so no ray-parity check.
-    for (HandState& hand : hands_) hand.proxy.surfaceRemeshed(view, bvh_, hand.proxy.params().closedSurface && !cutter_.stats().opened);
+    for (HandState& hand : hands_)
+        hand.proxy.surfaceRemeshed(view, bvh_, hand.proxy.params().closedSurface && !cutter_.stats().opened);
     ++topologyVersion_;
     snapshots_.facesChanged(topologyVersion_, changes.faces);
     organ_.clearChanges();

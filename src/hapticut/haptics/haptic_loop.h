@@ -26,14 +26,14 @@
 namespace hapticut::haptics {
 
 struct LoopConfig {
-    double rate_hz = 1000;                     // 1 kHz (R7); up to 10 kHz
+    double rate_hz = 1000;  // 1 kHz (R7); up to 10 kHz
     physics::Scheme scheme = physics::Scheme::RungeKutta4;
-    double couplingStiffness_N_per_m = 400;    // k_h of the virtual spring between proxy and device; live changes up to this value.
-                                               // 400 N/m keeps RK4 at one step per ms on the 1,619 heart.
-    double couplingDamping_Ns_per_m = 0.3;     // b_h on the device velocity, only while in contact
-    double rampTime_s = 0.5;                   // force fades in over this long after start and after a watchdog reset
-    int snapshotEvery = 8;                     // publish positions for the renderer every N steps (125 Hz)
-    bool activeRegion = true;                  // integrate only the tissue near the tool (Stepper::setActiveRegion)
+    double couplingStiffness_N_per_m = 400;  // k_h of the virtual spring between proxy and device; live changes up to
+                                             // this value. 400 N/m keeps RK4 at one step per ms on the 1,619 heart.
+    double couplingDamping_Ns_per_m = 0.3;   // b_h on the device velocity, only while in contact
+    double rampTime_s = 0.5;                 // force fades in over this long after start and after a watchdog reset
+    int snapshotEvery = 8;                   // publish positions for the renderer every N steps (125 Hz)
+    bool activeRegion = true;                // integrate only the tissue near the tool (Stepper::setActiveRegion)
     /// The tool cuts while its force is above this (R14): the scalpel's threshold; the probe's is infinite.
     /// The single-device constructor's tool; a Hand carries its own, which SetCutThreshold changes.
     double cutThreshold_N = std::numeric_limits<double>::infinity();
@@ -50,7 +50,7 @@ struct Hand {
     Device* device = nullptr;
     double cutThreshold_N = std::numeric_limits<double>::infinity();  // the tool's (R14); infinite: it never cuts
     double maxForce_N = std::numeric_limits<double>::infinity();      // below the device's own maximum, if lower
-    double maxForceRate_N_per_s = kDefaultMaxForceRate_N_per_s;      // how fast the force sent may grow
+    double maxForceRate_N_per_s = kDefaultMaxForceRate_N_per_s;       // how fast the force sent may grow
     /// This hand's coupling k_h and b_h (a scene's [[devices]] entry); empty: the loop's, which the
     /// panel changes live.
     std::optional<double> couplingStiffness_N_per_m{}, couplingDamping_Ns_per_m{};
@@ -72,20 +72,31 @@ struct LoopStats {
     LatencyHistogram stepTime_us{0.1, 20'000};
     LatencyHistogram periodError_us{0.1, 20'000};  // real-time mode: how late each step started
     long steps = 0, contactSteps = 0, overruns = 0, nonFiniteEvents = 0;
-    long rateLimitedSteps = 0;     // steps in which a hand's force was held back by its maximum force rate
-    bool watchdogTripped = false;  // latched by a non-finite force or state: force stays zero
-    long cutEvents = 0;            // steps in which the scalpel changed the mesh
+    long rateLimitedSteps = 0;                  // steps in which a hand's force was held back by its maximum force rate
+    bool watchdogTripped = false;               // latched by a non-finite force or state: force stays zero
+    long cutEvents = 0;                         // steps in which the scalpel changed the mesh
     LatencyHistogram cutTime_us{0.1, 100'000};  // the cut and the updates it needs (tree, stepper, proxy)
-    double maxForce_N = 0;         // the largest force sent to any hand
+    double maxForce_N = 0;                      // the largest force sent to any hand
     double wallTime_s = 0;
 };
 
 struct LoopCommand {
     enum class Kind {
-        SetCouplingStiffness, SetCouplingDamping, SetMaxForceScale, SetCutThreshold, ResetModel, ResetWatchdog, Pause, Resume,
+        SetCouplingStiffness,
+        SetCouplingDamping,
+        SetMaxForceScale,
+        SetCutThreshold,
+        ResetModel,
+        ResetWatchdog,
+        Pause,
+        Resume,
         // Material, live: each multiplies the model's current values by `value` (> 0) and re-prepares the
         // stepper for the new stable step. That allocates, like a cut: a user's action, not steady state.
-        ScaleMass, ScaleStructuralStiffness, ScaleStructuralDamping, ScalePositioningStiffness, ScalePositioningDamping
+        ScaleMass,
+        ScaleStructuralStiffness,
+        ScaleStructuralDamping,
+        ScalePositioningStiffness,
+        ScalePositioningDamping
     } kind;
     double value = 0;
     int hand = 0;  // SetCutThreshold: whose tool
@@ -100,7 +111,8 @@ public:
     /// One or two hands on an organ, each with its own tool, proxy and limits. Only one tool cuts at a
     /// time: a cut in progress belongs to the hand that started it. An error for no hands, too many, a
     /// hand without a device, or a rate outside 1 Hz - 100 kHz.
-    static Result<std::unique_ptr<HapticLoop>, Error> create(cutting::CutModel& organ, std::span<const Hand> hands, LoopConfig config = {});
+    static Result<std::unique_ptr<HapticLoop>, Error> create(cutting::CutModel& organ, std::span<const Hand> hands,
+                                                             LoopConfig config = {});
     /// Leaves every device at zero force.
     ~HapticLoop();
     HapticLoop(const HapticLoop&) = delete;
@@ -143,7 +155,7 @@ private:
         Hand setup;
         GodObjectProxy proxy;
         double stiffnessCap_N_per_m = std::numeric_limits<double>::infinity();
-        double lastForce_N = 0;       // the force of the previous step, which decides whether to cut
+        double lastForce_N = 0;           // the force of the previous step, which decides whether to cut
         Vec3 sentForce_N = Vec3::Zero();  // what the device was last told, for the force-rate limit
     };
     /// What a step knows about each hand as it goes through its phases.

@@ -30,8 +30,8 @@ inline constexpr HDushort kDefaultSchedulerPriority = 0xFFFF / 2;
 inline constexpr HDerror kSuccess = 0x0000;
 inline constexpr HDerror kWarmMotors = 0x0200, kExceededMaxForce = 0x0201, kExceededMaxForceImpulse = 0x0202,
                          kExceededMaxVelocity = 0x0203, kForceError = 0x0204;
-inline constexpr HDerror kDeviceFault = 0x0300, kDeviceAlreadyInitiated = 0x0301, kCommError = 0x0302, kCommConfigError = 0x0303,
-                         kTimerError = 0x0304;
+inline constexpr HDerror kDeviceFault = 0x0300, kDeviceAlreadyInitiated = 0x0301, kCommError = 0x0302,
+                         kCommConfigError = 0x0303, kTimerError = 0x0304;
 inline constexpr HDerror kInvalidLicense = 0x0600;
 
 // Parameters.
@@ -39,12 +39,14 @@ inline constexpr HDenum kCurrentButtons = 0x2000;
 inline constexpr HDenum kCurrentPosition = 0x2050, kCurrentVelocity = 0x2051, kCurrentTransform = 0x2052;
 inline constexpr HDenum kDeviceModelType = 0x2501, kDeviceSerialNumber = 0x2504;
 inline constexpr HDenum kUsableWorkspaceDimensions = 0x2551;
-inline constexpr HDenum kUpdateRate = 0x2600, kNominalMaxStiffness = 0x2602, kNominalMaxForce = 0x2603, kNominalMaxContinuousForce = 0x2604;
+inline constexpr HDenum kUpdateRate = 0x2600, kNominalMaxStiffness = 0x2602, kNominalMaxForce = 0x2603,
+                        kNominalMaxContinuousForce = 0x2604;
 inline constexpr HDenum kCurrentForce = 0x2700;
 inline constexpr HDenum kForceOutput = 0x4000, kMaxForceClamping = 0x4001;
 
 // Calibration.
-inline constexpr HDenum kCalibrationOk = 0x5000, kCalibrationNeedsUpdate = 0x5001, kCalibrationNeedsManualInput = 0x5002;
+inline constexpr HDenum kCalibrationOk = 0x5000, kCalibrationNeedsUpdate = 0x5001,
+                        kCalibrationNeedsManualInput = 0x5002;
 inline constexpr HDint kCalibrationStyle = 0x2555;
 inline constexpr HDint kCalibrationEncoderReset = 1 << 0, kCalibrationAuto = 1 << 1, kCalibrationInkwell = 1 << 2;
 

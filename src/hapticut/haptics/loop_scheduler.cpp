@@ -40,7 +40,9 @@ Status RealTimeScheduler::startServos(std::vector<ServoClock*> servos, long max_
             return false;
         }
         const auto now = Clock::now();
-        if (servoSteps_ > 0) loop_.recordPeriodError(std::max(0.0, std::chrono::duration<double, std::micro>(now - servoLast_).count() - period_us));
+        if (servoSteps_ > 0)
+            loop_.recordPeriodError(
+                std::max(0.0, std::chrono::duration<double, std::micro>(now - servoLast_).count() - period_us));
         servoLast_ = now;
         const StepOutput out = loop_.step();
         if (servoObserver_) servoObserver_(out);
@@ -48,10 +50,13 @@ Status RealTimeScheduler::startServos(std::vector<ServoClock*> servos, long max_
         return true;
     };
     // The others only exchange their frames: the state the step reads, the force it wrote.
-    auto follow = [this] { return !stopRequested_.load(std::memory_order_relaxed) && running_.load(std::memory_order_relaxed); };
+    auto follow = [this] {
+        return !stopRequested_.load(std::memory_order_relaxed) && running_.load(std::memory_order_relaxed);
+    };
     for (std::size_t i = 0; i < servos.size(); ++i) {
         std::string servoError;
-        const bool started = i == 0 ? servos[i]->startServo(drive, servoError) : servos[i]->startServo(follow, servoError);
+        const bool started =
+            i == 0 ? servos[i]->startServo(drive, servoError) : servos[i]->startServo(follow, servoError);
         if (!started) {
             for (std::size_t k = 0; k < i; ++k) servos[k]->stopServo();
             running_ = false;
@@ -84,8 +89,7 @@ void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
     auto deadline = begin;
     for (long i = 0; (max_steps < 0 || i < max_steps) && !stopRequested_.load(std::memory_order_relaxed); ++i) {
         if (deadline - Clock::now() > spinMargin) std::this_thread::sleep_until(deadline - spinMargin);
-        while (Clock::now() < deadline) {
-        }
+        while (Clock::now() < deadline) {}
         loop_.recordPeriodError(std::chrono::duration<double, std::micro>(Clock::now() - deadline).count());
         const StepOutput out = loop_.step();
         if (observer) observer(out);

@@ -20,7 +20,8 @@ const char* hd::describeError(HDerror code) {
         case kForceError: return "the device could not render the force";
         case kDeviceFault: return "the device reported a fault";
         case kDeviceAlreadyInitiated: return "the device is already in use (another program, or opened twice)";
-        case kCommError: return "communication with the device failed: is it plugged in and powered, and its driver running?";
+        case kCommError:
+            return "communication with the device failed: is it plugged in and powered, and its driver running?";
         case kCommConfigError: return "the device's communication is misconfigured: run the vendor's setup tool";
         case kTimerError: return "the servo timer failed";
         case kInvalidLicense: return "the OpenHaptics licence is invalid";
@@ -60,8 +61,14 @@ std::vector<std::string> defaultHdLibraryNames() {
 }
 
 std::vector<std::string> defaultHdSearchFolders() {
-    return {"", "/usr/lib", "/usr/lib64", "/usr/local/lib", "/usr/lib/x86_64-linux-gnu", "/opt/OpenHaptics/Developer/3.4-0/lib",
-            "/opt/OpenHaptics/Developer/3.5.0/lib", "/opt/OpenHaptics/lib"};
+    return {"",
+            "/usr/lib",
+            "/usr/lib64",
+            "/usr/local/lib",
+            "/usr/lib/x86_64-linux-gnu",
+            "/opt/OpenHaptics/Developer/3.4-0/lib",
+            "/opt/OpenHaptics/Developer/3.5.0/lib",
+            "/opt/OpenHaptics/lib"};
 }
 
 std::string OpenHapticsDevice::takeError() {
@@ -70,18 +77,22 @@ std::string OpenHapticsDevice::takeError() {
     char code[64];
     std::snprintf(code, sizeof code, " (HD error 0x%04x, internal %d)", e.errorCode, e.internalErrorCode);
     std::string text = hd::describeError(e.errorCode);
-    if (const char* own = api_->getErrorString ? api_->getErrorString(e.errorCode) : nullptr; own && *own) text += "; the library says: " + std::string(own);
+    if (const char* own = api_->getErrorString ? api_->getErrorString(e.errorCode) : nullptr; own && *own)
+        text += "; the library says: " + std::string(own);
     return text + code;
 }
 
 bool OpenHapticsDevice::load(std::string& error) {
-    const std::vector<std::string> names = options_.libraryNames.empty() ? defaultHdLibraryNames() : options_.libraryNames;
-    const std::vector<std::string> folders = options_.searchFolders.empty() ? defaultHdSearchFolders() : options_.searchFolders;
+    const std::vector<std::string> names =
+        options_.libraryNames.empty() ? defaultHdLibraryNames() : options_.libraryNames;
+    const std::vector<std::string> folders =
+        options_.searchFolders.empty() ? defaultHdSearchFolders() : options_.searchFolders;
     std::string why;
     library_ = SharedLibrary::open(names, folders, why);
     if (!library_) {
         error = "OpenHaptics: the HD runtime library is not installed here, " + why +
-                "\nInstall the OpenHaptics runtime (and the Touch/Phantom device driver) from the vendor, or point HAPTICUT_HD_LIBRARY at libHD.so.";
+                "\nInstall the OpenHaptics runtime (and the Touch/Phantom device driver) from the vendor, or point "
+                "HAPTICUT_HD_LIBRARY at libHD.so.";
         return false;
     }
     api_ = std::make_unique<Api>();
@@ -112,7 +123,8 @@ bool OpenHapticsDevice::load(std::string& error) {
     if (!missing.empty()) {
         error = "OpenHaptics: " + lib.path() + " lacks";
         for (const std::string& m : missing) error += " " + m;
-        error += ": it is not the HD API library, or a version Hapticut does not support (install OpenHaptics 3.4 or later)";
+        error +=
+            ": it is not the HD API library, or a version Hapticut does not support (install OpenHaptics 3.4 or later)";
         return false;
     }
     return true;
@@ -133,15 +145,17 @@ Result<std::unique_ptr<OpenHapticsDevice>, Error> OpenHapticsDevice::open(const 
     return device;
 }
 
-std::unique_ptr<OpenHapticsDevice> OpenHapticsDevice::openOrExplain(const OpenHapticsOptions& options, std::string& error) {
+std::unique_ptr<OpenHapticsDevice> OpenHapticsDevice::openOrExplain(const OpenHapticsOptions& options,
+                                                                    std::string& error) {
     auto d = std::unique_ptr<OpenHapticsDevice>(new OpenHapticsDevice);
     d->options_ = options;
     if (!d->load(error)) return nullptr;
     Api& a = *d->api_;
     d->device_ = a.initDevice(options.deviceName.empty() ? nullptr : options.deviceName.c_str());
     if (const std::string e = d->takeError(); !e.empty() || d->device_ == hd::kInvalidHandle) {
-        error = "OpenHaptics: cannot open the device " + (options.deviceName.empty() ? std::string("(the default)") : "'" + options.deviceName + "'") +
-                ": " + (e.empty() ? std::string("no device") : e);
+        error = "OpenHaptics: cannot open the device " +
+                (options.deviceName.empty() ? std::string("(the default)") : "'" + options.deviceName + "'") + ": " +
+                (e.empty() ? std::string("no device") : e);
         return nullptr;
     }
     if (const char* model = a.getString(hd::kDeviceModelType)) d->model_ = model;
@@ -188,7 +202,7 @@ std::unique_ptr<OpenHapticsDevice> OpenHapticsDevice::openOrExplain(const OpenHa
     if (calibration.status == hd::kCalibrationNeedsUpdate) {
         hd::HDint styles = 0;
         a.getIntegerv(hd::kCalibrationStyle, &styles);
-        const hd::HDenum style = (styles & hd::kCalibrationAuto)       ? hd::kCalibrationAuto
+        const hd::HDenum style = (styles & hd::kCalibrationAuto)      ? hd::kCalibrationAuto
                                  : (styles & hd::kCalibrationInkwell) ? hd::kCalibrationInkwell
                                                                       : hd::kCalibrationEncoderReset;
         a.updateCalibration(style);

@@ -65,7 +65,9 @@ public:
     const std::string& serial() const { return serial_; }
     const std::string& libraryPath() const { return library_->path(); }
     /// The device's nominal maximum stiffness (N/m): the loop keeps the coupling below it.
-    double maxStiffness_N_per_m() const override { return maxStiffness_ > 0 ? maxStiffness_ : Device::maxStiffness_N_per_m(); }
+    double maxStiffness_N_per_m() const override {
+        return maxStiffness_ > 0 ? maxStiffness_ : Device::maxStiffness_N_per_m();
+    }
     /// Set when the device reported an error in the servo loop (a lost connection, overheated motors):
     /// from then on it reads as non-finite, which trips the loop's watchdog, and sends no force.
     bool faulted() const { return faulted_.load(std::memory_order_acquire); }

@@ -50,7 +50,8 @@ void GodObjectProxy::pushOutIfInside(const collision::SurfaceView& s, const coll
         near = bvh.closestPoint(s, position_);
     } else {
         near = bvh.closestPoint(s, position_, reach);
-        if (!near || near->bary.minCoeff() <= 1e-9 || faceNormal(s, near->face).dot(position_ - near->point) >= 0) return;
+        if (!near || near->bary.minCoeff() <= 1e-9 || faceNormal(s, near->face).dot(position_ - near->point) >= 0)
+            return;
     }
     if (!near) return;
     const Vec3 out = near->point - position_;
@@ -97,7 +98,8 @@ Vec3 GodObjectProxy::applyFriction(const Vec3& goal, const Vec3& device_m, const
     // it slides toward the goal but stops where the tangential part equals the dynamic limit.
     // Only a proxy that began the step resting on the surface can stick; one arriving from free space
     // just lands.
-    if (planeCount_ != 1 || !startedInContact_ || (params_.staticFriction <= 0 && params_.dynamicFriction <= 0)) return goal;
+    if (planeCount_ != 1 || !startedInContact_ || (params_.staticFriction <= 0 && params_.dynamicFriction <= 0))
+        return goal;
     const double normal = (goal - device_m).norm();
     const Vec3& n = planes_[0].normal;
     Vec3 tangential = from - goal;
@@ -118,9 +120,11 @@ void GodObjectProxy::findContact(const collision::SurfaceView& s, const collisio
         for (std::uint32_t v : s.faces[contact_.face])
             for (std::uint32_t f : topology_->of(v)) {
                 const mesh::Face& face = s.faces[f];
-                const auto c = geometry::closestPointOnTriangle(position_, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+                const auto c = geometry::closestPointOnTriangle(position_, s.positions[face[0]], s.positions[face[1]],
+                                                                s.positions[face[2]]);
                 const double d2 = (c.point - position_).squaredNorm();
-                if (d2 < best || (!near && d2 <= best)) best = d2, near = collision::SurfacePoint{f, c.point, c.bary, 0};
+                if (d2 < best || (!near && d2 <= best))
+                    best = d2, near = collision::SurfacePoint{f, c.point, c.bary, 0};
             }
         if (near) ++fastPathContacts_;
     }
@@ -189,7 +193,8 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
         const Vec3 travel = hit->point - position_;
         const double travelled = travel.norm();
         const double backoff = std::min(params_.offset_m, travelled);
-        position_ = hit->point + params_.offset_m * n - (travelled > 0 ? Vec3(backoff / travelled * travel) : Vec3::Zero());
+        position_ =
+            hit->point + params_.offset_m * n - (travelled > 0 ? Vec3(backoff / travelled * travel) : Vec3::Zero());
         if (planeCount_ == 3) break;  // held in a corner by three planes
         planes_[planeCount_++] = {n, n.dot(hit->point) + params_.offset_m};
         goal = applyFriction(constrainedGoal(device_m), device_m, contactStart_);

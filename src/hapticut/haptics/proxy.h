@@ -62,7 +62,7 @@ public:
 private:
     struct Plane {
         Vec3 normal = Vec3::Zero();  // unit, pointing to the side the proxy is on
-        double offset = 0;  // the plane is normal·x = offset
+        double offset = 0;           // the plane is normal·x = offset
     };
     void carryWithSurface(const collision::SurfaceView& surface);
     void pushOutIfInside(const collision::SurfaceView& surface, const collision::Bvh& bvh);

@@ -41,7 +41,9 @@ SdlJoystickInfo describe(int index, SDL_Joystick* joystick, SDL_Haptic* haptic) 
 
 std::string joystickList() {
     const int count = SDL_NumJoysticks();
-    if (count <= 0) return "SDL sees no joystick (is it plugged in, and may this user read /dev/input/event*? On Debian: add yourself to the 'input' group)";
+    if (count <= 0)
+        return "SDL sees no joystick (is it plugged in, and may this user read /dev/input/event*? On Debian: add "
+               "yourself to the 'input' group)";
     std::string text = "SDL sees " + std::to_string(count) + ":";
     for (int i = 0; i < count; ++i) {
         const char* name = SDL_JoystickNameForIndex(i);
@@ -158,8 +160,10 @@ void SdlDevice::threadMain(std::string* error, std::atomic<int>* started) {
     started->store(1, std::memory_order_release);
 
     using Clock = std::chrono::steady_clock;
-    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1 / std::max(options_.pollRate_hz, 1.0)));
-    const auto effectPeriod = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1 / std::max(options_.effectRate_hz, 1.0)));
+    const auto period = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(1 / std::max(options_.pollRate_hz, 1.0)));
+    const auto effectPeriod = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(1 / std::max(options_.effectRate_hz, 1.0)));
     auto next = Clock::now(), nextEffect = next, last = next;
     Vec3 position = Vec3::Zero();
     double lastStrength = -1;
@@ -180,11 +184,16 @@ void SdlDevice::threadMain(std::string* error, std::atomic<int>* started) {
             if (options_.invert[static_cast<std::size_t>(k)]) v = -v;
             // Rescale past the dead zone so that small deflections start from zero, not with a jump.
             const double a = std::abs(v);
-            deflection[k] = a <= options_.deadZone ? 0 : std::copysign((a - options_.deadZone) / (1 - options_.deadZone), v);
+            deflection[k] =
+                a <= options_.deadZone ? 0 : std::copysign((a - options_.deadZone) / (1 - options_.deadZone), v);
         }
         const Vec3 previous = position;
-        if (options_.control == SdlControl::Position) position = deflection;
-        else position = (position + deflection * (options_.rate_per_s * dt)).cwiseMax(Vec3::Constant(-1)).cwiseMin(Vec3::Constant(1));
+        if (options_.control == SdlControl::Position)
+            position = deflection;
+        else
+            position = (position + deflection * (options_.rate_per_s * dt))
+                           .cwiseMax(Vec3::Constant(-1))
+                           .cwiseMin(Vec3::Constant(1));
         Input& in = input_.writeSlot();
         in.position = position;
         in.velocity = dt > 0 ? Vec3((position - previous) / dt) : Vec3::Zero();
@@ -198,7 +207,8 @@ void SdlDevice::threadMain(std::string* error, std::atomic<int>* started) {
             nextEffect = now + effectPeriod;
             // The force in the device's frame: x right, y up, z toward the user. A stick moves in x and
             // z; SDL's direction is where the force comes from, in x right and y toward the user.
-            const Vec3 f = options_.workspace.forceToDevice(Vec3(fx_.load(std::memory_order_relaxed), fy_.load(std::memory_order_relaxed),
+            const Vec3 f = options_.workspace.forceToDevice(Vec3(fx_.load(std::memory_order_relaxed),
+                                                                 fy_.load(std::memory_order_relaxed),
                                                                  fz_.load(std::memory_order_relaxed)));
             const double strength = std::clamp(f.norm() / std::max(options_.maxForce_N, 1e-9), 0.0, 1.0);
             if (info_.constantForce) {
@@ -209,12 +219,14 @@ void SdlDevice::threadMain(std::string* error, std::atomic<int>* started) {
                 effect.constant.direction.dir[0] = planar > 0 ? static_cast<Sint32>(-f.x() / planar * 10000) : 0;
                 effect.constant.direction.dir[1] = planar > 0 ? static_cast<Sint32>(-f.z() / planar * 10000) : 0;
                 effect.constant.length = SDL_HAPTIC_INFINITY;
-                effect.constant.level = static_cast<Sint16>(std::clamp(planar / std::max(options_.maxForce_N, 1e-9), 0.0, 1.0) * 32767);
+                effect.constant.level =
+                    static_cast<Sint16>(std::clamp(planar / std::max(options_.maxForce_N, 1e-9), 0.0, 1.0) * 32767);
                 SDL_HapticUpdateEffect(sdl.haptic, sdl.effect, &effect);
             } else if (info_.rumble && (strength > 0 || lastStrength != 0)) {
                 // Renewed every effect period, lasting two: stops on its own if this thread does.
                 const auto level = static_cast<Uint16>(strength * 65535);
-                SDL_JoystickRumble(sdl.joystick, level, level, static_cast<Uint32>(2000 / std::max(options_.effectRate_hz, 1.0)));
+                SDL_JoystickRumble(sdl.joystick, level, level,
+                                   static_cast<Uint32>(2000 / std::max(options_.effectRate_hz, 1.0)));
             }
             played_.store(strength, std::memory_order_relaxed);
             lastStrength = strength;

@@ -30,13 +30,13 @@ struct SdlOptions {
     /// stick moves across the organ and in/out of it, the right stick's vertical moves up and down.
     std::array<int, 3> axes{0, 4, 1};
     std::array<bool, 3> invert{false, true, false};  // SDL's axes grow downward and away
-    double deadZone = 0.08;           // fraction of full deflection ignored round the centre
-    double rate_per_s = 1.0;          // rate control: workspace half-widths per second at full deflection
+    double deadZone = 0.08;                          // fraction of full deflection ignored round the centre
+    double rate_per_s = 1.0;  // rate control: workspace half-widths per second at full deflection
     /// Device units (-1..1 on every axis) to scene metres; the automatic fit replaces it.
     WorkspaceTransform workspace{0.05};
     double maxForce_N = kDefaultMaxForce_N;  // the scene force that plays as the effect's full strength
-    double pollRate_hz = 1000;         // how often the device's thread reads the axes
-    double effectRate_hz = 100;        // how often it renews the force effect (USB devices are slow)
+    double pollRate_hz = 1000;               // how often the device's thread reads the axes
+    double effectRate_hz = 100;              // how often it renews the force effect (USB devices are slow)
 };
 
 /// What SDL sees, for `hapticut devices`.
@@ -62,7 +62,9 @@ public:
     void commandForce(const Vec3& force_N) override;
     double maxForce_N() const override { return options_.maxForce_N; }
     WorkspaceTransform workspace() const override { return options_.workspace; }
-    std::optional<geometry::Aabb> workspaceBox() const override { return geometry::Aabb{Vec3::Constant(-1), Vec3::Constant(1)}; }
+    std::optional<geometry::Aabb> workspaceBox() const override {
+        return geometry::Aabb{Vec3::Constant(-1), Vec3::Constant(1)};
+    }
     bool setWorkspace(const WorkspaceTransform& workspace) override {
         options_.workspace = workspace;
         return true;

@@ -7,7 +7,8 @@
 
 namespace hapticut::haptics {
 
-std::unique_ptr<SharedLibrary> SharedLibrary::open(const std::vector<std::string>& names, const std::vector<std::string>& folders, std::string& error) {
+std::unique_ptr<SharedLibrary> SharedLibrary::open(const std::vector<std::string>& names,
+                                                   const std::vector<std::string>& folders, std::string& error) {
     std::vector<std::string> failures;  // files that exist but would not load: the reasons that matter
     std::vector<std::string> places = folders;
     if (places.empty()) places.push_back("");
@@ -26,9 +27,12 @@ std::unique_ptr<SharedLibrary> SharedLibrary::open(const std::vector<std::string
             if (reason.find("No such file") == std::string::npos) failures.push_back(candidate + ": " + reason);
         }
     error = "could not open ";
-    for (std::size_t i = 0; i < names.size(); ++i) error += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    for (std::size_t i = 0; i < names.size(); ++i)
+        error += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
     error += "; looked in:";
-    for (const std::string& folder : places) error += "\n  " + (folder.empty() ? std::string("the system search path (LD_LIBRARY_PATH, the loader cache)") : folder);
+    for (const std::string& folder : places)
+        error += "\n  " +
+                 (folder.empty() ? std::string("the system search path (LD_LIBRARY_PATH, the loader cache)") : folder);
     if (!failures.empty()) {
         error += "\nfound but could not load:";
         for (const std::string& f : failures) error += "\n  " + f;

@@ -13,7 +13,8 @@ public:
     /// Tries each name in each folder (an empty folder: the system's own search, LD_LIBRARY_PATH and the
     /// loader cache). On failure nothing, and `error` names the files, every folder searched, and why any
     /// file that was found would not load (a missing dependency, the wrong architecture).
-    static std::unique_ptr<SharedLibrary> open(const std::vector<std::string>& names, const std::vector<std::string>& folders, std::string& error);
+    static std::unique_ptr<SharedLibrary> open(const std::vector<std::string>& names,
+                                               const std::vector<std::string>& folders, std::string& error);
     ~SharedLibrary();
     SharedLibrary(const SharedLibrary&) = delete;
     SharedLibrary& operator=(const SharedLibrary&) = delete;

@@ -7,8 +7,8 @@
 
 namespace hapticut::haptics {
 
-void SnapshotPublisher::prepare(std::span<const Vec3> positions, std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs,
-                                long version, int handCount) {
+void SnapshotPublisher::prepare(std::span<const Vec3> positions, std::span<const mesh::Face> faces,
+                                std::span<const mesh::FaceUvs> uvs, long version, int handCount) {
     // Room for what cuts add, as the organ's own arrays have (CutModel), so publishing rarely allocates.
     for (Snapshot& s : buffer_.slots()) {
         reserveTouched(s.positions, roomToGrow(positions.size()));
@@ -29,8 +29,8 @@ void SnapshotPublisher::facesChanged(long version, std::span<const std::uint32_t
     for (std::uint32_t f : faces) faceLog_.push_back({version, f});
 }
 
-Snapshot& SnapshotPublisher::fill(std::span<const Vec3> positions, std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs,
-                                  long version) {
+Snapshot& SnapshotPublisher::fill(std::span<const Vec3> positions, std::span<const mesh::Face> faces,
+                                  std::span<const mesh::FaceUvs> uvs, long version) {
     Snapshot& s = buffer_.writeSlot();
     // Sizes change only after a cut; the slots were reserved with room to grow.
     s.positions.assign(positions.begin(), positions.end());
@@ -47,7 +47,8 @@ Snapshot& SnapshotPublisher::fill(std::span<const Vec3> positions, std::span<con
         slotVersion_[static_cast<std::size_t>(&s - buffer_.slots().data())] = version;
         // What every slot has is needed no more.
         const long everywhere = *std::min_element(slotVersion_.begin(), slotVersion_.end());
-        faceLog_.erase(faceLog_.begin(), std::find_if(faceLog_.begin(), faceLog_.end(), [&](const FaceChange& c) { return c.version > everywhere; }));
+        faceLog_.erase(faceLog_.begin(), std::find_if(faceLog_.begin(), faceLog_.end(),
+                                                      [&](const FaceChange& c) { return c.version > everywhere; }));
     }
     return s;
 }

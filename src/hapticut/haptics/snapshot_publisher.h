@@ -15,13 +15,14 @@ namespace hapticut::haptics {
 class SnapshotPublisher {
 public:
     /// Sizes every slot for the organ, with room to grow as cuts add to it, at topology version `version`.
-    void prepare(std::span<const Vec3> positions, std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs, long version,
-                 int handCount);
+    void prepare(std::span<const Vec3> positions, std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs,
+                 long version, int handCount);
     /// The faces that topology version `version` rewrote or added; kept until every slot has them.
     void facesChanged(long version, std::span<const std::uint32_t> faces);
     /// The slot to write, its positions copied and its faces and UVs caught up to `version`; the caller
     /// fills in the rest and calls publish(). Allocation-free while the organ stays within its room to grow.
-    Snapshot& fill(std::span<const Vec3> positions, std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs, long version);
+    Snapshot& fill(std::span<const Vec3> positions, std::span<const mesh::Face> faces,
+                   std::span<const mesh::FaceUvs> uvs, long version);
     void publish() { buffer_.publish(); }
 
     TripleBuffer<Snapshot>& buffer() { return buffer_; }

@@ -8,8 +8,10 @@ namespace hapticut::haptics {
 std::string formatStepLog(std::span<const StepOutput> log, StepLogColumns columns) {
     const bool recording = columns == StepLogColumns::Recording;
     const bool two = !recording && !log.empty() && log.front().handCount > 1;
-    std::string out = recording ? "t,x,y,z,button,fx,fy,fz\n" : "t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut";
-    if (!recording) out += two ? ",device_x2,device_y2,device_z2,proxy_x2,proxy_y2,proxy_z2,fx2,fy2,fz2,contact2,face2\n" : "\n";
+    std::string out = recording ? "t,x,y,z,button,fx,fy,fz\n"
+                                : "t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut";
+    if (!recording)
+        out += two ? ",device_x2,device_y2,device_z2,proxy_x2,proxy_y2,proxy_z2,fx2,fy2,fz2,contact2,face2\n" : "\n";
     out.reserve(out.size() + log.size() * (two ? 300 : 160));
     auto vec = [&](const Vec3& v) {
         for (int k = 0; k < 3; ++k) out += "," + formatDouble(v[k]);

@@ -12,7 +12,8 @@ std::vector<std::string_view> splitCsv(std::string_view line) {
     std::size_t start = 0;
     while (true) {
         const std::size_t comma = line.find(',', start);
-        std::string_view f = line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+        std::string_view f =
+            line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
         while (!f.empty() && (f.front() == ' ' || f.front() == '\t')) f.remove_prefix(1);
         while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r')) f.remove_suffix(1);
         fields.push_back(f);
@@ -36,21 +37,30 @@ Result<Trajectory, Error> parseTrajectory(std::string_view text, const std::file
         if (columns != 5 && columns != 9)
             r.fail("expected the header 't,x,y,z,button', optionally followed by 'qw,qx,qy,qz' and then by 'fx,fy,fz'");
         for (std::size_t i = 0; i < columns; ++i)
-            if (header[i] != kNames[i]) r.fail("header column " + std::to_string(i + 1) + " should be '" + std::string(kNames[i]) + "', found '" + std::string(header[i]) + "'");
+            if (header[i] != kNames[i])
+                r.fail("header column " + std::to_string(i + 1) + " should be '" + std::string(kNames[i]) +
+                       "', found '" + std::string(header[i]) + "'");
         for (std::size_t i = 0; recorded && i < 3; ++i)
-            if (header[columns + i] != kForces[i]) r.fail("header column " + std::to_string(columns + i + 1) + " should be '" + std::string(kForces[i]) + "'");
+            if (header[columns + i] != kForces[i])
+                r.fail("header column " + std::to_string(columns + i + 1) + " should be '" + std::string(kForces[i]) +
+                       "'");
 
         Trajectory out;
         while (r.next()) {
             const auto fields = splitCsv(r.rawLine());
             if (fields.size() != header.size())
-                r.fail("expected " + std::to_string(header.size()) + " comma-separated values, found " + std::to_string(fields.size()));
+                r.fail("expected " + std::to_string(header.size()) + " comma-separated values, found " +
+                       std::to_string(fields.size()));
             double v[12];
             for (std::size_t i = 0; i < fields.size(); ++i)
                 if (!parseFiniteDouble(fields[i], v[i]))
-                    r.fail("expected a finite number for " + std::string(i < columns ? kNames[i] : kForces[i - columns]) + ", found '" + std::string(fields[i]) + "'");
+                    r.fail("expected a finite number for " +
+                           std::string(i < columns ? kNames[i] : kForces[i - columns]) + ", found '" +
+                           std::string(fields[i]) + "'");
             if (v[4] != 0 && v[4] != 1) r.fail("button must be 0 or 1, found '" + std::string(fields[4]) + "'");
-            if (!out.points.empty() && v[0] <= out.points.back().t_s) r.fail("time must increase: " + std::string(fields[0]) + " s follows " + formatDouble(out.points.back().t_s) + " s");
+            if (!out.points.empty() && v[0] <= out.points.back().t_s)
+                r.fail("time must increase: " + std::string(fields[0]) + " s follows " +
+                       formatDouble(out.points.back().t_s) + " s");
             TrajectoryPoint p;
             p.t_s = v[0];
             p.sample.position_m = Vec3(v[1], v[2], v[3]);
@@ -80,9 +90,9 @@ std::string formatTrajectory(const Trajectory& trajectory) {
     for (const TrajectoryPoint& p : trajectory.points) {
         const Vec3& x = p.sample.position_m;
         const Eigen::Quaterniond& q = p.sample.orientation;
-        out += formatDouble(p.t_s) + "," + formatDouble(x.x()) + "," + formatDouble(x.y()) + "," + formatDouble(x.z()) + "," +
-               std::to_string(p.sample.buttons) + "," + formatDouble(q.w()) + "," + formatDouble(q.x()) + "," + formatDouble(q.y()) + "," +
-               formatDouble(q.z()) + "\n";
+        out += formatDouble(p.t_s) + "," + formatDouble(x.x()) + "," + formatDouble(x.y()) + "," + formatDouble(x.z()) +
+               "," + std::to_string(p.sample.buttons) + "," + formatDouble(q.w()) + "," + formatDouble(q.x()) + "," +
+               formatDouble(q.y()) + "," + formatDouble(q.z()) + "\n";
     }
     return out;
 }

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "hapticut/common/result.h"
-#include "hapticut/haptics/device.h"
 #include "hapticut/common/text_file.h"
+#include "hapticut/haptics/device.h"
 
 namespace hapticut::haptics {
 
@@ -27,6 +27,5 @@ struct Trajectory {
 Result<Trajectory, Error> parseTrajectory(std::string_view text, const std::filesystem::path& file_for_errors);
 Result<Trajectory, Error> readTrajectory(const std::filesystem::path& file);
 std::string formatTrajectory(const Trajectory& trajectory);
-
 
 }  // namespace hapticut::haptics

@@ -11,7 +11,8 @@ void VirtualDevice::setPosition(const Vec3& position, std::uint32_t buttons) {
 }
 
 Vec3 VirtualDevice::lastForce() const {
-    return {fx_.load(std::memory_order_relaxed), fy_.load(std::memory_order_relaxed), fz_.load(std::memory_order_relaxed)};
+    return {fx_.load(std::memory_order_relaxed), fy_.load(std::memory_order_relaxed),
+            fz_.load(std::memory_order_relaxed)};
 }
 
 DeviceSample VirtualDevice::read(double time_s) {
@@ -21,10 +22,12 @@ DeviceSample VirtualDevice::read(double time_s) {
     // A hand moves smoothly; a cursor jumps once a frame. Following it with a first-order lag spreads
     // each jump over the haptic steps, so the coupling's damping sees a hand's speed, not a spike.
     if (followTime_s_ > 0 && lastTime_ >= 0 && time_s > lastTime_)
-        s.position_m = lastPosition_ + (s.position_m - lastPosition_) * std::min(1.0, (time_s - lastTime_) / followTime_s_);
+        s.position_m =
+            lastPosition_ + (s.position_m - lastPosition_) * std::min(1.0, (time_s - lastTime_) / followTime_s_);
     s.buttons = in.buttons;
     // Velocity by finite difference over the haptic step; the first sample has none.
-    if (lastTime_ >= 0 && time_s > lastTime_) s.velocity_m_per_s = (s.position_m - lastPosition_) / (time_s - lastTime_);
+    if (lastTime_ >= 0 && time_s > lastTime_)
+        s.velocity_m_per_s = (s.position_m - lastPosition_) / (time_s - lastTime_);
     lastPosition_ = s.position_m;
     lastTime_ = time_s;
     return s;

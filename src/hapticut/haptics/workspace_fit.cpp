@@ -5,7 +5,8 @@
 
 namespace hapticut::haptics {
 
-WorkspaceTransform fitWorkspace(const geometry::Aabb& device_box, const geometry::Aabb& scene_box, double margin, const Eigen::Quaterniond& rotation) {
+WorkspaceTransform fitWorkspace(const geometry::Aabb& device_box, const geometry::Aabb& scene_box, double margin,
+                                const Eigen::Quaterniond& rotation) {
     WorkspaceTransform w;
     w.rotation = rotation.normalized();
     if (device_box.empty() || scene_box.empty()) return w;

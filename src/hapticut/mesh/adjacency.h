@@ -13,9 +13,9 @@ namespace hapticut::mesh {
 inline constexpr std::uint32_t kNoFace = std::numeric_limits<std::uint32_t>::max();
 
 struct MeshAdjacency {
-    std::vector<Edge> edges;                            // unique undirected edges, {lower, higher}, sorted
+    std::vector<Edge> edges;                              // unique undirected edges, {lower, higher}, sorted
     std::vector<std::array<std::uint32_t, 3>> faceEdges;  // edge of corner k: (v[k], v[k+1])
-    std::vector<std::uint32_t> edgeFaceStart;           // CSR: faces of edge e are edgeFaces[start[e] .. start[e+1])
+    std::vector<std::uint32_t> edgeFaceStart;             // CSR: faces of edge e are edgeFaces[start[e] .. start[e+1])
     std::vector<std::uint32_t> edgeFaces;
     /// Neighbour across the edge of corner k; kNoFace on a boundary or a non-manifold edge (3+ faces).
     std::vector<std::array<std::uint32_t, 3>> faceNeighbours;

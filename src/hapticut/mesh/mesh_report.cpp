@@ -2,8 +2,8 @@
 #include "hapticut/mesh/mesh_report.h"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 
@@ -36,7 +36,8 @@ MeshReport validateMesh(const SurfaceMesh& mesh) {
         if (faces.size() >= 3) ++r.nonManifoldEdges;
         if (faces.size() == 2) {
             const auto [a, b] = adj.edges[e];
-            if (traversesForward(mesh.faces[faces[0]], a, b) == traversesForward(mesh.faces[faces[1]], a, b)) ++r.misorientedEdges;
+            if (traversesForward(mesh.faces[faces[0]], a, b) == traversesForward(mesh.faces[faces[1]], a, b))
+                ++r.misorientedEdges;
         }
         for (std::size_t i = 1; i < faces.size(); ++i) parent[findRoot(parent, faces[i])] = findRoot(parent, faces[0]);
     }

@@ -18,8 +18,8 @@ struct MeshReport {
     std::size_t springs = 0;           // entries of the mesh's edge list
     std::size_t springsNotOnFaces = 0, faceEdgesWithoutSpring = 0;
     bool closed = false, manifold = false, oriented = false;
-    std::size_t components = 0;        // face-connected pieces
-    long eulerCharacteristic = 0;      // V - E + F over the used vertices
+    std::size_t components = 0;    // face-connected pieces
+    long eulerCharacteristic = 0;  // V - E + F over the used vertices
     Vec3 bboxMin = Vec3::Zero(), bboxMax = Vec3::Zero();
     double minAngleDeg = 0, meanEdgeLength_m = 0, shortestEdge_m = 0, area_m2 = 0;
 };

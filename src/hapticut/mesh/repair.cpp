@@ -28,11 +28,13 @@ std::size_t weld(SurfaceMesh& m, double eps) {
     std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
     const double cell = std::max(eps, 1e-300);
     auto key = [](long long x, long long y, long long z) {
-        return (static_cast<std::uint64_t>(x) * 73856093u) ^ (static_cast<std::uint64_t>(y) * 19349663u) ^ (static_cast<std::uint64_t>(z) * 83492791u);
+        return (static_cast<std::uint64_t>(x) * 73856093u) ^ (static_cast<std::uint64_t>(y) * 19349663u) ^
+               (static_cast<std::uint64_t>(z) * 83492791u);
     };
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
         const Vec3& p = m.positions[i];
-        const long long cx = std::llround(std::floor(p.x() / cell)), cy = std::llround(std::floor(p.y() / cell)), cz = std::llround(std::floor(p.z() / cell));
+        const long long cx = std::llround(std::floor(p.x() / cell)), cy = std::llround(std::floor(p.y() / cell)),
+                        cz = std::llround(std::floor(p.z() / cell));
         std::int64_t found = -1;
         for (long long dx = -1; dx <= 1 && found < 0; ++dx)
             for (long long dy = -1; dy <= 1 && found < 0; ++dy)
@@ -193,7 +195,8 @@ std::size_t orient(SurfaceMesh& m, std::vector<std::uint32_t>& component) {
         }
         if (closed) {
             double volume = 0;
-            for (std::uint32_t f : members) volume += m.positions[m.faces[f][0]].dot(m.positions[m.faces[f][1]].cross(m.positions[m.faces[f][2]]));
+            for (std::uint32_t f : members)
+                volume += m.positions[m.faces[f][0]].dot(m.positions[m.faces[f][1]].cross(m.positions[m.faces[f][2]]));
             if (volume < 0)
                 for (std::uint32_t f : members) flip(m, f), ++flipped;
         }
@@ -209,7 +212,8 @@ RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
     if (m.uvs.size() != m.faces.size()) m.uvs.assign(m.faces.size(), FaceUvs{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
     const geometry::Aabb box = geometry::boundsOf(m.positions);
     const double eps = options.weldEpsilon_m >= 0 ? options.weldEpsilon_m : 1e-9 * box.extent().norm();
-    if ((r.weldedVertices = weld(m, eps)) > 0) r.notes.push_back("welded " + count(r.weldedVertices, "duplicate vertices"));
+    if ((r.weldedVertices = weld(m, eps)) > 0)
+        r.notes.push_back("welded " + count(r.weldedVertices, "duplicate vertices"));
 
     r.degenerateFaces = filterFaces(m, [&](std::size_t i) {
         const Face& f = m.faces[i];
@@ -226,7 +230,8 @@ RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
     std::sort(sorted.begin(), sorted.end());
     std::vector<char> duplicate(m.faces.size(), 0);
     for (std::size_t i = 1; i < sorted.size(); ++i)
-        if (sorted[i][0] == sorted[i - 1][0] && sorted[i][1] == sorted[i - 1][1] && sorted[i][2] == sorted[i - 1][2]) duplicate[sorted[i][3]] = 1;
+        if (sorted[i][0] == sorted[i - 1][0] && sorted[i][1] == sorted[i - 1][1] && sorted[i][2] == sorted[i - 1][2])
+            duplicate[sorted[i][3]] = 1;
     r.duplicateFaces = filterFaces(m, [&](std::size_t i) { return !duplicate[i]; });
     if (r.duplicateFaces > 0) r.notes.push_back("dropped " + count(r.duplicateFaces, "duplicate faces"));
 
@@ -236,25 +241,31 @@ RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
         if ((r.splitNonManifoldVertices = splitNonManifoldVertices(m)) > 0)
             r.notes.push_back("split " + count(r.splitNonManifoldVertices, "non-manifold vertices"));
         std::vector<std::uint32_t> component;
-        if ((r.flippedFaces = orient(m, component)) > 0) r.notes.push_back("flipped " + count(r.flippedFaces, "faces to a consistent, outward orientation"));
+        if ((r.flippedFaces = orient(m, component)) > 0)
+            r.notes.push_back("flipped " + count(r.flippedFaces, "faces to a consistent, outward orientation"));
         const std::uint32_t pieces = m.faces.empty() ? 0 : *std::max_element(component.begin(), component.end()) + 1;
         std::vector<std::size_t> size(pieces, 0);
         for (std::uint32_t c : component) ++size[c];
         const std::size_t largest = size.empty() ? 0 : *std::max_element(size.begin(), size.end());
         std::vector<char> drop(pieces, 0);
         for (std::uint32_t c = 0; c < pieces; ++c)
-            if (static_cast<double>(size[c]) < options.minComponentShare * static_cast<double>(m.faces.size()) && size[c] < largest) {
+            if (static_cast<double>(size[c]) < options.minComponentShare * static_cast<double>(m.faces.size()) &&
+                size[c] < largest) {
                 drop[c] = 1;
                 ++r.removedComponents;
                 r.removedComponentFaces += size[c];
             }
         filterFaces(m, [&](std::size_t i) { return !drop[component[i]]; });
         if (r.removedComponents > 0)
-            r.notes.push_back("removed " + count(r.removedComponents, "small fragments") + " (" + count(r.removedComponentFaces, "faces") + ")");
+            r.notes.push_back("removed " + count(r.removedComponents, "small fragments") + " (" +
+                              count(r.removedComponentFaces, "faces") + ")");
     }
-    if ((r.unusedVertices = dropUnusedVertices(m)) > 0) r.notes.push_back("dropped " + count(r.unusedVertices, "unused vertices"));
+    if ((r.unusedVertices = dropUnusedVertices(m)) > 0)
+        r.notes.push_back("dropped " + count(r.unusedVertices, "unused vertices"));
 
-    const bool hasUvs = std::any_of(m.uvs.begin(), m.uvs.end(), [](const FaceUvs& uv) { return !uv[0].isZero() || !uv[1].isZero() || !uv[2].isZero(); });
+    const bool hasUvs = std::any_of(m.uvs.begin(), m.uvs.end(), [](const FaceUvs& uv) {
+        return !uv[0].isZero() || !uv[1].isZero() || !uv[2].isZero();
+    });
     if (!hasUvs && !m.faces.empty()) {
         sphericalUvs(m, geometry::boundsOf(m.positions).center());
         r.generatedUvs = true;

@@ -22,7 +22,8 @@ struct RepairOptions {
 
 struct RepairReport {
     std::size_t weldedVertices = 0, degenerateFaces = 0, duplicateFaces = 0, unusedVertices = 0;
-    std::size_t flippedFaces = 0, splitNonManifoldEdges = 0, splitNonManifoldVertices = 0, removedComponents = 0, removedComponentFaces = 0;
+    std::size_t flippedFaces = 0, splitNonManifoldEdges = 0, splitNonManifoldVertices = 0, removedComponents = 0,
+                removedComponentFaces = 0;
     bool generatedUvs = false;
     std::vector<std::string> notes;  // one line per thing done, for the user
 };

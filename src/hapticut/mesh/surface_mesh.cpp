@@ -29,14 +29,16 @@ void computeFaceNormals(SurfaceMesh& mesh) {
 }
 
 void completeMesh(SurfaceMesh& mesh) {
-    if (mesh.uvs.size() != mesh.faces.size()) mesh.uvs.assign(mesh.faces.size(), FaceUvs{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+    if (mesh.uvs.size() != mesh.faces.size())
+        mesh.uvs.assign(mesh.faces.size(), FaceUvs{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
     if (mesh.normals.size() != mesh.faces.size()) computeFaceNormals(mesh);
     if (mesh.edges.empty()) mesh.edges = edgesOfFaces(mesh.faces);
 }
 
 double surfaceArea(const SurfaceMesh& mesh) {
     double area = 0;
-    for (const Face& f : mesh.faces) area += geometry::triangleArea(mesh.positions[f[0]], mesh.positions[f[1]], mesh.positions[f[2]]);
+    for (const Face& f : mesh.faces)
+        area += geometry::triangleArea(mesh.positions[f[0]], mesh.positions[f[1]], mesh.positions[f[2]]);
     return area;
 }
 

@@ -12,15 +12,15 @@ namespace hapticut::mesh {
 
 using Face = std::array<std::uint32_t, 3>;  // vertex indices, counter-clockwise seen from outside
 using Edge = std::array<std::uint32_t, 2>;
-using FaceUvs = std::array<Vec2, 3>;        // one UV per corner, so a vertex can sit on a texture seam
+using FaceUvs = std::array<Vec2, 3>;  // one UV per corner, so a vertex can sit on a texture seam
 
 /// The thesis's indexed face set (SPEC R1). Physics reads only `positions` and `edges`.
 struct SurfaceMesh {
     std::vector<Vec3> positions;  // m, the undeformed (rest) shape
     std::vector<Face> faces;
-    std::vector<FaceUvs> uvs;     // per face, same length as faces
-    std::vector<Vec3> normals;    // per face, unit length
-    std::vector<Edge> edges;      // structural springs; normally every face edge exactly once
+    std::vector<FaceUvs> uvs;   // per face, same length as faces
+    std::vector<Vec3> normals;  // per face, unit length
+    std::vector<Edge> edges;    // structural springs; normally every face edge exactly once
 
     std::size_t vertexCount() const { return positions.size(); }
     std::size_t faceCount() const { return faces.size(); }

@@ -33,7 +33,8 @@ void sphericalUvs(SurfaceMesh& mesh, const Vec3& centre) {
                     if (!pole[j]) sum += u[j], ++count;
                 u[k] = count ? sum / count : 0.5;
             }
-        for (int k = 0; k < 3; ++k) mesh.uvs[f][k] = Vec2(u[k], 0.5 + std::asin(std::clamp(d[k].y(), -1.0, 1.0)) / std::numbers::pi);
+        for (int k = 0; k < 3; ++k)
+            mesh.uvs[f][k] = Vec2(u[k], 0.5 + std::asin(std::clamp(d[k].y(), -1.0, 1.0)) / std::numbers::pi);
     }
 }
 

@@ -51,11 +51,14 @@ void Stepper::lowerStableStepAt(const MassSpringModel& model, std::uint32_t i) {
     double k = 0, d = 0;
     for (std::uint32_t s : springsAt_.of(i)) k += model.springs.stiffness[s], d += model.springs.damping[s];
     const Nodes& n = model.nodes;
-    lowerStableStepForNode(scheme_, rawStableDt_, n.inverseMass[i], n.anchorStiffness[i] + toolStiffness_, n.anchorDamping[i], k, d);
+    lowerStableStepForNode(scheme_, rawStableDt_, n.inverseMass[i], n.anchorStiffness[i] + toolStiffness_,
+                           n.anchorDamping[i], k, d);
 }
 
-void Stepper::topologyChanged(const MassSpringModel& model, std::span<const std::uint32_t> nodes, std::span<const std::uint32_t> springs) {
-    if (preparedNodes_ == static_cast<std::size_t>(-1) || model.nodes.size() < preparedNodes_ || model.springs.size() < preparedSprings_) {
+void Stepper::topologyChanged(const MassSpringModel& model, std::span<const std::uint32_t> nodes,
+                              std::span<const std::uint32_t> springs) {
+    if (preparedNodes_ == static_cast<std::size_t>(-1) || model.nodes.size() < preparedNodes_ ||
+        model.springs.size() < preparedSprings_) {
         prepare(model);  // never prepared, or the model shrank: not an edit this can follow
         return;
     }
@@ -88,8 +91,10 @@ std::span<const std::uint32_t> Stepper::integratedNodes() const {
 }
 
 void Stepper::accelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v) {
-    if (activeRegion_) computeActiveAccelerations(model, x, v, a_, region_.nodes(), region_.touched(), region_.springs());
-    else computeAccelerations(model, x, v, a_);
+    if (activeRegion_)
+        computeActiveAccelerations(model, x, v, a_, region_.nodes(), region_.touched(), region_.springs());
+    else
+        computeAccelerations(model, x, v, a_);
 }
 
 StepResult Stepper::step(MassSpringModel& model, double dt_s) {
@@ -102,7 +107,8 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
     const std::span<const std::uint32_t> nodes = integratedNodes();
     for (std::uint32_t i : nodes) x0_[i] = n.position[i], v0_[i] = n.velocity[i];
     if (activeRegion_)
-        for (std::uint32_t i : region_.touched()) xs_[i] = n.position[i], vs_[i] = n.velocity[i];  // resting neighbours, read by every stage
+        for (std::uint32_t i : region_.touched())
+            xs_[i] = n.position[i], vs_[i] = n.velocity[i];  // resting neighbours, read by every stage
     const double h = dt_s / result.substeps;
     for (int i = 0; i < result.substeps; ++i) substep(model, h);
 

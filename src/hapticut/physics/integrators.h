@@ -34,7 +34,8 @@ public:
     /// changed; repeats allowed), in time proportional to them, not to the model. The stable step only
     /// ever shrinks here: a cut splits masses and shortens springs, and a bound kept from before the
     /// edit stays safe. Wakes the listed nodes. Allocates only when the model outgrows its reserve.
-    void topologyChanged(const MassSpringModel& model, std::span<const std::uint32_t> nodes, std::span<const std::uint32_t> springs);
+    void topologyChanged(const MassSpringModel& model, std::span<const std::uint32_t> nodes,
+                         std::span<const std::uint32_t> springs);
     /// Stiffness a tool may add to any node (the haptic coupling); counted in the stable step.
     void setToolStiffness(double stiffness_N_per_m);
     /// Substeps are off when false: every step is taken as asked, stable or not.

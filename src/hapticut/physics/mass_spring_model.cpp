@@ -13,7 +13,8 @@ double totalMass(const MassSpringModel& model) {
 
 double kineticEnergy(const MassSpringModel& model) {
     double e = 0;
-    for (std::size_t i = 0; i < model.nodes.size(); ++i) e += 0.5 * model.nodes.mass[i] * model.nodes.velocity[i].squaredNorm();
+    for (std::size_t i = 0; i < model.nodes.size(); ++i)
+        e += 0.5 * model.nodes.mass[i] * model.nodes.velocity[i].squaredNorm();
     return e;
 }
 
@@ -25,7 +26,8 @@ double potentialEnergy(const MassSpringModel& model) {
         const double stretch = (n.position[s.b[i]] - n.position[s.a[i]]).norm() - s.restLength[i];
         e += 0.5 * s.stiffness[i] * stretch * stretch;
     }
-    for (std::size_t i = 0; i < n.size(); ++i) e += 0.5 * n.anchorStiffness[i] * (n.position[i] - n.restPosition[i]).squaredNorm();
+    for (std::size_t i = 0; i < n.size(); ++i)
+        e += 0.5 * n.anchorStiffness[i] * (n.position[i] - n.restPosition[i]).squaredNorm();
     return e;
 }
 
@@ -37,7 +39,8 @@ Vec3 linearMomentum(const MassSpringModel& model) {
 
 double maxDisplacement(const MassSpringModel& model) {
     double d2 = 0;
-    for (std::size_t i = 0; i < model.nodes.size(); ++i) d2 = std::max(d2, (model.nodes.position[i] - model.nodes.restPosition[i]).squaredNorm());
+    for (std::size_t i = 0; i < model.nodes.size(); ++i)
+        d2 = std::max(d2, (model.nodes.position[i] - model.nodes.restPosition[i]).squaredNorm());
     return std::sqrt(d2);
 }
 

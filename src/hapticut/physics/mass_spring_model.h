@@ -10,20 +10,20 @@
 
 namespace hapticut::physics {
 
-struct Nodes {  // index i is the same node in every array
-    std::vector<Vec3> position;          // m
-    std::vector<Vec3> velocity;          // m/s
-    std::vector<Vec3> restPosition;      // m, anchor of the positioning spring
-    std::vector<Vec3> externalForce;     // N, set by the caller (tool contact), held over a step
-    std::vector<double> mass;            // kg, lumped
-    std::vector<double> inverseMass;     // 1/kg
-    std::vector<double> anchorStiffness; // N/m, positioning spring (zero rest length)
-    std::vector<double> anchorDamping;   // N·s/m, positioning spring
+struct Nodes {                            // index i is the same node in every array
+    std::vector<Vec3> position;           // m
+    std::vector<Vec3> velocity;           // m/s
+    std::vector<Vec3> restPosition;       // m, anchor of the positioning spring
+    std::vector<Vec3> externalForce;      // N, set by the caller (tool contact), held over a step
+    std::vector<double> mass;             // kg, lumped
+    std::vector<double> inverseMass;      // 1/kg
+    std::vector<double> anchorStiffness;  // N/m, positioning spring (zero rest length)
+    std::vector<double> anchorDamping;    // N·s/m, positioning spring
 
     std::size_t size() const { return position.size(); }
 };
 
-struct Springs {  // structural springs along the mesh edges
+struct Springs {                      // structural springs along the mesh edges
     std::vector<std::uint32_t> a, b;  // node indices
     std::vector<double> restLength;   // m
     std::vector<double> stiffness;    // N/m
@@ -45,10 +45,10 @@ struct MassSpringModel {
 };
 
 double totalMass(const MassSpringModel& model);
-double kineticEnergy(const MassSpringModel& model);                 // J
-double potentialEnergy(const MassSpringModel& model);               // J, springs and positioning springs
-Vec3 linearMomentum(const MassSpringModel& model);                  // kg·m/s
-double maxDisplacement(const MassSpringModel& model);               // m, largest |x - rest|
+double kineticEnergy(const MassSpringModel& model);    // J
+double potentialEnergy(const MassSpringModel& model);  // J, springs and positioning springs
+Vec3 linearMomentum(const MassSpringModel& model);     // kg·m/s
+double maxDisplacement(const MassSpringModel& model);  // m, largest |x - rest|
 bool allFinite(const MassSpringModel& model);
 
 }  // namespace hapticut::physics

@@ -33,10 +33,12 @@ void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span
 }
 
 void accumulatePositioningForces(const Nodes& n, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
-    for (std::size_t i = 0; i < x.size(); ++i) f[i] -= n.anchorStiffness[i] * (x[i] - n.restPosition[i]) + n.anchorDamping[i] * v[i];
+    for (std::size_t i = 0; i < x.size(); ++i)
+        f[i] -= n.anchorStiffness[i] * (x[i] - n.restPosition[i]) + n.anchorDamping[i] * v[i];
 }
 
-void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> a) {
+void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
+                          std::span<Vec3> a) {
     const Nodes& n = model.nodes;
     for (std::size_t i = 0; i < a.size(); ++i) a[i] = n.externalForce[i];
     accumulatePositioningForces(n, x, v, a);
@@ -44,22 +46,24 @@ void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x,
     // The tissue feels each tool's force reversed, spread by the thesis's squared weights (R9).
     for (const PointSpring& tool : model.tools) tool.addReaction(x, a);
     const Vec3 g = model.gravity_m_per_s2;
-    for (std::size_t i = 0; i < a.size(); ++i) a[i] = n.inverseMass[i] * a[i] + (n.inverseMass[i] > 0 ? g : Vec3::Zero());
+    for (std::size_t i = 0; i < a.size(); ++i)
+        a[i] = n.inverseMass[i] * a[i] + (n.inverseMass[i] > 0 ? g : Vec3::Zero());
 }
 
 }  // namespace hapticut::physics
 
 namespace hapticut::physics {
 
-void computeActiveAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> a,
-                                std::span<const std::uint32_t> nodes, std::span<const std::uint32_t> touched,
-                                std::span<const std::uint32_t> springs) {
+void computeActiveAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
+                                std::span<Vec3> a, std::span<const std::uint32_t> nodes,
+                                std::span<const std::uint32_t> touched, std::span<const std::uint32_t> springs) {
     const Nodes& n = model.nodes;
     const Springs& s = model.springs;
     for (std::uint32_t i : touched) a[i] = Vec3::Zero();
     // Resting neighbours sit exactly at rest with zero velocity, so only the active nodes have
     // positioning, external and gravity forces.
-    for (std::uint32_t i : nodes) a[i] = n.externalForce[i] - n.anchorStiffness[i] * (x[i] - n.restPosition[i]) - n.anchorDamping[i] * v[i];
+    for (std::uint32_t i : nodes)
+        a[i] = n.externalForce[i] - n.anchorStiffness[i] * (x[i] - n.restPosition[i]) - n.anchorDamping[i] * v[i];
     for (std::uint32_t k : springs) {
         const std::uint32_t ia = s.a[k], ib = s.b[k];
         const Vec3 d = x[ib] - x[ia];
@@ -67,7 +71,8 @@ void computeActiveAccelerations(const MassSpringModel& model, std::span<const Ve
         if (len2 < 1e-24) continue;
         const double invLen = 1 / std::sqrt(len2);
         const double stretchRate = (v[ib] - v[ia]).dot(d) * invLen;
-        const Vec3 fa = ((s.stiffness[k] * (len2 * invLen - s.restLength[k]) + s.damping[k] * stretchRate) * invLen) * d;
+        const Vec3 fa =
+            ((s.stiffness[k] * (len2 * invLen - s.restLength[k]) + s.damping[k] * stretchRate) * invLen) * d;
         a[ia] += fa;
         a[ib] -= fa;
     }

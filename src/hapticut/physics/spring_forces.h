@@ -16,13 +16,14 @@ void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span
 void accumulatePositioningForces(const Nodes& n, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
 
 /// Accelerations a = F/m for state (x, v): springs, positioning springs, external forces and gravity.
-void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> a);
+void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
+                          std::span<Vec3> a);
 
 /// The same for an active region: accelerations of `nodes` from the springs listed in `springs`.
 /// `touched` (nodes plus their resting neighbours) get the raw spring force instead, in newtons, so
 /// the caller can tell which resting neighbours are being pulled awake.
-void computeActiveAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> a,
-                                std::span<const std::uint32_t> nodes, std::span<const std::uint32_t> touched,
-                                std::span<const std::uint32_t> springs);
+void computeActiveAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
+                                std::span<Vec3> a, std::span<const std::uint32_t> nodes,
+                                std::span<const std::uint32_t> touched, std::span<const std::uint32_t> springs);
 
 }  // namespace hapticut::physics

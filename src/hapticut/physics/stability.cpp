@@ -40,7 +40,8 @@ double largestStableStep(Scheme scheme, double w2, double c) {
     return lo;
 }
 
-void lowerStableStepForNode(Scheme scheme, double& dt_s, double inverse_mass, double anchor_k, double anchor_d, double k, double d) {
+void lowerStableStepForNode(Scheme scheme, double& dt_s, double inverse_mass, double anchor_k, double anchor_d,
+                            double k, double d) {
     if (inverse_mass == 0) return;
     // A mode still stable at dt cannot lower it: one check instead of a bisection for almost every node.
     auto lower = [&](double w2, double c) {
@@ -61,7 +62,8 @@ double stableTimeStep(const MassSpringModel& model, Scheme scheme, double extra_
     }
     double dt = 1e9;
     for (std::size_t i = 0; i < n.size(); ++i)
-        lowerStableStepForNode(scheme, dt, n.inverseMass[i], n.anchorStiffness[i] + extra_stiffness_N_per_m, n.anchorDamping[i], k[i], d[i]);
+        lowerStableStepForNode(scheme, dt, n.inverseMass[i], n.anchorStiffness[i] + extra_stiffness_N_per_m,
+                               n.anchorDamping[i], k[i], d[i]);
     return kStableSafety * dt;
 }
 

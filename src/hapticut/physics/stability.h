@@ -20,7 +20,8 @@ double largestStableStep(Scheme scheme, double w2, double c);
 /// Lowers dt_s to what one node's modes allow: its positioning mode, and its highest mode against its
 /// neighbours (springs at the node summing to k and d, so 2·Σk/m as in a chain). A node without mass
 /// (inverse mass 0) is fixed and allows any step.
-void lowerStableStepForNode(Scheme scheme, double& dt_s, double inverse_mass, double anchor_k, double anchor_d, double k, double d);
+void lowerStableStepForNode(Scheme scheme, double& dt_s, double inverse_mass, double anchor_k, double anchor_d,
+                            double k, double d);
 
 /// Largest time step (s) for which every node's local modes are stable under `scheme`, with the
 /// kStableSafety factor applied. `extra_stiffness_N_per_m` is added to every node, for a tool spring

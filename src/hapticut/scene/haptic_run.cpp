@@ -6,14 +6,15 @@
 #include <thread>
 
 #include "hapticut/collision/point_inside.h"
+#include "hapticut/common/line_reader.h"
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
-#include "hapticut/common/line_reader.h"
 
 namespace hapticut::scene {
 
-Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory, const HapticRunConfig& config) {
+Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory,
+                                         const HapticRunConfig& config) {
     haptics::ReplayDevice device(trajectory);
     haptics::Hand hand;
     hand.device = &device;
@@ -23,7 +24,8 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, const haptics
     return runHaptic(organ, std::span<const haptics::Hand>(&hand, 1), c);
 }
 
-Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands, const HapticRunConfig& config) {
+Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands,
+                                         const HapticRunConfig& config) {
     HapticRunResult r;
     const long steps = config.steps;
     if (steps < 0 && !(config.realtime && config.stopRequested))
@@ -49,8 +51,9 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
         // wound (a scalpel down in its own cut), which is no penetration.
         if (!loop.cutter().stats().opened)
             for (int h = 0; h < s.handCount; ++h)
-                r.maxProxyPenetration_m = std::max(r.maxProxyPenetration_m,
-                                                   collision::penetrationDepth(loop.bvh(), loop.surface(), s.hands[static_cast<std::size_t>(h)].proxy_m));
+                r.maxProxyPenetration_m = std::max(
+                    r.maxProxyPenetration_m, collision::penetrationDepth(loop.bvh(), loop.surface(),
+                                                                         s.hands[static_cast<std::size_t>(h)].proxy_m));
         r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model));
     };
     if (config.realtime) {

@@ -1,11 +1,11 @@
-// A haptic run: devices, one per hand (a replayed trajectory, or live ones in real time), drive the haptic loop on an organ; every step is
-// logged and the proxy's penetration is measured independently of the proxy.
+// A haptic run: devices, one per hand (a replayed trajectory, or live ones in real time), drive the haptic loop on an
+// organ; every step is logged and the proxy's penetration is measured independently of the proxy.
 #pragma once
 
 #include <filesystem>
 #include <functional>
-#include <span>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -21,8 +21,8 @@ namespace hapticut::scene {
 
 struct HapticRunConfig {
     haptics::LoopConfig loop;
-    long steps = -1;          // negative: the trajectory's duration at the loop rate
-    bool realtime = false;    // wall-clock rate in the loop's own thread, else as fast as possible
+    long steps = -1;             // negative: the trajectory's duration at the loop rate
+    bool realtime = false;       // wall-clock rate in the loop's own thread, else as fast as possible
     std::string tool = "probe";  // its cut threshold is config.loop.cutThreshold_N
     /// Real time only: polled every few milliseconds; true ends the run (Ctrl-C). With steps < 0 the
     /// run goes on until it says so.
@@ -40,12 +40,12 @@ struct HandSummary {
 struct HapticRunResult {
     long steps = 0;
     double simTime_s = 0, wallTime_s = 0;
-    double hapticRate_hz = 0;            // steps per wall-clock second
+    double hapticRate_hz = 0;  // steps per wall-clock second
     Summary stepTime_us, periodError_us;
     long overruns = 0, contactSteps = 0, nonFiniteEvents = 0;
     bool watchdogTripped = false;
     double maxForce_N = 0;
-    double maxProxyPenetration_m = 0;    // by the ray-parity test on the current surface, every step until a cut opens it
+    double maxProxyPenetration_m = 0;  // by the ray-parity test on the current surface, every step until a cut opens it
     double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
     int substeps = 1;
     // Cutting: what the scalpel did, how long cut events took, and whether the organ stayed sound.
@@ -60,11 +60,12 @@ struct HapticRunResult {
 
 /// Replays the trajectory through the haptic loop on the organ, which the tool cuts when
 /// config.loop.cutThreshold_N is below the force it presses with.
-Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory, const HapticRunConfig& config);
+Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, const haptics::Trajectory& trajectory,
+                                         const HapticRunConfig& config);
 /// Any devices, one per hand, each with its tool's threshold. config.steps must be given unless the
 /// run is real time and config.stopRequested ends it. An error when the loop cannot be built or a
 /// device's servo cannot start.
-Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands, const HapticRunConfig& config);
-
+Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<const haptics::Hand> hands,
+                                         const HapticRunConfig& config);
 
 }  // namespace hapticut::scene

@@ -16,7 +16,8 @@ std::uint32_t nearestNode(const physics::MassSpringModel& model, const Vec3& poi
     return best;
 }
 
-RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config, const std::function<void(long, long)>& progress) {
+RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
+                      const std::function<void(long, long)>& progress) {
     using Clock = std::chrono::steady_clock;
     RunResult r;
     physics::Stepper stepper(config.scheme);
@@ -27,7 +28,9 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config, 
     std::vector<double> stepTimes(static_cast<std::size_t>(std::max(config.steps, 0L)));
     bool released = false;
     if (config.force) r.forceNode = nearestNode(model, config.force->at_m);
-    auto nodeDisplacement = [&] { return (model.nodes.position[r.forceNode] - model.nodes.restPosition[r.forceNode]).norm(); };
+    auto nodeDisplacement = [&] {
+        return (model.nodes.position[r.forceNode] - model.nodes.restPosition[r.forceNode]).norm();
+    };
     const long progressEvery = std::max(1L, config.steps / 100);
 
     const auto start = Clock::now();

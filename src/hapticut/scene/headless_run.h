@@ -12,9 +12,9 @@
 namespace hapticut::scene {
 
 struct PointForce {
-    Vec3 at_m = Vec3::Zero();        // the force goes to the node nearest this point
+    Vec3 at_m = Vec3::Zero();  // the force goes to the node nearest this point
     Vec3 force_N = Vec3::Zero();
-    double until_s = 1e300;          // released at this simulated time
+    double until_s = 1e300;  // released at this simulated time
 };
 
 struct RunConfig {
@@ -27,8 +27,8 @@ struct RunConfig {
 struct RunResult {
     long steps = 0;
     double simTime_s = 0, wallTime_s = 0;
-    Summary step_us;                 // wall time per step
-    int substeps = 1;                // per step, chosen for stability
+    Summary step_us;   // wall time per step
+    int substeps = 1;  // per step, chosen for stability
     double stableStep_s = 0;
     double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
     double kineticEnergyEnd_J = 0;

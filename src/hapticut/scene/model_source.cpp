@@ -28,7 +28,8 @@ Result<ModelSource, Error> loadModelSource(const std::string& model, int triangl
     const mesh::MeshReport report = mesh::validateMesh(source.mesh);
     auto warn = [&](std::string message) { source.warnings.push_back({model, 0, std::move(message)}); };
     if (report.boundaryEdges > 0) warn("open surface, " + std::to_string(report.boundaryEdges) + " boundary edges");
-    if (report.nonManifoldEdges > 0) warn(std::to_string(report.nonManifoldEdges) + " non-manifold edges (hapticut convert --repair splits them)");
+    if (report.nonManifoldEdges > 0)
+        warn(std::to_string(report.nonManifoldEdges) + " non-manifold edges (hapticut convert --repair splits them)");
     if (report.misorientedEdges > 0) warn("inconsistently oriented faces (hapticut convert --repair orients them)");
     return source;
 }

@@ -13,9 +13,9 @@
 namespace hapticut::scene {
 
 struct ModelSource {
-    std::string name;                   // "heart" or the file path
+    std::string name;  // "heart" or the file path
     mesh::SurfaceMesh mesh;
-    mesh::io::ThesisPhysics physics;    // as loaded, or the thesis equivalent of the default material
+    mesh::io::ThesisPhysics physics;  // as loaded, or the thesis equivalent of the default material
     std::optional<double> toolThreshold_N;
     bool fromThesisFile = false;
     /// What is unusual about the file but did not stop it loading (open or non-manifold surfaces too).

@@ -16,7 +16,8 @@ namespace {
 std::string mapWorkspace(haptics::Device& device, const DeviceSetup& setup) {
     const auto box = device.workspaceBox();
     if (setup.fitWorkspace && box && !setup.modelBox.empty()) {
-        const haptics::WorkspaceTransform w = haptics::fitWorkspace(*box, setup.modelBox, setup.fitMargin, setup.sceneWorkspace.rotation);
+        const haptics::WorkspaceTransform w =
+            haptics::fitWorkspace(*box, setup.modelBox, setup.fitMargin, setup.sceneWorkspace.rotation);
         device.setWorkspace(w);
         char text[96];
         std::snprintf(text, sizeof text, "workspace fitted to the model (%.3g m per device unit)", w.scale);
@@ -64,7 +65,8 @@ Result<OpenedDevice, Error> openDevice(const haptics::DeviceName& spec, const De
             if (!result) return unexpected(result.error());
             auto device = std::move(*result);
             const std::string mapping = mapWorkspace(*device, setup);
-            opened.description = device->model() + " (serial " + device->serial() + ") through " + device->libraryPath() + ", " + mapping;
+            opened.description = device->model() + " (serial " + device->serial() + ") through " +
+                                 device->libraryPath() + ", " + mapping;
             opened.device = std::move(device);
             return opened;
         }
@@ -80,19 +82,21 @@ Result<OpenedDevice, Error> openDevice(const haptics::DeviceName& spec, const De
             auto device = std::move(*result);
             const std::string mapping = mapWorkspace(*device, setup);
             opened.description = "'" + device->info().name + "' (joystick " + std::to_string(options.index) + ", " +
-                                 (options.control == haptics::SdlControl::Rate ? "rate" : "position") + " control, feedback: " +
-                                 std::string(device->feedback()) + "), " + mapping;
+                                 (options.control == haptics::SdlControl::Rate ? "rate" : "position") +
+                                 " control, feedback: " + std::string(device->feedback()) + "), " + mapping;
             opened.device = std::move(device);
             return opened;
 #else
-            return fail("this build has no SDL backend: install libsdl2-dev (scripts/install-deps does) and build again");
+            return fail(
+                "this build has no SDL backend: install libsdl2-dev (scripts/install-deps does) and build again");
 #endif
         }
     }
     return fail("unknown device kind");
 }
 
-Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceName& spec, const DeviceOptions& options) {
+Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceName& spec,
+                                          const DeviceOptions& options) {
     DeviceSetup setup;
     setup.modelBox = geometry::boundsOf(scene.source.mesh.positions);
     setup.fitWorkspace = options.fitWorkspace;

@@ -17,13 +17,13 @@
 namespace hapticut::scene {
 
 struct DeviceSetup {
-    geometry::Aabb modelBox;        // the automatic fit maps the device's reach onto this, grown by fitMargin
-    bool fitWorkspace = true;       // else: millimetres 1:1 round the model's centre (openhaptics), +-5 cm (sdl)
+    geometry::Aabb modelBox;   // the automatic fit maps the device's reach onto this, grown by fitMargin
+    bool fitWorkspace = true;  // else: millimetres 1:1 round the model's centre (openhaptics), +-5 cm (sdl)
     double fitMargin = 0.2;
     haptics::WorkspaceTransform sceneWorkspace;  // a scene's own [device] mapping; used when not fitting
     bool sceneWorkspaceGiven = false;
     double maxForce_N = haptics::kDefaultMaxForce_N;
-    std::string hdLibrary;          // openhaptics: the HD library to try first
+    std::string hdLibrary;  // openhaptics: the HD library to try first
     haptics::SdlControl sdlControl = haptics::SdlControl::Position;
 };
 
@@ -37,8 +37,9 @@ Result<OpenedDevice, Error> openDevice(const haptics::DeviceName& spec, const De
 
 /// What a command line changes in how a scene's devices open.
 struct DeviceOptions {
-    bool fitWorkspace = true;  // fit each device's reach to the organ; else the scene file's mapping, or the device's own
-    std::string hdLibrary;     // openhaptics: the HD library to try first
+    bool fitWorkspace =
+        true;               // fit each device's reach to the organ; else the scene file's mapping, or the device's own
+    std::string hdLibrary;  // openhaptics: the HD library to try first
     haptics::SdlControl sdlControl = haptics::SdlControl::Position;
     /// A [[devices]] entry's own mapping and force limit, instead of the [device] table's.
     std::optional<haptics::WorkspaceTransform> workspace;
@@ -49,7 +50,8 @@ struct DeviceOptions {
 DeviceOptions deviceOptionsFor(const SceneDevice& device, bool fit_workspace, const std::string& hd_library);
 
 /// Opens a device for a hand on the scene's organ: mapped onto it and limited to the scene's maximum force.
-Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceName& spec, const DeviceOptions& options);
+Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceName& spec,
+                                          const DeviceOptions& options);
 
 /// Whether this build has the SDL backend (Debian's libsdl2 at build time).
 bool sdlBackendBuilt();

@@ -25,7 +25,8 @@ haptics::TrajectoryPoint at(double t, const Vec3& p, std::uint32_t button = 0) {
 haptics::Trajectory pressTrajectory(const mesh::SurfaceMesh& heart, const collision::Bvh& bvh) {
     const double z = frontSurfaceZ(heart, bvh, 0.0, -0.01);
     haptics::Trajectory t;
-    for (const auto& [time, dz] : {std::pair{0.0, 0.03}, {0.6, 0.005}, {1.0, -0.006}, {1.5, -0.006}, {1.8, 0.03}, {2.5, 0.03}})
+    for (const auto& [time, dz] :
+         {std::pair{0.0, 0.03}, {0.6, 0.005}, {1.0, -0.006}, {1.5, -0.006}, {1.8, 0.03}, {2.5, 0.03}})
         t.points.push_back(at(time, Vec3(0.0, -0.01, z + dz), time >= 0.6 && time <= 1.5));
     return t;
 }

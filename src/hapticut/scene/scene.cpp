@@ -24,7 +24,8 @@ Result<double, Error> toolThreshold(const SceneFile& settings, const std::string
     if (name == "probe") return mesh::procedural::kProbeThreshold_N;
     if (name == "scalpel") return mesh::procedural::kScalpelThreshold_N;
     if (name.find('.') == std::string::npos)
-        return unexpected(Error{{}, 0, "unknown tool '" + name + "': expected probe, scalpel or a tool file (thesis format)"});
+        return unexpected(
+            Error{{}, 0, "unknown tool '" + name + "': expected probe, scalpel or a tool file (thesis format)"});
     auto tool = mesh::io::readToolFile(name);
     if (!tool) return unexpected(tool.error());
     return tool->threshold_N;

@@ -31,7 +31,8 @@ std::string join(const std::set<std::string>& names) {
 void allowOnly(const toml::table& table, const std::string& path, const std::set<std::string>& allowed) {
     for (const auto& [key, node] : table)
         if (!allowed.count(std::string(key.str())))
-            throw SceneError{lineOf(node), (path.empty() ? "" : path + ".") + std::string(key.str()) + ": unknown key; allowed here: " + join(allowed)};
+            throw SceneError{lineOf(node), (path.empty() ? "" : path + ".") + std::string(key.str()) +
+                                               ": unknown key; allowed here: " + join(allowed)};
 }
 
 const toml::table* subTable(const toml::table& root, const std::string& name) {
@@ -41,11 +42,13 @@ const toml::table* subTable(const toml::table& root, const std::string& name) {
     return node->as_table();
 }
 
-double number(const toml::table& t, const std::string& path, const std::string& key, double fallback, double lo, double hi) {
+double number(const toml::table& t, const std::string& path, const std::string& key, double fallback, double lo,
+              double hi) {
     const toml::node* node = t.get(key);
     if (!node) return fallback;
     const auto v = node->value<double>();
-    if (!v || !(node->is_floating_point() || node->is_integer())) throw SceneError{lineOf(*node), path + "." + key + ": expected a number"};
+    if (!v || !(node->is_floating_point() || node->is_integer()))
+        throw SceneError{lineOf(*node), path + "." + key + ": expected a number"};
     if (!std::isfinite(*v) || *v < lo || *v > hi) {
         std::ostringstream s;
         s << path << "." << key << ": " << *v << " is out of range; allowed: " << lo << " to " << hi;
@@ -67,11 +70,13 @@ std::string text(const toml::table& t, const std::string& path, const std::strin
     if (!node) return fallback;
     if (!node->is_string()) throw SceneError{lineOf(*node), path + "." + key + ": expected a string"};
     std::string v = *node->value<std::string>();
-    if (!choices.empty() && !choices.count(v)) throw SceneError{lineOf(*node), path + "." + key + ": '" + v + "' is not allowed; allowed: " + join(choices)};
+    if (!choices.empty() && !choices.count(v))
+        throw SceneError{lineOf(*node), path + "." + key + ": '" + v + "' is not allowed; allowed: " + join(choices)};
     return v;
 }
 
-Vec3 vector3(const toml::table& t, const std::string& path, const std::string& key, const Vec3& fallback, double limit) {
+Vec3 vector3(const toml::table& t, const std::string& path, const std::string& key, const Vec3& fallback,
+             double limit) {
     const toml::node* node = t.get(key);
     if (!node) return fallback;
     const toml::array* a = node->as_array();
@@ -80,7 +85,8 @@ Vec3 vector3(const toml::table& t, const std::string& path, const std::string& k
     for (std::size_t k = 0; k < 3; ++k) {
         const auto x = (*a)[k].value<double>();
         if (!x || !std::isfinite(*x) || std::abs(*x) > limit)
-            throw SceneError{lineOf(*node), path + "." + key + ": expected three finite numbers within ±" + std::to_string(static_cast<long long>(limit))};
+            throw SceneError{lineOf(*node), path + "." + key + ": expected three finite numbers within ±" +
+                                                std::to_string(static_cast<long long>(limit))};
         v[static_cast<Eigen::Index>(k)] = *x;
     }
     return v;
@@ -94,20 +100,26 @@ std::string resolve(const std::string& name, const std::filesystem::path& direct
 
 Eigen::Quaterniond rotationFromDegrees(const Vec3& deg) {
     const Vec3 r = deg * std::numbers::pi / 180;
-    return Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) * Eigen::AngleAxisd(r.x(), Vec3::UnitX());
+    return Eigen::AngleAxisd(r.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(r.y(), Vec3::UnitY()) *
+           Eigen::AngleAxisd(r.x(), Vec3::UnitX());
 }
 
 /// One [[devices]] table; the scene's tools are already read.
-SceneDevice parseDevice(const toml::node& node, std::size_t index, const SceneFile& s, const std::filesystem::path& directory) {
+SceneDevice parseDevice(const toml::node& node, std::size_t index, const SceneFile& s,
+                        const std::filesystem::path& directory) {
     const std::string path = "devices[" + std::to_string(index) + "]";
     const toml::table* t = node.as_table();
     if (!t) throw SceneError{lineOf(node), path + ": expected a table"};
-    allowOnly(*t, path, {"device", "tool", "stiffness_N_per_m", "damping_Ns_per_m", "max_force_N", "max_force_rate_N_per_s", "workspace",
-                         "workspace_scale", "workspace_offset_m", "workspace_rotate_deg", "sdl_control"});
+    allowOnly(*t, path,
+              {"device", "tool", "stiffness_N_per_m", "damping_Ns_per_m", "max_force_N", "max_force_rate_N_per_s",
+               "workspace", "workspace_scale", "workspace_offset_m", "workspace_rotate_deg", "sdl_control"});
     SceneDevice d;
     d.line = lineOf(*t);
     const std::string name = text(*t, path, "device", "");
-    if (name.empty()) throw SceneError{lineOf(*t), path + ".device: every device needs a name: virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX]"};
+    if (name.empty())
+        throw SceneError{
+            lineOf(*t),
+            path + ".device: every device needs a name: virtual, replay:FILE, openhaptics[:NAME] or sdl[:INDEX]"};
     auto parsed = haptics::parseDeviceName(name);
     if (!parsed) throw SceneError{lineOf(*t->get("device")), path + ".device: " + parsed.error().message};
     d.device = *parsed;
@@ -117,7 +129,9 @@ SceneDevice parseDevice(const toml::node& node, std::size_t index, const SceneFi
         bool known = false;
         std::set<std::string> names;
         for (const SceneTool& tool : s.tools) known = known || tool.name == d.tool, names.insert(tool.name);
-        if (!known) throw SceneError{lineOf(*t->get("tool")), path + ".tool: '" + d.tool + "' is not one of the scene's tools: " + join(names)};
+        if (!known)
+            throw SceneError{lineOf(*t->get("tool")),
+                             path + ".tool: '" + d.tool + "' is not one of the scene's tools: " + join(names)};
     }
     if (t->get("stiffness_N_per_m")) d.couplingStiffness_N_per_m = number(*t, path, "stiffness_N_per_m", 400, 1, 5000);
     if (t->get("damping_Ns_per_m")) d.couplingDamping_Ns_per_m = number(*t, path, "damping_Ns_per_m", 0.3, 0, 100);
@@ -135,11 +149,13 @@ SceneDevice parseDevice(const toml::node& node, std::size_t index, const SceneFi
 
 SceneFile defaultScene() {
     SceneFile s;
-    s.tools = {{"probe", "", mesh::procedural::kProbeThreshold_N}, {"scalpel", "", mesh::procedural::kScalpelThreshold_N}};
+    s.tools = {{"probe", "", mesh::procedural::kProbeThreshold_N},
+               {"scalpel", "", mesh::procedural::kScalpelThreshold_N}};
     return s;
 }
 
-Result<SceneFile, Error> parseScene(std::string_view source, const std::filesystem::path& file, const std::filesystem::path& directory) {
+Result<SceneFile, Error> parseScene(std::string_view source, const std::filesystem::path& file,
+                                    const std::filesystem::path& directory) {
     toml::table root;
     try {
         root = toml::parse(source, file.string());
@@ -158,14 +174,19 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
             s.scale = number(*m, "model", "scale", s.scale, 1e-6, 1e6);
         }
         if (const toml::table* m = subTable(root, "material")) {
-            allowOnly(*m, "material", {"mass_kg", "structural_stiffness_N", "structural_damping_Ns", "positioning_stiffness_N_per_m3",
-                                       "positioning_damping_Ns_per_m3"});
+            allowOnly(*m, "material",
+                      {"mass_kg", "structural_stiffness_N", "structural_damping_Ns", "positioning_stiffness_N_per_m3",
+                       "positioning_damping_Ns_per_m3"});
             physics::Material& mat = s.material;
             mat.totalMass_kg = number(*m, "material", "mass_kg", mat.totalMass_kg, 1e-9, 1e6);
-            mat.structuralStiffness_N = number(*m, "material", "structural_stiffness_N", mat.structuralStiffness_N, 0, 1e9);
-            mat.structuralDamping_Ns = number(*m, "material", "structural_damping_Ns", mat.structuralDamping_Ns, 0, 1e9);
-            mat.positioningStiffness_N_per_m3 = number(*m, "material", "positioning_stiffness_N_per_m3", mat.positioningStiffness_N_per_m3, 0, 1e15);
-            mat.positioningDamping_Ns_per_m3 = number(*m, "material", "positioning_damping_Ns_per_m3", mat.positioningDamping_Ns_per_m3, 0, 1e15);
+            mat.structuralStiffness_N =
+                number(*m, "material", "structural_stiffness_N", mat.structuralStiffness_N, 0, 1e9);
+            mat.structuralDamping_Ns =
+                number(*m, "material", "structural_damping_Ns", mat.structuralDamping_Ns, 0, 1e9);
+            mat.positioningStiffness_N_per_m3 =
+                number(*m, "material", "positioning_stiffness_N_per_m3", mat.positioningStiffness_N_per_m3, 0, 1e15);
+            mat.positioningDamping_Ns_per_m3 =
+                number(*m, "material", "positioning_damping_Ns_per_m3", mat.positioningDamping_Ns_per_m3, 0, 1e15);
             s.materialGiven = true;
         }
         if (const toml::node* tools = root.get("tools")) {
@@ -181,18 +202,23 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
                 tool.name = text(*t, path, "name", "");
                 if (tool.name.empty()) throw SceneError{lineOf(*t), path + ".name: every tool needs a name"};
                 tool.file = resolve(text(*t, path, "file", ""), directory);
-                const double fallback = tool.name == "scalpel" ? mesh::procedural::kScalpelThreshold_N : mesh::procedural::kProbeThreshold_N;
+                const double fallback = tool.name == "scalpel" ? mesh::procedural::kScalpelThreshold_N
+                                                               : mesh::procedural::kProbeThreshold_N;
                 tool.threshold_N = number(*t, path, "threshold_N", fallback, 0, 1e12);
                 s.tools.push_back(tool);
             }
         }
         if (const toml::table* d = subTable(root, "device")) {
-            allowOnly(*d, "device", {"backend", "trajectory", "stiffness_N_per_m", "damping_Ns_per_m", "max_force_N", "static_friction",
-                                     "dynamic_friction", "workspace_scale", "workspace_offset_m", "workspace_rotate_deg"});
+            allowOnly(
+                *d, "device",
+                {"backend", "trajectory", "stiffness_N_per_m", "damping_Ns_per_m", "max_force_N", "static_friction",
+                 "dynamic_friction", "workspace_scale", "workspace_offset_m", "workspace_rotate_deg"});
             s.deviceBackend = text(*d, "device", "backend", s.deviceBackend, {"virtual", "replay"});
             s.trajectory = resolve(text(*d, "device", "trajectory", ""), directory);
-            if (s.deviceBackend == "replay" && s.trajectory.empty()) throw SceneError{lineOf(*d), "device.trajectory: the replay backend needs a trajectory file"};
-            s.couplingStiffness_N_per_m = number(*d, "device", "stiffness_N_per_m", s.couplingStiffness_N_per_m, 1, 5000);
+            if (s.deviceBackend == "replay" && s.trajectory.empty())
+                throw SceneError{lineOf(*d), "device.trajectory: the replay backend needs a trajectory file"};
+            s.couplingStiffness_N_per_m =
+                number(*d, "device", "stiffness_N_per_m", s.couplingStiffness_N_per_m, 1, 5000);
             s.couplingDamping_Ns_per_m = number(*d, "device", "damping_Ns_per_m", s.couplingDamping_Ns_per_m, 0, 100);
             s.maxForce_N = number(*d, "device", "max_force_N", s.maxForce_N, 0, 50);
             s.staticFriction = number(*d, "device", "static_friction", s.staticFriction, 0, 10);
@@ -201,21 +227,26 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
                 throw SceneError{lineOf(*d), "device.dynamic_friction: must not exceed device.static_friction"};
             s.workspace.scale = number(*d, "device", "workspace_scale", 1, 1e-6, 1e6);
             s.workspace.offset_m = vector3(*d, "device", "workspace_offset_m", Vec3::Zero(), 100);
-            s.workspace.rotation = rotationFromDegrees(vector3(*d, "device", "workspace_rotate_deg", Vec3::Zero(), 3600));
+            s.workspace.rotation =
+                rotationFromDegrees(vector3(*d, "device", "workspace_rotate_deg", Vec3::Zero(), 3600));
         }
         if (const toml::node* devices = root.get("devices")) {
             const toml::array* list = devices->as_array();
-            if (!list) throw SceneError{lineOf(*devices), "devices: expected a list of [[devices]] tables, one per hand"};
+            if (!list)
+                throw SceneError{lineOf(*devices), "devices: expected a list of [[devices]] tables, one per hand"};
             if (root.get("device"))
-                throw SceneError{lineOf(*devices), "devices: a scene has either one [device] table or [[devices]] tables, not both"};
+                throw SceneError{lineOf(*devices),
+                                 "devices: a scene has either one [device] table or [[devices]] tables, not both"};
             if (list->size() > static_cast<std::size_t>(haptics::kMaxHands))
                 throw SceneError{lineOf(*devices), "devices: " + std::to_string(list->size()) + " devices; at most " +
                                                        std::to_string(haptics::kMaxHands) + ", one per hand"};
-            for (std::size_t i = 0; i < list->size(); ++i) s.devices.push_back(parseDevice((*list)[i], i, s, directory));
+            for (std::size_t i = 0; i < list->size(); ++i)
+                s.devices.push_back(parseDevice((*list)[i], i, s, directory));
         }
         if (const toml::table* m = subTable(root, "simulation")) {
             allowOnly(*m, "simulation", {"integrator", "rate_hz", "active_region"});
-            s.scheme = *physics::parseScheme(text(*m, "simulation", "integrator", "rk4", {"euler", "midpoint", "rk4", "symplectic"}));
+            s.scheme = *physics::parseScheme(
+                text(*m, "simulation", "integrator", "rk4", {"euler", "midpoint", "rk4", "symplectic"}));
             s.rate_hz = number(*m, "simulation", "rate_hz", s.rate_hz, 100, 10'000);
             s.activeRegion = boolean(*m, "simulation", "active_region", s.activeRegion);
         }

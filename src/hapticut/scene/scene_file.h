@@ -7,18 +7,18 @@
 #include <vector>
 
 #include "hapticut/common/result.h"
+#include "hapticut/common/text_file.h"
 #include "hapticut/haptics/device.h"
 #include "hapticut/haptics/device_name.h"
 #include "hapticut/haptics/haptic_loop.h"
-#include "hapticut/common/text_file.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/material.h"
 
 namespace hapticut::scene {
 
 struct SceneTool {
-    std::string name;        // "probe", "scalpel", or any name for a tool file
-    std::string file;        // a tool file (thesis format); empty: the procedural tool of that name
+    std::string name;  // "probe", "scalpel", or any name for a tool file
+    std::string file;  // a tool file (thesis format); empty: the procedural tool of that name
     double threshold_N = 1e9;
 };
 
@@ -29,10 +29,10 @@ struct SceneDevice {
     std::optional<double> couplingStiffness_N_per_m, couplingDamping_Ns_per_m;  // empty: [device]'s or the defaults
     double maxForce_N = haptics::kDefaultMaxForce_N;
     double maxForceRate_N_per_s = haptics::kDefaultMaxForceRate_N_per_s;
-    bool fitWorkspace = true;    // workspace = "fit": the device's reach fitted to the organ; "mapped": the keys below
+    bool fitWorkspace = true;  // workspace = "fit": the device's reach fitted to the organ; "mapped": the keys below
     haptics::WorkspaceTransform workspace;
     std::string sdlControl = "position";  // a joystick's axes as position or rate
-    int line = 0;                // where the table starts, for messages about it
+    int line = 0;                         // where the table starts, for messages about it
 };
 
 struct SceneFile {
@@ -70,7 +70,7 @@ SceneFile defaultScene();
 /// Parses a scene; relative paths are resolved against `directory`. Errors name the file, the line,
 /// the key's path and what is allowed.
 Result<SceneFile, Error> parseScene(std::string_view text, const std::filesystem::path& file_for_errors,
-                                                  const std::filesystem::path& directory);
+                                    const std::filesystem::path& directory);
 Result<SceneFile, Error> readScene(const std::filesystem::path& file);
 
 /// Moves, turns and scales positions by the scene's placement (scale, then rotation, then translation).

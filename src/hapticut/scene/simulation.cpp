@@ -75,7 +75,8 @@ void Simulation::startLoop() {
     }
     // One or two hands, each with a device, on an organ with faces at a scene's checked rate: the loop
     // can only fail to build if memory runs out, and then nothing here could go on.
-    auto created = haptics::HapticLoop::create(*organ_, std::span<const haptics::Hand>(hands.data(), static_cast<std::size_t>(handCount_)), config_);
+    auto created = haptics::HapticLoop::create(
+        *organ_, std::span<const haptics::Hand>(hands.data(), static_cast<std::size_t>(handCount_)), config_);
     HAPTICUT_ASSERT(created.has_value());
     loop_ = std::move(created.value());
     loopError_.clear();
@@ -91,7 +92,8 @@ void Simulation::setHandCount(int hands) {
         // The second hand takes the next tool, and starts where the first hand is, a little to its side.
         tool_[1] = (tool_[0] + 1) % scene_.tools.size();
         threshold_[1] = scene_.tools[tool_[1]].threshold_N;
-        mice_[1]->setPosition(mice_[0]->read(0).position_m + Vec3(-0.02, 0, 0));  // the loop is stopped: no other reader
+        mice_[1]->setPosition(mice_[0]->read(0).position_m +
+                              Vec3(-0.02, 0, 0));  // the loop is stopped: no other reader
     }
     handCount_ = hands;
     activeHand_ = std::min(activeHand_, handCount_ - 1);
@@ -106,9 +108,13 @@ std::array<int, haptics::kMaxHands> Simulation::toolsInHands() const {
     return tools;
 }
 
-const haptics::Device* Simulation::hardwareDevice() const { return hardware_[static_cast<std::size_t>(activeHand_)].get(); }
+const haptics::Device* Simulation::hardwareDevice() const {
+    return hardware_[static_cast<std::size_t>(activeHand_)].get();
+}
 
-bool Simulation::mouseDrives() const { return !hardware_[static_cast<std::size_t>(activeHand_)] && !(activeHand_ == 0 && replay_); }
+bool Simulation::mouseDrives() const {
+    return !hardware_[static_cast<std::size_t>(activeHand_)] && !(activeHand_ == 0 && replay_);
+}
 
 void Simulation::setHandSettings(int hand, const SceneDevice& settings) {
     handSettings_[static_cast<std::size_t>(std::clamp(hand, 0, haptics::kMaxHands - 1))] = settings;
@@ -129,7 +135,8 @@ void Simulation::resetModel() {
     startLoop();
     // The user's material settings outlive a reset: apply them to the fresh model.
     for (int k = 0; k < kMaterialKnobs; ++k)
-        if (materialScale_[k] != 1) loop_->commands().push({commandFor(static_cast<MaterialKnob>(k)), materialScale_[k]});
+        if (materialScale_[k] != 1)
+            loop_->commands().push({commandFor(static_cast<MaterialKnob>(k)), materialScale_[k]});
     ++resets_;
 }
 

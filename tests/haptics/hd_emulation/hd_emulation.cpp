@@ -122,8 +122,7 @@ HDSchedulerHandle hdScheduleAsynchronous(HDSchedulerCallback callback, void* dat
 void hdScheduleSynchronous(HDSchedulerCallback callback, void* data, HDushort) {
     // Runs once in a servo tick's place; the emulation runs it here, under the scheduler's lock.
     std::lock_guard lock(emu().mutex);
-    while (callback(data) != kCallbackDone) {
-    }
+    while (callback(data) != kCallbackDone) {}
 }
 
 void hdUnschedule(HDSchedulerHandle handle) {
@@ -150,7 +149,8 @@ void hdGetDoublev(HDenum what, HDdouble* out) {
         case kCurrentPosition: std::memcpy(out, e.position, sizeof e.position); break;
         case kCurrentVelocity: std::memcpy(out, e.velocity, sizeof e.velocity); break;
         case kCurrentTransform: {
-            const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, e.position[0], e.position[1], e.position[2], 1};
+            const double identity[16] = {
+                1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, e.position[0], e.position[1], e.position[2], 1};
             std::memcpy(out, identity, sizeof identity);
             break;
         }
@@ -203,7 +203,9 @@ HDErrorInfo hdGetError() {
     return top;
 }
 
-HDstring hdGetErrorString(HDerror code) { return code == kCommError ? "emulated communication error" : "emulated error"; }
+HDstring hdGetErrorString(HDerror code) {
+    return code == kCommError ? "emulated communication error" : "emulated error";
+}
 
 HDenum hdCheckCalibration() { return emu().calibration; }
 

@@ -2,8 +2,8 @@
 // broken meshes, and clear errors for malformed files.
 #include <gtest/gtest.h>
 
-#include <assimp/Exporter.hpp>
 #include <assimp/scene.h>
+#include <assimp/Exporter.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -24,7 +24,7 @@ struct SceneForExport {
     aiScene scene;
     explicit SceneForExport(const SurfaceMesh& m) {
         scene.mRootNode = new aiNode();
-        scene.mMaterials = new aiMaterial*[1]{new aiMaterial()};
+        scene.mMaterials = new aiMaterial* [1] { new aiMaterial() };
         scene.mNumMaterials = 1;
         auto* mesh = new aiMesh();
         mesh->mMaterialIndex = 0;
@@ -33,7 +33,8 @@ struct SceneForExport {
         mesh->mVertices = new aiVector3D[mesh->mNumVertices];
         for (unsigned i = 0; i < mesh->mNumVertices; ++i) {
             const Vec3& p = m.positions[i];
-            mesh->mVertices[i] = aiVector3D(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+            mesh->mVertices[i] =
+                aiVector3D(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
         }
         mesh->mNumFaces = static_cast<unsigned>(m.faces.size());
         mesh->mFaces = new aiFace[mesh->mNumFaces];
@@ -41,7 +42,7 @@ struct SceneForExport {
             mesh->mFaces[f].mNumIndices = 3;
             mesh->mFaces[f].mIndices = new unsigned[3]{m.faces[f][0], m.faces[f][1], m.faces[f][2]};
         }
-        scene.mMeshes = new aiMesh*[1]{mesh};
+        scene.mMeshes = new aiMesh* [1] { mesh };
         scene.mNumMeshes = 1;
         scene.mRootNode->mMeshes = new unsigned[1]{0};
         scene.mRootNode->mNumMeshes = 1;
@@ -61,11 +62,12 @@ TEST_F(Import, EveryFormatGivesTheSameMeshAfterWelding) {
     const struct {
         const char* id;
         const char* ext;
-    } formats[] = {{"stl", "stl"}, {"stlb", "stl"}, {"obj", "obj"}, {"ply", "ply"}, {"plyb", "ply"}, {"gltf2", "gltf"},
-                   {"glb2", "glb"}, {"collada", "dae"}, {"3ds", "3ds"}, {"fbxa", "fbx"}};
+    } formats[] = {{"stl", "stl"},    {"stlb", "stl"}, {"obj", "obj"},     {"ply", "ply"}, {"plyb", "ply"},
+                   {"gltf2", "gltf"}, {"glb2", "glb"}, {"collada", "dae"}, {"3ds", "3ds"}, {"fbxa", "fbx"}};
     for (const auto& format : formats) {
         const fs::path file = dir_ / (std::string("sphere-") + format.id + "." + format.ext);
-        ASSERT_EQ(exporter.Export(&source.scene, format.id, file.string()), AI_SUCCESS) << format.id << ": " << exporter.GetErrorString();
+        ASSERT_EQ(exporter.Export(&source.scene, format.id, file.string()), AI_SUCCESS)
+            << format.id << ": " << exporter.GetErrorString();
         auto loaded = io::loadMesh(file);
         ASSERT_TRUE(loaded.has_value()) << format.id << ": " << loaded.error().toString();
         // Our own OBJ and PLY readers keep vertices as written; Assimp's exporters may split them.
@@ -82,8 +84,9 @@ TEST_F(Import, EveryFormatGivesTheSameMeshAfterWelding) {
 
 TEST_F(Import, MalformedFilesOfEachFormatGiveClearErrors) {
     for (const char* ext : {"stl", "gltf", "glb", "dae", "3ds", "fbx"}) {
-        for (const std::string& content : {std::string(), std::string("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0"),
-                                           std::string("\x01\x02garbage\xff\xfe", 12)}) {
+        for (const std::string& content :
+             {std::string(), std::string("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0"),
+              std::string("\x01\x02garbage\xff\xfe", 12)}) {
             const fs::path file = dir_ / (std::string("bad.") + ext);
             std::ofstream(file, std::ios::binary) << content;
             const auto loaded = io::loadMesh(file);

@@ -79,9 +79,10 @@ void put(std::string& out, T value, bool big_endian) {
 
 std::string binaryTetra(bool big_endian) {
     const SurfaceMesh t = test::tetrahedron();
-    std::string out = std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
-                      " 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\n"
-                      "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+    std::string out =
+        std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
+        " 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\n"
+        "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
     for (const Vec3& p : t.positions) {
         for (int k = 0; k < 3; ++k) put(out, static_cast<float>(p[k]), big_endian);
         put(out, std::uint8_t{200}, big_endian);
@@ -110,13 +111,17 @@ TEST(PlyFormat, ErrorsAreClear) {
     };
     expectError("obj\n", "expected 'ply'");
     expectError("ply\nformat ascii 1.0\nelement vertex 3\n", "no 'end_header'");
-    expectError("ply\nformat ascii 1.0\nelement vertex 99999999\nproperty float x\nend_header\n1\n", "larger than the file could hold");
+    expectError("ply\nformat ascii 1.0\nelement vertex 99999999\nproperty float x\nend_header\n1\n",
+                "larger than the file could hold");
     const std::string truncated = binaryTetra(false);
     expectError(truncated.substr(0, truncated.size() - 5), "unexpected end of binary data");
-    expectError("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
-                "property list uchar int vertex_indices\nend_header\n0 0 0\n3 0 0 5\n",
-                "vertex index 5 is out of range");
-    expectError("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n", "needs x, y and z");
+    expectError(
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face "
+        "1\n"
+        "property list uchar int vertex_indices\nend_header\n0 0 0\n3 0 0 5\n",
+        "vertex index 5 is out of range");
+    expectError("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n",
+                "needs x, y and z");
     // Found by the fuzzer: a face element without an index list used to index an empty vertex array.
     expectError("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_ind\nend_header\n3 0 1 2\n",
                 "needs a list property 'vertex_indices'");

@@ -16,7 +16,8 @@
 namespace hapticut::mesh::io {
 namespace {
 
-const ThesisPhysics kThesisHeart{.mass = 200, .structuralStiffness = 20, .structuralDamping = 2, .positioningStiffness = 5, .positioningDamping = 1};
+const ThesisPhysics kThesisHeart{
+    .mass = 200, .structuralStiffness = 20, .structuralDamping = 2, .positioningStiffness = 5, .positioningDamping = 1};
 
 // Lines of the tetrahedron model: 1 physics, 2 values, 3 "vertices 4", 4-7 vertices, 8 "faces 4",
 // 9-16 faces and their UVs, 17 "normals 4", 18-21 normals, 22 "edges 6", 23-28 edges.
@@ -45,12 +46,17 @@ void expectError(const std::string& text, int line, const std::string& fragment)
 }
 
 bool sameMesh(const SurfaceMesh& a, const SurfaceMesh& b) {
-    return a.positions == b.positions && a.faces == b.faces && a.uvs == b.uvs && a.normals == b.normals && a.edges == b.edges;
+    return a.positions == b.positions && a.faces == b.faces && a.uvs == b.uvs && a.normals == b.normals &&
+           a.edges == b.edges;
 }
 
 TEST(ThesisFormat, ModelRoundTripIsBitExact) {
     const SurfaceMesh heart = procedural::makeHeart({});
-    const ThesisPhysics physics{.mass = 0.3, .structuralStiffness = 1.0 / 3, .structuralDamping = 0.1, .positioningStiffness = 2e-7, .positioningDamping = 1e300};
+    const ThesisPhysics physics{.mass = 0.3,
+                                .structuralStiffness = 1.0 / 3,
+                                .structuralDamping = 0.1,
+                                .positioningStiffness = 2e-7,
+                                .positioningDamping = 1e300};
     const std::string text = formatModel(heart, physics);
     const auto parsed = parseModel(text, "heart.txt");
     ASSERT_TRUE(parsed.has_value()) << parsed.error().toString();
@@ -81,7 +87,8 @@ TEST(ThesisFormat, ReadsTheThesisLayoutWithCommentsBlankLinesAndCrLf) {
 }
 
 TEST(ThesisFormat, PhysicsValuesMayShareTheKeywordLine) {
-    const auto parsed = parseModel(replaceLine(replaceLine(tetraText(), 1, "physics 200 20 2 5 1"), 2, "# moved up"), "organ.txt");
+    const auto parsed =
+        parseModel(replaceLine(replaceLine(tetraText(), 1, "physics 200 20 2 5 1"), 2, "# moved up"), "organ.txt");
     ASSERT_TRUE(parsed.has_value()) << parsed.error().toString();
     EXPECT_EQ(parsed->physics.positioningDamping, 1);
 }
@@ -107,12 +114,13 @@ TEST(ThesisFormat, NumbersIgnoreTheUsersLocale) {
 }
 
 TEST(ThesisFormat, WarnsWhenEdgesDisagreeWithFaces) {
-    std::string text = replaceLine(tetraText(), 28, "");           // drop one face edge
+    std::string text = replaceLine(tetraText(), 28, "");  // drop one face edge
     text = replaceLine(text, 22, "edges 5");
     auto parsed = parseModel(text, "organ.txt");
     ASSERT_TRUE(parsed.has_value()) << parsed.error().toString();
     ASSERT_EQ(parsed->warnings.size(), 1u);
-    EXPECT_NE(parsed->warnings[0].message.find("lacks 1 of the faces' 6 edges"), std::string::npos) << parsed->warnings[0].message;
+    EXPECT_NE(parsed->warnings[0].message.find("lacks 1 of the faces' 6 edges"), std::string::npos)
+        << parsed->warnings[0].message;
 }
 
 // One test per class of malformed input, each asserting the line and what was expected.
@@ -128,13 +136,15 @@ TEST(ThesisFormatErrors, MissingOrMisspelledKeyword) {
 }
 TEST(ThesisFormatErrors, WrongValueCountOnALine) {
     expectError(replaceLine(tetraText(), 2, "200 20 2 5"), 2, "expected physics values");
-    expectError(replaceLine(tetraText(), 5, "1 -1"), 5, "expected vertex 1 as '<x> <y> <z>' (3 values), found 2 values");
+    expectError(replaceLine(tetraText(), 5, "1 -1"), 5,
+                "expected vertex 1 as '<x> <y> <z>' (3 values), found 2 values");
     expectError(replaceLine(tetraText(), 11, "0 3 1 2"), 11, "face 1 as 3 vertex indices");
     expectError(replaceLine(tetraText(), 12, "0 0 1 0 0"), 12, "texture coordinates of face 1");
     expectError(replaceLine(tetraText(), 24, "0 1 2"), 24, "expected edge 1 as '<i> <j>'");
 }
 TEST(ThesisFormatErrors, CountsThatDisagreeWithTheRecords) {
-    expectError(replaceLine(tetraText(), 3, "vertices 5"), 8, "expected vertex 4 as '<x> <y> <z>' (3 values), found 2 values: 'faces 4'");
+    expectError(replaceLine(tetraText(), 3, "vertices 5"), 8,
+                "expected vertex 4 as '<x> <y> <z>' (3 values), found 2 values: 'faces 4'");
     expectError(replaceLine(tetraText(), 3, "vertices 3"), 7, "expected 'faces' after the vertices, found '-1'");
     expectError(replaceLine(tetraText(), 17, "normals 3"), 17, "normals count 3 differs from the faces count 4");
     expectError(replaceLine(tetraText(), 22, "edges 5"), 28, "unexpected content after the last edge");
@@ -144,7 +154,8 @@ TEST(ThesisFormatErrors, NotANumber) {
     expectError(replaceLine(tetraText(), 4, "1 1,5 1"), 4, "found '1,5'");
     expectError(replaceLine(tetraText(), 9, "0 1 2.5"), 9, "expected a non-negative whole number");
     expectError(replaceLine(tetraText(), 9, "0 -1 2"), 9, "expected a non-negative whole number");
-    expectError(replaceLine(tetraText(), 3, "vertices four"), 3, "expected a non-negative whole number for vertices count");
+    expectError(replaceLine(tetraText(), 3, "vertices four"), 3,
+                "expected a non-negative whole number for vertices count");
 }
 TEST(ThesisFormatErrors, NanAndInfinity) {
     expectError(replaceLine(tetraText(), 2, "nan 20 2 5 1"), 2, "expected a finite number for mass, found 'nan'");
@@ -152,7 +163,8 @@ TEST(ThesisFormatErrors, NanAndInfinity) {
     expectError(replaceLine(tetraText(), 19, "0 1e999 0"), 19, "found '1e999'");
 }
 TEST(ThesisFormatErrors, IndexOutOfRange) {
-    expectError(replaceLine(tetraText(), 13, "0 2 4"), 13, "vertex index 4 of face 2 is out of range: there are 4 vertices");
+    expectError(replaceLine(tetraText(), 13, "0 2 4"), 13,
+                "vertex index 4 of face 2 is out of range: there are 4 vertices");
     expectError(replaceLine(tetraText(), 23, "0 99"), 23, "vertex index 99 of edge 0 is out of range");
     expectError(replaceLine(tetraText(), 9, "0 1 18446744073709551616"), 9, "expected a non-negative whole number");
 }
@@ -169,23 +181,29 @@ TEST(ThesisFormatErrors, TruncatedFile) {
     expectError(firstLines(tetraText(), 14), 8, "faces count 4 is larger than the 7 lines left in the file could hold");
     // With enough (comment) lines after the cut, the reader meets the end where the record should be.
     expectError(firstLines(tetraText(), 14) + "#\n#\n#\n", 17, "unexpected end of file: expected face 4 of 4");
-    expectError(firstLines(tetraText(), 15) + "#\n#\n#\n", 18, "unexpected end of file: expected texture coordinates of face 4 of 4");
+    expectError(firstLines(tetraText(), 15) + "#\n#\n#\n", 18,
+                "unexpected end of file: expected texture coordinates of face 4 of 4");
     expectError(firstLines(tetraText(), 21), 21, "unexpected end of file, expected 'edges'");
     expectError(firstLines(tetraText(), 1), 1, "unexpected end of file after 'physics'");
     std::string cut = tetraText();
     expectError(cut.substr(0, cut.find("0 1 2\n") + 3), 8, "faces count 4 is larger than the 1 lines left");
-    expectError(cut.substr(0, cut.find("0 1 2\n") + 3) + "\n#\n#\n#\n#\n#\n#\n#\n", 9, "expected face 0 as 3 vertex indices");
+    expectError(cut.substr(0, cut.find("0 1 2\n") + 3) + "\n#\n#\n#\n#\n#\n#\n#\n", 9,
+                "expected face 0 as 3 vertex indices");
 }
 TEST(ThesisFormatErrors, BinaryGarbage) {
     std::string garbage = "physics\n";
     for (int i = 0; i < 64; ++i) garbage += static_cast<char>((i * 37) % 256);
     expectError(garbage, 2, "not a text file");
-    expectError(std::string("\x7f" "ELF\x02\x01\x01\0\0", 9), 1, "not a text file");
+    expectError(std::string("\x7f"
+                            "ELF\x02\x01\x01\0\0",
+                            9),
+                1, "not a text file");
 }
 TEST(ThesisFormatErrors, HugeCountsFailWithoutAllocating) {
     expectError(replaceLine(tetraText(), 3, "vertices 4000000000"), 3, "is larger than the 26 lines left");
     expectError(replaceLine(tetraText(), 8, "faces 99999999999999"), 8, "faces count 99999999999999 is larger");
-    expectError(replaceLine(tetraText(), 22, "edges 18446744073709551615"), 22, "edges count 18446744073709551615 is larger");
+    expectError(replaceLine(tetraText(), 22, "edges 18446744073709551615"), 22,
+                "edges count 18446744073709551615 is larger");
 }
 TEST(ThesisFormatErrors, NegativeOrImpossiblePhysics) {
     expectError(replaceLine(tetraText(), 2, "0 20 2 5 1"), 2, "mass must be positive");

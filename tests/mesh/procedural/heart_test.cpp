@@ -67,7 +67,8 @@ TEST(ProceduralHeart, UvsAreContinuousInsideEachFace) {
     const SurfaceMesh heart = makeHeart({});
     for (const FaceUvs& uv : heart.uvs)
         for (int k = 0; k < 3; ++k) {
-            const bool nearPole = std::min({uv[0].y(), uv[1].y(), uv[2].y()}) < 0.1 || std::max({uv[0].y(), uv[1].y(), uv[2].y()}) > 0.9;
+            const bool nearPole =
+                std::min({uv[0].y(), uv[1].y(), uv[2].y()}) < 0.1 || std::max({uv[0].y(), uv[1].y(), uv[2].y()}) > 0.9;
             if (!nearPole) {
                 EXPECT_LT(std::abs(uv[k].x() - uv[(k + 1) % 3].x()), 0.5);
             }

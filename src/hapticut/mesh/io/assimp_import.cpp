@@ -1,9 +1,9 @@
 // Import through Assimp.
 #include "hapticut/mesh/io/assimp_import.h"
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include <cmath>
 
@@ -22,9 +22,12 @@ Result<ImportedMesh, Error> importWithAssimp(const std::filesystem::path& file) 
     try {
         Assimp::Importer importer;
         // No vertex joining here: welding is ours, with a tolerance the user controls.
-        const aiScene* scene = importer.ReadFile(file.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
+        const aiScene* scene = importer.ReadFile(
+            file.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
         if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
-            return unexpected(Error{file, 0, std::string("cannot import: ") + (importer.GetErrorString()[0] ? importer.GetErrorString() : "unknown error")});
+            return unexpected(Error{file, 0,
+                                    std::string("cannot import: ") +
+                                        (importer.GetErrorString()[0] ? importer.GetErrorString() : "unknown error")});
         ImportedMesh out;
         SurfaceMesh& m = out.mesh;
         std::size_t skippedPrimitives = 0, nonFinite = 0;
@@ -50,9 +53,14 @@ Result<ImportedMesh, Error> importWithAssimp(const std::filesystem::path& file) 
                 m.uvs.push_back(corners);
             }
         }
-        if (nonFinite > 0) return unexpected(Error{file, 0, std::to_string(nonFinite) + " vertex coordinate(s) are NaN or infinite"});
-        if (m.faces.empty()) return unexpected(Error{file, 0, "no triangles found (" + std::to_string(scene->mNumMeshes) + " mesh(es) in the file)"});
-        if (skippedPrimitives > 0) out.warnings.push_back({file, 0, "skipped " + std::to_string(skippedPrimitives) + " point or line primitive(s)"});
+        if (nonFinite > 0)
+            return unexpected(Error{file, 0, std::to_string(nonFinite) + " vertex coordinate(s) are NaN or infinite"});
+        if (m.faces.empty())
+            return unexpected(
+                Error{file, 0, "no triangles found (" + std::to_string(scene->mNumMeshes) + " mesh(es) in the file)"});
+        if (skippedPrimitives > 0)
+            out.warnings.push_back(
+                {file, 0, "skipped " + std::to_string(skippedPrimitives) + " point or line primitive(s)"});
         completeMesh(m);
         return out;
     } catch (const std::exception& e) {

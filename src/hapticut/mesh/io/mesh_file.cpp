@@ -13,7 +13,8 @@ namespace hapticut::mesh::io {
 
 std::optional<MeshFormat> formatFromExtension(const std::filesystem::path& file) {
     std::string ext = file.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext == ".txt") return MeshFormat::Thesis;
     if (ext == ".obj") return MeshFormat::Obj;
     if (ext == ".ply") return MeshFormat::Ply;
@@ -33,8 +34,10 @@ Result<LoadedMesh, Error> loadMesh(const std::filesystem::path& file) {
         return out;
     }
     if (!format)
-        return unexpected(Error{file, 0, "unknown mesh format '" + file.extension().string() +
-                                                 "': expected .txt (thesis format), .obj, .ply, or a format Assimp imports (.stl, .gltf, .glb, .3ds, .fbx, .dae, ...)"});
+        return unexpected(Error{file, 0,
+                                "unknown mesh format '" + file.extension().string() +
+                                    "': expected .txt (thesis format), .obj, .ply, or a format Assimp imports (.stl, "
+                                    ".gltf, .glb, .3ds, .fbx, .dae, ...)"});
     const auto text = readTextFile(file);
     if (!text) return unexpected(text.error());
 
@@ -65,7 +68,8 @@ Result<LoadedMesh, Error> loadMesh(const std::filesystem::path& file) {
 
 WriteStatus saveMesh(const std::filesystem::path& file, const SurfaceMesh& mesh, const ThesisPhysics& physics) {
     const auto format = formatFromExtension(file);
-    if (!format) return Error{file, 0, "unknown mesh format '" + file.extension().string() + "': expected .txt, .obj or .ply"};
+    if (!format)
+        return Error{file, 0, "unknown mesh format '" + file.extension().string() + "': expected .txt, .obj or .ply"};
     switch (*format) {
         case MeshFormat::Thesis: return writeModelFile(file, mesh, physics);
         case MeshFormat::Obj: return writeTextFileAtomically(file, formatObj(mesh));

@@ -15,8 +15,8 @@ enum class MeshFormat { Thesis, Obj, Ply };
 
 struct LoadedMesh {
     SurfaceMesh mesh;
-    std::optional<ThesisPhysics> physics;    // present for thesis model files
-    std::optional<double> toolThreshold_N;   // present for thesis tool files
+    std::optional<ThesisPhysics> physics;   // present for thesis model files
+    std::optional<double> toolThreshold_N;  // present for thesis tool files
     std::vector<Warning> warnings;
 };
 
@@ -27,6 +27,7 @@ std::optional<MeshFormat> formatFromExtension(const std::filesystem::path& file)
 Result<LoadedMesh, Error> loadMesh(const std::filesystem::path& file);
 
 /// Saves in the format the extension names. Thesis model files need `physics`.
-[[nodiscard]] WriteStatus saveMesh(const std::filesystem::path& file, const SurfaceMesh& mesh, const ThesisPhysics& physics);
+[[nodiscard]] WriteStatus saveMesh(const std::filesystem::path& file, const SurfaceMesh& mesh,
+                                   const ThesisPhysics& physics);
 
 }  // namespace hapticut::mesh::io

@@ -14,7 +14,9 @@ std::size_t resolveIndex(const LineReader& r, std::string_view token, std::size_
     std::uint64_t v = 0;
     if (!parseUnsigned(negative ? token.substr(1) : token, v) || v == 0)
         r.fail("expected a " + std::string(what) + " index (1-based, or negative), found '" + std::string(token) + "'");
-    if (v > count) r.fail(std::string(what) + " index " + std::string(token) + " is out of range: " + std::to_string(count) + " defined so far");
+    if (v > count)
+        r.fail(std::string(what) + " index " + std::string(token) + " is out of range: " + std::to_string(count) +
+               " defined so far");
     return negative ? count - v : v - 1;
 }
 
@@ -36,7 +38,8 @@ Result<ImportedMesh, Error> parseObj(std::string_view text, const std::filesyste
                 if (r.tokens().size() < 3) r.expectTokens(3, "'vt <u> <v>'");
                 texcoords.emplace_back(r.number(1, "u"), r.number(2, "v"));
             } else if (key == "f") {
-                if (r.tokens().size() < 4) r.fail("a face needs at least 3 corners, found " + std::to_string(r.tokens().size() - 1));
+                if (r.tokens().size() < 4)
+                    r.fail("a face needs at least 3 corners, found " + std::to_string(r.tokens().size() - 1));
                 vi.clear();
                 ti.clear();
                 for (std::size_t c = 1; c < r.tokens().size(); ++c) {
@@ -49,11 +52,15 @@ Result<ImportedMesh, Error> parseObj(std::string_view text, const std::filesyste
                         if (!t.empty()) ti.push_back(resolveIndex(r, t, texcoords.size(), "texture coordinate"));
                     }
                 }
-                if (!ti.empty() && ti.size() != vi.size()) r.fail("some corners of this face have texture coordinates and some do not");
+                if (!ti.empty() && ti.size() != vi.size())
+                    r.fail("some corners of this face have texture coordinates and some do not");
                 for (std::size_t c = 1; c + 1 < vi.size(); ++c) {  // fan triangulation of polygons
-                    const Face f{static_cast<std::uint32_t>(vi[0]), static_cast<std::uint32_t>(vi[c]), static_cast<std::uint32_t>(vi[c + 1])};
-                    if (ti.empty()) out.addFace(f, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
-                    else out.addFace(f, {texcoords[ti[0]], texcoords[ti[c]], texcoords[ti[c + 1]]});
+                    const Face f{static_cast<std::uint32_t>(vi[0]), static_cast<std::uint32_t>(vi[c]),
+                                 static_cast<std::uint32_t>(vi[c + 1])};
+                    if (ti.empty())
+                        out.addFace(f, {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
+                    else
+                        out.addFace(f, {texcoords[ti[0]], texcoords[ti[c]], texcoords[ti[c + 1]]});
                 }
             }
             // vn, g, o, s, usemtl, mtllib, l and the rest carry nothing the simulation uses.
@@ -65,8 +72,10 @@ Result<ImportedMesh, Error> parseObj(std::string_view text, const std::filesyste
 }
 
 std::string formatObj(const SurfaceMesh& mesh) {
-    std::string out = "# Hapticut mesh: " + std::to_string(mesh.positions.size()) + " vertices, " + std::to_string(mesh.faces.size()) + " faces\n";
-    for (const Vec3& p : mesh.positions) out += "v " + formatDouble(p.x()) + " " + formatDouble(p.y()) + " " + formatDouble(p.z()) + "\n";
+    std::string out = "# Hapticut mesh: " + std::to_string(mesh.positions.size()) + " vertices, " +
+                      std::to_string(mesh.faces.size()) + " faces\n";
+    for (const Vec3& p : mesh.positions)
+        out += "v " + formatDouble(p.x()) + " " + formatDouble(p.y()) + " " + formatDouble(p.z()) + "\n";
     const bool hasUvs = mesh.uvs.size() == mesh.faces.size();
     if (hasUvs)
         for (const FaceUvs& uv : mesh.uvs)

@@ -5,8 +5,8 @@
 #include <string>
 #include <string_view>
 
-#include "hapticut/common/result.h"
 #include "hapticut/common/error.h"
+#include "hapticut/common/result.h"
 #include "hapticut/mesh/io/imported_mesh.h"
 #include "hapticut/mesh/surface_mesh.h"
 

@@ -41,7 +41,8 @@ Result<ToolFile, Error> readToolFile(const std::filesystem::path& file);
 /// Every double is written in its shortest exact form, so read(format(m)) == m bit for bit.
 std::string formatModel(const SurfaceMesh& mesh, const ThesisPhysics& physics);
 std::string formatTool(const SurfaceMesh& mesh, double threshold_N);
-[[nodiscard]] WriteStatus writeModelFile(const std::filesystem::path& file, const SurfaceMesh& mesh, const ThesisPhysics& physics);
+[[nodiscard]] WriteStatus writeModelFile(const std::filesystem::path& file, const SurfaceMesh& mesh,
+                                         const ThesisPhysics& physics);
 [[nodiscard]] WriteStatus writeToolFile(const std::filesystem::path& file, const SurfaceMesh& mesh, double threshold_N);
 
 }  // namespace hapticut::mesh::io

@@ -28,7 +28,8 @@ struct Ellipsoid {
 
 Ellipsoid ellipsoid(Vec3 centre, Vec3 radii, Vec3 long_axis) {
     // Rotate the ellipsoid's y axis onto long_axis.
-    const Eigen::Matrix3d r = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitY(), long_axis.normalized()).toRotationMatrix();
+    const Eigen::Matrix3d r =
+        Eigen::Quaterniond::FromTwoVectors(Vec3::UnitY(), long_axis.normalized()).toRotationMatrix();
     return {centre, radii, r.transpose()};
 }
 
@@ -41,7 +42,7 @@ const std::array<Ellipsoid, 7>& parts() {
         ellipsoid({-0.30, 0.24, -0.06}, {0.28, 0.30, 0.27}, {-0.2, 1.0, 0.0}),     // right atrium
         ellipsoid({-0.03, 0.34, -0.02}, {0.15, 0.58, 0.15}, {-0.15, 1.0, 0.0}),    // aorta
         ellipsoid({0.07, 0.31, 0.08}, {0.14, 0.52, 0.14}, {0.35, 1.0, 0.25}),      // pulmonary trunk
-        ellipsoid({-0.20, 0.24, -0.04}, {0.12, 0.52, 0.12}, {-0.3, 1.0, -0.25}),  // superior vena cava
+        ellipsoid({-0.20, 0.24, -0.04}, {0.12, 0.52, 0.12}, {-0.3, 1.0, -0.25}),   // superior vena cava
     };
     return p;
 }
@@ -64,7 +65,8 @@ Grid chooseGrid(int triangles) {
     Grid best;
     double bestScore = 1e300;
     for (int b = 1; b <= 2000; ++b) {
-        const int a0 = std::max(1, static_cast<int>(std::lround(b * rx))), c0 = std::max(1, static_cast<int>(std::lround(b * rz)));
+        const int a0 = std::max(1, static_cast<int>(std::lround(b * rx))),
+                  c0 = std::max(1, static_cast<int>(std::lround(b * rz)));
         for (int a = std::max(1, a0 - 2); a <= a0 + 2; ++a)
             for (int c = std::max(1, c0 - 2); c <= c0 + 2; ++c) {
                 const double f = 4.0 * (a * b + b * c + c * a);
@@ -108,7 +110,8 @@ SurfaceMesh makeHeart(const HeartOptions& options) {
         if (inserted) {
             // Equal-angle warp (tan) spreads points evenly over the sphere of directions.
             Vec3 dir;
-            for (int k = 0; k < 3; ++k) dir[k] = shape[k] * std::tan((2.0 * q[k] / cells[k] - 1.0) * std::numbers::pi / 4);
+            for (int k = 0; k < 3; ++k)
+                dir[k] = shape[k] * std::tan((2.0 * q[k] / cells[k] - 1.0) * std::numbers::pi / 4);
             mesh.positions.push_back(projectToSurface(dir));
         }
         return it->second;

@@ -6,8 +6,8 @@
 namespace hapticut::mesh::procedural {
 
 struct HeartOptions {
-    int triangles = 1619;      // the result is within 2% of this (a closed surface has an even count)
-    double length_m = 0.12;    // extent along the long axis (y, apex toward -y)
+    int triangles = 1619;    // the result is within 2% of this (a closed surface has an even count)
+    double length_m = 0.12;  // extent along the long axis (y, apex toward -y)
     int smoothingIterations = 12;
 };
 

@@ -14,8 +14,9 @@ void finish(SurfaceMesh& m) {
     m.uvs.clear();
     for (const Face& f : m.faces) {
         FaceUvs uv;
-        for (int k = 0; k < 3; ++k) uv[k] = Vec2(0.5 + 0.5 * std::atan2(m.positions[f[k]].y(), m.positions[f[k]].x()) / std::numbers::pi,
-                                                 m.positions[f[k]].z());
+        for (int k = 0; k < 3; ++k)
+            uv[k] = Vec2(0.5 + 0.5 * std::atan2(m.positions[f[k]].y(), m.positions[f[k]].x()) / std::numbers::pi,
+                         m.positions[f[k]].z());
         m.uvs.push_back(uv);
     }
     computeFaceNormals(m);
@@ -53,7 +54,8 @@ SurfaceMesh makeSphere(const Vec3& centre, double radius_m, int segments, int ri
         const double phi = std::numbers::pi * ring / rings;
         for (int i = 0; i < segments; ++i) {
             const double t = 2 * std::numbers::pi * i / segments;
-            m.positions.push_back(centre + radius_m * Vec3(std::sin(phi) * std::cos(t), std::sin(phi) * std::sin(t), -std::cos(phi)));
+            m.positions.push_back(
+                centre + radius_m * Vec3(std::sin(phi) * std::cos(t), std::sin(phi) * std::sin(t), -std::cos(phi)));
         }
     }
     m.positions.push_back(centre + Vec3(0, 0, radius_m));
@@ -94,7 +96,8 @@ SurfaceMesh makeGrid(int n, double spacing_m) {
     SurfaceMesh m;
     const auto row = static_cast<std::uint32_t>(n + 1);
     for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) m.positions.emplace_back((i - 0.5 * n) * spacing_m, (j - 0.5 * n) * spacing_m, 0.0);
+        for (int i = 0; i <= n; ++i)
+            m.positions.emplace_back((i - 0.5 * n) * spacing_m, (j - 0.5 * n) * spacing_m, 0.0);
     for (std::uint32_t j = 0; j < static_cast<std::uint32_t>(n); ++j)
         for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(n); ++i) {
             const std::uint32_t v = j * row + i;
@@ -103,7 +106,8 @@ SurfaceMesh makeGrid(int n, double spacing_m) {
         }
     finish(m);
     for (std::size_t f = 0; f < m.faces.size(); ++f)
-        for (int k = 0; k < 3; ++k) m.uvs[f][k] = m.positions[m.faces[f][k]].head<2>() / (n * spacing_m) + Vec2(0.5, 0.5);
+        for (int k = 0; k < 3; ++k)
+            m.uvs[f][k] = m.positions[m.faces[f][k]].head<2>() / (n * spacing_m) + Vec2(0.5, 0.5);
     return m;
 }
 

@@ -10,7 +10,8 @@ namespace hapticut::mesh::procedural {
 
 SurfaceMesh makeScalpel() {
     // Blade profile in the plane of the blade (x across, z along the tool), extruded 0.6 mm thick in y.
-    const std::array<Vec2, 5> blade = {Vec2(0.0, 0.0), Vec2(0.004, 0.012), Vec2(0.004, 0.030), Vec2(-0.003, 0.030), Vec2(-0.003, 0.010)};
+    const std::array<Vec2, 5> blade = {Vec2(0.0, 0.0), Vec2(0.004, 0.012), Vec2(0.004, 0.030), Vec2(-0.003, 0.030),
+                                       Vec2(-0.003, 0.010)};
     SurfaceMesh prism = makePrism(blade, -0.0003, 0.0003);
     // makePrism extrudes along z; turn it so the profile's second axis runs along the tool (+z).
     for (Vec3& p : prism.positions) p = Vec3(p.x(), p.z(), p.y());
