@@ -61,8 +61,7 @@ StreamResult streamDevice(haptics::Device& device, double seconds, bool pulse) {
         return true;
     };
     if (haptics::ServoClock* servo = device.servoClock()) {
-        std::string error;
-        if (servo->startServo(tick, error)) {
+        if (!servo->startServo(tick)) {
             std::this_thread::sleep_for(std::chrono::duration<double>(seconds + 0.05));
             servo->stopServo();
         }

@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "hapticut/common/error.h"
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/geometry/vec.h"
 
@@ -37,9 +38,9 @@ struct WorkspaceTransform {
 class ServoClock {
 public:
     virtual ~ServoClock() = default;
-    /// Starts calling `tick` at the servo rate until it returns false or stopServo(); false with `error`
-    /// when the servo cannot start.
-    virtual bool startServo(std::function<bool()> tick, std::string& error) = 0;
+    /// Starts calling `tick` at the servo rate until it returns false or stopServo(); an error when the
+    /// servo cannot start.
+    virtual Status startServo(std::function<bool()> tick) = 0;
     /// Stops calling `tick` and returns once the last call has finished. Safe to call twice.
     virtual void stopServo() = 0;
     virtual double servoRate_hz() const = 0;

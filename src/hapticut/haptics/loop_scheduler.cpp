@@ -54,14 +54,11 @@ Status RealTimeScheduler::startServos(std::vector<ServoClock*> servos, long max_
         return !stopRequested_.load(std::memory_order_relaxed) && running_.load(std::memory_order_relaxed);
     };
     for (std::size_t i = 0; i < servos.size(); ++i) {
-        std::string servoError;
-        const bool started =
-            i == 0 ? servos[i]->startServo(drive, servoError) : servos[i]->startServo(follow, servoError);
-        if (!started) {
+        if (Status error = i == 0 ? servos[i]->startServo(drive) : servos[i]->startServo(follow)) {
             for (std::size_t k = 0; k < i; ++k) servos[k]->stopServo();
             running_ = false;
             loop_.zeroAllForces();
-            return Error{{}, 0, servoError};
+            return error;
         }
     }
     servos_ = std::move(servos);

@@ -278,19 +278,18 @@ DeviceSample OpenHapticsDevice::read(double) { return sample_; }
 
 void OpenHapticsDevice::commandForce(const Vec3& force_N) { force_N_ = force_N.allFinite() ? force_N : Vec3::Zero(); }
 
-bool OpenHapticsDevice::startServo(std::function<bool()> tick, std::string& error) {
+Status OpenHapticsDevice::startServo(std::function<bool()> tick) {
     stopServo();
     tick_ = std::move(tick);
     stopping_ = false;
     servoDone_ = false;
     callback_ = api_->scheduleAsynchronous(&OpenHapticsDevice::servoCallback, this, hd::kDefaultSchedulerPriority);
     if (const std::string e = takeError(); !e.empty()) {
-        error = "OpenHaptics: cannot schedule the haptic loop in the servo loop: " + e;
         servoDone_ = true;
-        return false;
+        return Error{{}, 0, "OpenHaptics: cannot schedule the haptic loop in the servo loop: " + e};
     }
     scheduled_ = true;
-    return true;
+    return std::nullopt;
 }
 
 void OpenHapticsDevice::stopServo() {

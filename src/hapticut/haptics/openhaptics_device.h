@@ -56,7 +56,7 @@ public:
     }
     ServoClock* servoClock() override { return this; }
 
-    bool startServo(std::function<bool()> tick, std::string& error) override;
+    Status startServo(std::function<bool()> tick) override;
     void stopServo() override;
     double servoRate_hz() const override { return rate_hz_; }
 

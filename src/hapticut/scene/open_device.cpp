@@ -32,14 +32,6 @@ std::string mapWorkspace(haptics::Device& device, const DeviceSetup& setup) {
 
 }  // namespace
 
-bool sdlBackendBuilt() {
-#ifdef HAPTICUT_HAVE_SDL
-    return true;
-#else
-    return false;
-#endif
-}
-
 Result<OpenedDevice, Error> openDevice(const haptics::DeviceName& spec, const DeviceSetup& setup) {
     auto fail = [](std::string message) { return unexpected(Error{{}, 0, std::move(message)}); };
     OpenedDevice opened;

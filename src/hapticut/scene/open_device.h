@@ -53,7 +53,4 @@ DeviceOptions deviceOptionsFor(const SceneDevice& device, bool fit_workspace, co
 Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceName& spec,
                                           const DeviceOptions& options);
 
-/// Whether this build has the SDL backend (Debian's libsdl2 at build time).
-bool sdlBackendBuilt();
-
 }  // namespace hapticut::scene
