@@ -173,6 +173,62 @@ TEST(TwoHands, EachHandCanHaveItsOwnCouplingAndTheSofterOneFeelsTheSeriesSpring)
     EXPECT_EQ(made->couplingStiffness_N_per_m(1), 250);
 }
 
+TEST(MouseHand, TouchesOnlyWhileItsButtonIsHeldSoAJumpingCursorNeitherPressesNorCuts) {
+    Heart h;
+    const Vec3 front = frontAt(h.mesh, 0, -0.01);
+    VirtualDevice mouse;
+    mouse.setPosition(front + Vec3(0, 0, 0.03));
+    Hand hand{&mouse, mesh::procedural::kScalpelThreshold_N};
+    hand.touchesOnlyWhileButtonHeld = true;
+    auto made = makeLoop(h.organ, std::span<const Hand>(&hand, 1), LoopConfig{.rampTime_s = 0.01});
+    HapticLoop& loop = *made;
+    // Button up: the cursor jumps through the front, 15 mm in, and sweeps across inside the heart.
+    double maxForce = 0;
+    for (int i = 0; i < 400; ++i) {
+        mouse.setPosition(front + Vec3(0.0001 * i - 0.02, 0, i < 10 ? 0.03 - 0.0045 * i : -0.015));
+        const StepOutput s = loop.step();
+        maxForce = std::max(maxForce, s.hand().force_N.norm());
+        EXPECT_FALSE(s.hand().contact) << "step " << i;
+        EXPECT_TRUE(s.hand().proxy_m.isApprox(s.hand().device_m)) << "let go, the proxy is where the device is";
+    }
+    EXPECT_EQ(maxForce, 0) << "hovering never presses";
+    EXPECT_EQ(loop.stats().cutEvents, 0) << "nor cuts";
+
+    // Out in front again, then the button held and the scalpel pushed 12 mm in and across: it presses and cuts.
+    mouse.setPosition(front + Vec3(0, 0, 0.003));
+    for (int i = 0; i < 20; ++i) loop.step();
+    for (int i = 0; i < 600; ++i) {
+        mouse.setPosition(front + Vec3(0.00002 * i, 0, 0.003 - std::min(i, 150) * 0.0001), 1);
+        maxForce = std::max(maxForce, loop.step().hand().force_N.norm());
+    }
+    EXPECT_GT(maxForce, mesh::procedural::kScalpelThreshold_N) << "held, the hand presses";
+    EXPECT_GT(loop.stats().cutEvents, 0) << "and the scalpel cuts";
+    const long cutEvents = loop.stats().cutEvents;
+
+    // Let go deep in the wound: the force drops at once and the cut ends, though the blade is still in.
+    mouse.setPosition(front + Vec3(0.012, 0, -0.012), 0);
+    const StepOutput released = loop.step();
+    EXPECT_EQ(released.hand().force_N, Vec3::Zero());
+    EXPECT_FALSE(loop.cutter().cutting());
+    for (int i = 0; i < 200; ++i) loop.step();
+    EXPECT_EQ(loop.stats().cutEvents, cutEvents) << "no cut while let go";
+}
+
+TEST(MouseHand, AnOrdinaryDeviceAtTheSamePlacePressesWithoutAButton) {
+    // The flag is what keeps the mouse from pressing: a Phantom held in the tissue presses, button or not.
+    Heart h;
+    const Vec3 front = frontAt(h.mesh, 0, -0.01);
+    VirtualDevice device;
+    device.setPosition(front + Vec3(0, 0, 0.03));
+    HapticLoop loop(h.organ, device, LoopConfig{.rampTime_s = 0.01});
+    double maxForce = 0;
+    for (int i = 0; i < 300; ++i) {
+        device.setPosition(front + Vec3(0, 0, std::max(0.03 - 0.0002 * i, -0.006)));
+        maxForce = std::max(maxForce, loop.step().hand().force_N.norm());
+    }
+    EXPECT_GT(maxForce, 1.0);
+}
+
 TEST(TwoHands, ALoopTakesOneOrTwoHandsWithDevices) {
     Heart h;
     VirtualDevice d;

@@ -99,6 +99,9 @@ render::Ray Viewer::cursorRay() const {
 
 void Viewer::onKey(int key, int mods) {
     using render::StereoMode;
+    // A key that changes the view moves the ray under a still cursor: the mouse lets go first, so the
+    // tool it held jumps free instead of being dragged through the tissue; pressing again touches again.
+    if (key == GLFW_KEY_S || key == GLFW_KEY_F || (key >= GLFW_KEY_4 && key <= GLFW_KEY_7)) mouse_.release();
     switch (key) {
         case GLFW_KEY_TAB:
             // The mouse lets go of this hand, which stays where it is, and takes the other.
@@ -155,9 +158,11 @@ void Viewer::onMouseButton(int button, int action, int mods) {
             mouse_.release();
         }
     } else if (button == GLFW_MOUSE_BUTTON_RIGHT) {
+        if (down) mouse_.release();  // orbiting or panning moves the ray: let go, as for a view key
         orbiting_ = down && !(mods & GLFW_MOD_SHIFT);
         panning_ = down && (mods & GLFW_MOD_SHIFT);
     } else if (button == GLFW_MOUSE_BUTTON_MIDDLE) {
+        if (down) mouse_.release();
         panning_ = down;
     }
     lastX_ = cursorX_;

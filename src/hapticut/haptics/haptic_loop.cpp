@@ -118,9 +118,13 @@ void HapticLoop::tripWatchdog() noexcept {
     stats_.watchdogTripped = true;
 }
 
+bool HapticLoop::letGo(const Frame& frame, std::size_t h) const {
+    return hands_[h].setup.touchesOnlyWhileButtonHeld && !(frame[h].sample.buttons & 1u);
+}
+
 bool HapticLoop::touching(const Frame& frame, std::size_t h) const {
     const GodObjectProxy& proxy = hands_[h].proxy;
-    return frame[h].deviceOk && proxy.contact().active &&
+    return frame[h].deviceOk && !letGo(frame, h) && proxy.contact().active &&
            (proxy.position() - frame[h].sample.position_m).squaredNorm() > 1e-18;
 }
 
@@ -166,8 +170,13 @@ void HapticLoop::readDevices(Frame& frame, StepOutput& out) noexcept {
 void HapticLoop::moveProxies(Frame& frame) noexcept {
     // Each proxy is carried with the surface it touches, then moved toward its device.
     const collision::SurfaceView view = surface();
-    for (std::size_t h = 0; h < hands_.size(); ++h)
-        if (frame[h].deviceOk) hands_[h].proxy.update(frame[h].sample.position_m, view, bvh_);
+    for (std::size_t h = 0; h < hands_.size(); ++h) {
+        if (!frame[h].deviceOk) continue;
+        if (letGo(frame, h))
+            hands_[h].proxy.reset(frame[h].sample.position_m);  // free: where the device is, touching nothing
+        else
+            hands_[h].proxy.update(frame[h].sample.position_m, view, bvh_);
+    }
 }
 
 void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
@@ -182,6 +191,11 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
     bool changed = false;
     for (std::size_t h = 0; h < hands_.size(); ++h) {
         HandState& hand = hands_[h];
+        if (letGo(frame, h)) {
+            if (cutter_.cutting() && cuttingHand_ == static_cast<int>(h))
+                cutter_.endCut();  // the hand let go of the blade
+            continue;
+        }
         const bool pressing =
             touching(frame, h) && hand.lastForce_N > hand.setup.cutThreshold_N && !stats_.watchdogTripped;
         bool changedHere = false;
@@ -256,7 +270,8 @@ void HapticLoop::advanceTissue(Frame& frame) noexcept {
     }
     const collision::SurfaceView view = surface();
     bvh_.refit(view);
-    for (HandState& hand : hands_) hand.proxy.followSurface(view, bvh_);
+    for (std::size_t h = 0; h < hands_.size(); ++h)
+        if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
 }
 
 void HapticLoop::sendForces(const Frame& frame, StepOutput& out) noexcept {

@@ -37,8 +37,8 @@ struct LoopConfig {
     /// The tool cuts while its force is above this (R14): the scalpel's threshold; the probe's is infinite.
     /// The single-device constructor's tool; a Hand carries its own, which SetCutThreshold changes.
     double cutThreshold_N = std::numeric_limits<double>::infinity();
-    ProxyParams proxy;
-    cutting::CutterParams cutter;
+    ProxyParams proxy{};
+    cutting::CutterParams cutter{};
 };
 
 /// The force a hand may gain per second unless its Hand says otherwise: 1.5 N in a millisecond is a
@@ -54,6 +54,10 @@ struct Hand {
     /// This hand's coupling k_h and b_h (a scene's [[devices]] entry); empty: the loop's, which the
     /// panel changes live.
     std::optional<double> couplingStiffness_N_per_m{}, couplingDamping_Ns_per_m{};
+    /// A hand that touches only while its device's first button is held (the viewer's mouse): with the
+    /// button up its proxy goes wherever the device goes, through the tissue or not, and it neither
+    /// presses nor cuts, so a cursor that jumps (a view change, a switch of hands) drags nothing.
+    bool touchesOnlyWhileButtonHeld = false;
 };
 
 /// What one step did, for logs and tests.
@@ -180,6 +184,8 @@ private:
 
     /// Whether hand h's proxy is in contact and held off its device this step.
     bool touching(const Frame& frame, std::size_t h) const;
+    /// Whether hand h is let go this step: a hand that touches only while its button is held, without it.
+    bool letGo(const Frame& frame, std::size_t h) const;
     void tripWatchdog() noexcept;
     /// Brings the tree, the stepper, the proxies and the snapshots' face log up to date after a cut.
     void afterTopologyChange();

@@ -2,6 +2,7 @@
 #include "hapticut/scene/simulation.h"
 
 #include "hapticut/common/assert.h"
+#include "hapticut/geometry/aabb.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -66,6 +67,9 @@ void Simulation::startLoop() {
         haptics::Hand& hand = hands[static_cast<std::size_t>(h)];
         hand.device = &deviceOf(h);
         hand.cutThreshold_N = threshold_[static_cast<std::size_t>(h)];
+        // A mouse touches only while its button is held: hovering, a view change or a switch of hands
+        // moves it anywhere without pressing or cutting.
+        hand.touchesOnlyWhileButtonHeld = hand.device == mice_[static_cast<std::size_t>(h)].get();
         if (const auto& s = handSettings_[static_cast<std::size_t>(h)]) {
             hand.maxForce_N = s->maxForce_N;
             hand.maxForceRate_N_per_s = s->maxForceRate_N_per_s;
@@ -89,11 +93,13 @@ void Simulation::setHandCount(int hands) {
     if (hands == handCount_) return;
     stopLoop();
     if (hands == 2 && !scene_.tools.empty()) {
-        // The second hand takes the next tool, and starts where the first hand is, a little to its side.
+        // The second hand takes the next tool, and rests beside the first, in front of the organ
+        // (+z, towards the default camera) rather than in it.
         tool_[1] = (tool_[0] + 1) % scene_.tools.size();
         threshold_[1] = scene_.tools[tool_[1]].threshold_N;
-        mice_[1]->setPosition(mice_[0]->read(0).position_m +
-                              Vec3(-0.02, 0, 0));  // the loop is stopped: no other reader
+        Vec3 rest = mice_[0]->read(0).position_m + Vec3(-0.02, 0, 0);  // the loop is stopped: no other reader
+        rest.z() = std::max(rest.z(), geometry::boundsOf(scene_.source.mesh.positions).max.z() + 0.01);
+        mice_[1]->setPosition(rest);
     }
     handCount_ = hands;
     activeHand_ = std::min(activeHand_, handCount_ - 1);

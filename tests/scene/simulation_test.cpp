@@ -1,0 +1,74 @@
+// A live simulation driven the way the viewer drives it, headless: its mice touch only while their button
+// is held, so an idle second hand with a scalpel, a switch of hands, or a cursor jumping through the
+// organ presses and cuts nothing; a held button presses and cuts.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "hapticut/geometry/aabb.h"
+#include "hapticut/scene/bench_scenes.h"
+#include "hapticut/scene/simulation.h"
+
+namespace hapticut::scene {
+namespace {
+
+using namespace std::chrono_literals;
+
+/// Lets the loop run on its own thread for `duration`, and returns the largest force either hand was
+/// sent meanwhile, read from the snapshots as the viewer reads them.
+double runFor(Simulation& simulation, std::chrono::milliseconds duration) {
+    double maxForce = 0;
+    const auto end = std::chrono::steady_clock::now() + duration;
+    while (std::chrono::steady_clock::now() < end) {
+        const haptics::Snapshot& s = simulation.loop().snapshots().readLatest();
+        for (int h = 0; h < s.handCount; ++h)
+            maxForce = std::max(maxForce, s.hands[static_cast<std::size_t>(h)].force_N.norm());
+        std::this_thread::sleep_for(2ms);
+    }
+    return maxForce;
+}
+
+TEST(Simulation, AnIdleSecondHandAndASwitchOfHandsNeitherPressNorCut) {
+    auto scene = loadScene({});
+    ASSERT_TRUE(scene.has_value());
+    Simulation simulation(std::move(*scene));
+    simulation.setTool(1);  // the scalpel in the first hand
+    simulation.setHandCount(2);
+    EXPECT_LT(runFor(simulation, 300ms), 1e-9) << "before any input nothing touches the heart";
+    simulation.setActiveHand(1);  // Tab
+    EXPECT_LT(runFor(simulation, 200ms), 1e-9);
+    EXPECT_EQ(simulation.loop().snapshots().readLatest().cutEvents, 0);
+}
+
+TEST(Simulation, TheMouseGoesThroughTheOrganWithTheButtonUpAndPressesWithItHeld) {
+    auto scene = loadScene({});
+    ASSERT_TRUE(scene.has_value());
+    const geometry::Aabb box = geometry::boundsOf(scene->source.mesh.positions);
+    const Vec3 front = frontVertex_m(scene->source.mesh, 0, -0.01);  // where the shipped cut starts
+    Simulation simulation(std::move(*scene));
+    simulation.setTool(1);
+    haptics::VirtualDevice& mouse = simulation.mouseDevice();
+    // A cursor jumping from in front of the heart to its centre and out behind, as a view change makes it.
+    for (const Vec3& at : {Vec3(box.center().x(), box.center().y(), box.max.z() + 0.02), box.center(),
+                           Vec3(box.center().x(), box.center().y(), box.min.z() - 0.02)}) {
+        mouse.setPosition(at, 0);
+        EXPECT_LT(runFor(simulation, 100ms), 1e-9);
+    }
+    EXPECT_EQ(simulation.loop().snapshots().readLatest().cutEvents, 0);
+    // Held, from in front of the heart 15 mm into it and 1.5 cm across: it presses, past the scalpel's
+    // threshold, and cuts.
+    mouse.setPosition(front + Vec3(0, 0, 0.005), 0);
+    runFor(simulation, 50ms);
+    mouse.setPosition(front - Vec3(0, 0, 0.015), 1);
+    double pressed_N = runFor(simulation, 300ms);
+    for (int i = 1; i <= 30; ++i) {
+        mouse.setPosition(front + Vec3(0.0005 * i, 0, -0.015), 1);
+        pressed_N = std::max(pressed_N, runFor(simulation, 15ms));
+    }
+    EXPECT_GT(pressed_N, 2.0);
+    EXPECT_GT(simulation.loop().snapshots().readLatest().cutEvents, 0);
+}
+
+}  // namespace
+}  // namespace hapticut::scene
