@@ -230,13 +230,7 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     }
 
     scene::HapticRunConfig config;
-    config.loop.scheme = scheme;
-    config.loop.rate_hz = rate_hz;
-    config.loop.couplingStiffness_N_per_m = scene->settings.couplingStiffness_N_per_m;
-    config.loop.couplingDamping_Ns_per_m = scene->settings.couplingDamping_Ns_per_m;
-    config.loop.activeRegion = scene->settings.activeRegion;
-    config.loop.proxy.staticFriction = scene->settings.staticFriction;
-    config.loop.proxy.dynamicFriction = scene->settings.dynamicFriction;
+    config.loop = scene->loopConfig();
     config.steps = o.stepsGiven ? o.steps : live ? -1 : std::lround(replayDuration_s * rate_hz) + 1;
     config.realtime = o.realtime || live;
     StopSignal stopSignal;

@@ -76,10 +76,7 @@ int screenshot(ScreenshotOptions& o) {
             return 2;
         }
         scene::HapticRunConfig config;
-        config.loop.scheme = loaded->settings.scheme;
-        config.loop.rate_hz = loaded->settings.rate_hz;
-        config.loop.couplingStiffness_N_per_m = loaded->settings.couplingStiffness_N_per_m;
-        config.loop.couplingDamping_Ns_per_m = loaded->settings.couplingDamping_Ns_per_m;
+        config.loop = loaded->loopConfig();
         config.loop.cutThreshold_N = loaded->tools[*tool].threshold_N;
         config.steps = std::lround((o.at_s >= 0 ? o.at_s : end_s) * config.loop.rate_hz) + 1;
         auto run = scene::runHaptic(organ, *trajectory, config);

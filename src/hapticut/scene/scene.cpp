@@ -12,6 +12,18 @@ physics::MassSpringModel Scene::buildModel() const {
     return buildSimulationModel(source);
 }
 
+haptics::LoopConfig Scene::loopConfig() const {
+    haptics::LoopConfig config;
+    config.scheme = settings.scheme;
+    config.rate_hz = settings.rate_hz;
+    config.couplingStiffness_N_per_m = settings.couplingStiffness_N_per_m;
+    config.couplingDamping_Ns_per_m = settings.couplingDamping_Ns_per_m;
+    config.activeRegion = settings.activeRegion;
+    config.proxy.staticFriction = settings.staticFriction;
+    config.proxy.dynamicFriction = settings.dynamicFriction;
+    return config;
+}
+
 std::optional<std::size_t> Scene::toolIndex(std::string_view name) const {
     for (std::size_t i = 0; i < tools.size(); ++i)
         if (tools[i].name == name) return i;

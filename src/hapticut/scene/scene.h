@@ -46,6 +46,9 @@ struct Scene {
 
     /// The organ's mass-spring model: the scene's material when it gives one, else the model's own.
     physics::MassSpringModel buildModel() const;
+    /// The haptic loop's settings the scene gives: integrator, rate, coupling, friction, active region.
+    /// Tools' thresholds go with the hands.
+    haptics::LoopConfig loopConfig() const;
     /// A fresh organ to simulate and cut, at rest.
     cutting::CutModel makeOrgan() const { return cutting::CutModel(source.mesh, buildModel()); }
     /// The tool of that name, or nothing (the caller names the choices).

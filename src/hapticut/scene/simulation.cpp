@@ -35,13 +35,7 @@ Simulation::Simulation(Scene scene) : scene_(std::move(scene)) {
         mouse = std::make_unique<haptics::VirtualDevice>(scene_.settings.maxForce_N);
         mouse->setFollowTime(0.015);  // about a frame: the cursor's jumps reach the hand as motion
     }
-    config_.scheme = scene_.settings.scheme;
-    config_.rate_hz = scene_.settings.rate_hz;
-    config_.couplingStiffness_N_per_m = scene_.settings.couplingStiffness_N_per_m;
-    config_.couplingDamping_Ns_per_m = scene_.settings.couplingDamping_Ns_per_m;
-    config_.activeRegion = scene_.settings.activeRegion;
-    config_.proxy.staticFriction = scene_.settings.staticFriction;
-    config_.proxy.dynamicFriction = scene_.settings.dynamicFriction;
+    config_ = scene_.loopConfig();
     // Each hand's threshold is its tool's: the loop gets them per hand, not from config_.
     threshold_.fill(scene_.tools.empty() ? config_.cutThreshold_N : scene_.tools[0].threshold_N);
     resetModel();
