@@ -1,13 +1,12 @@
 // A live simulation: organ, hands and loop, and the user's changes to them.
 #include "hapticut/scene/simulation.h"
 
-#include "hapticut/common/assert.h"
-#include "hapticut/geometry/aabb.h"
-
 #include <algorithm>
 #include <filesystem>
 #include <span>
 
+#include "hapticut/common/assert.h"
+#include "hapticut/geometry/aabb.h"
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/physics/material.h"
