@@ -121,6 +121,21 @@ TEST(SceneFile, DeviceTablesWithMistakesNameTheKeyAndLine) {
     expectError(one + "colour = \"red\"\n", 3, "devices[0].colour: unknown key");
 }
 
+TEST(SceneFile, KeysNestedTooDeepAreRefusedBeforeTheParserRecursesIntoThem) {
+    // A table header or a dotted key 100,000 parts long overflowed the stack inside the TOML parser.
+    std::string parts = "a";
+    for (int i = 1; i < 100'000; ++i) parts += ".a";
+    test::expectError(parseScene("[" + parts + "]\n", "s.toml", "."), 1, "a key of 100000 dotted parts; at most 64");
+    test::expectError(parseScene("# deep below\n\n" + parts + " = 1\n", "s.toml", "."), 3,
+                      "a key of 100000 dotted parts");
+    // Dots in strings, numbers and comments are no keys' parts.
+    const std::string dots(200, '.');
+    const auto fine =
+        parseScene("[model]  # " + dots + "\nsource = \"" + dots + "obj\"\nscale = 1.5\n", "s.toml", "/d");
+    ASSERT_TRUE(fine.has_value()) << fine.error().toString();
+    EXPECT_EQ(fine->scale, 1.5);
+}
+
 TEST(SceneFile, MissingFileIsAClearError) {
     const auto r = readScene("/nonexistent/scene.toml");
     ASSERT_FALSE(r.has_value());

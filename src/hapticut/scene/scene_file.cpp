@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -145,6 +146,43 @@ SceneDevice parseDevice(const toml::node& node, std::size_t index, const SceneFi
     return d;
 }
 
+/// Keys with more dotted parts than this are refused before parsing: toml++ recurses once per part of a
+/// dotted key or table header, so a header 100,000 parts long overflows the stack. A scene needs three.
+constexpr int kMaxKeyParts = 64;
+
+/// The first line whose key (before '=') or table header has more than kMaxKeyParts parts, and how many.
+std::optional<std::pair<int, int>> overlyDottedKey(std::string_view text) {
+    int line = 1;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t end = std::min(text.find('\n', start), text.size());
+        const std::string_view l = text.substr(start, end - start);
+        const std::size_t first = l.find_first_not_of(" \t");
+        const bool header = first != std::string_view::npos && l[first] == '[';
+        int parts = 1;
+        char quote = 0;
+        for (std::size_t i = first == std::string_view::npos ? l.size() : first; i < l.size(); ++i) {
+            const char c = l[i];
+            if (quote) {
+                if (c == quote)
+                    quote = 0;
+                else if (c == '\\' && quote == '"')
+                    ++i;
+            } else if (c == '"' || c == '\'') {
+                quote = c;
+            } else if (c == '#' || (header && c == ']') || (!header && c == '=')) {
+                break;
+            } else if (c == '.') {
+                ++parts;
+            }
+        }
+        if (parts > kMaxKeyParts) return std::pair{line, parts};
+        start = end + 1;
+        ++line;
+    }
+    return std::nullopt;
+}
+
 }  // namespace
 
 SceneFile defaultScene() {
@@ -156,6 +194,10 @@ SceneFile defaultScene() {
 
 Result<SceneFile, Error> parseScene(std::string_view source, const std::filesystem::path& file,
                                     const std::filesystem::path& directory) {
+    if (const auto deep = overlyDottedKey(source))
+        return unexpected(Error{file, deep->first,
+                                "a key of " + std::to_string(deep->second) + " dotted parts; at most " +
+                                    std::to_string(kMaxKeyParts) + " (a scene's keys have at most 3)"});
     toml::table root;
     try {
         root = toml::parse(source, file.string());
