@@ -1,13 +1,18 @@
 // Resolves `heart` or a file into a mesh and a mass-spring model.
 #include "hapticut/scene/model_source.h"
 
+#include <new>
+
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/material.h"
 
 namespace hapticut::scene {
 
-Result<ModelSource, Error> loadModelSource(const std::string& model, int triangles) {
+namespace {
+
+/// The model; may throw std::bad_alloc, which loadModelSource turns into an error.
+Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles) {
     ModelSource source;
     source.name = model;
     if (model == "heart") {
@@ -32,6 +37,20 @@ Result<ModelSource, Error> loadModelSource(const std::string& model, int triangl
         warn(std::to_string(report.nonManifoldEdges) + " non-manifold edges (hapticut convert --repair splits them)");
     if (report.misorientedEdges > 0) warn("inconsistently oriented faces (hapticut convert --repair orients them)");
     return source;
+}
+
+}  // namespace
+
+Result<ModelSource, Error> loadModelSource(const std::string& model, int triangles) {
+    try {
+        return loadOrThrow(model, triangles);
+    } catch (const std::bad_alloc&) {
+        // A model larger than memory (a heart of billions of triangles, a huge file) is an input error.
+        return unexpected(
+            Error{model, 0,
+                  "out of memory loading the model" +
+                      (model == "heart" ? " at " + std::to_string(triangles) + " triangles" : std::string())});
+    }
 }
 
 physics::MassSpringModel buildSimulationModel(const ModelSource& source) {
