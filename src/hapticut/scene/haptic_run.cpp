@@ -1,6 +1,7 @@
 // A haptic run driven by a replayed trajectory.
 #include "hapticut/scene/haptic_run.h"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -40,8 +41,11 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.log.reserve(static_cast<std::size_t>(steps >= 0 ? steps : tenMinutes));
     // The observer runs on the loop's thread in real time: it only appends to reserved memory and
     // runs the inside test, which allocates nothing.
+    // How far the run is, for the progress line: the log belongs to the stepping thread while it runs.
+    std::atomic<long> stepsDone{0};
     auto observe = [&](const haptics::StepOutput& s) {
         if (r.log.size() < r.log.capacity()) r.log.push_back(s);
+        stepsDone.store(stepsDone.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
         for (int h = 0; h < s.handCount; ++h) {
             const auto k = static_cast<std::size_t>(h);
             r.hands[k].maxForce_N = std::max(r.hands[k].maxForce_N, s.hands[k].force_N.norm());
@@ -65,7 +69,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
             if (config.stopRequested && config.stopRequested()) break;
             if (config.progress && std::chrono::steady_clock::now() - lastProgress > std::chrono::seconds(1)) {
                 lastProgress = std::chrono::steady_clock::now();
-                config.progress(static_cast<long>(r.log.size()));
+                config.progress(stepsDone.load(std::memory_order_relaxed));
             }
         }
         clock.stop();
