@@ -6,10 +6,22 @@
 #include <filesystem>
 #include <string>
 
+#include "hapticut/common/error.h"
+#include "hapticut/common/result.h"
 #include "hapticut/mesh/surface_mesh.h"
 #include "hapticut/physics/mass_spring_model.h"
 
 namespace hapticut::test {
+
+/// The value, or an empty one with `error` holding the message: for tests that go on to read the message.
+template <class T>
+T valueOrMessage(Result<T, Error> result, std::string& error) {
+    if (!result) {
+        error = result.error().message;
+        return T{};
+    }
+    return std::move(*result);
+}
 
 /// One node of mass m on a positioning spring (k, c) at the origin, started at (x0, 0, 0) at rest.
 /// The snap-back rule is off, so it is exactly the damped oscillator x'' = -k/m x - c/m x'.

@@ -220,12 +220,7 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         hand.device = opened[h].device.get();
         hand.cutThreshold_N = thresholdOf[h];
         hand.maxForce_N = scene->settings.maxForce_N;
-        if (const scene::SceneDevice* d = fromScene[h]) {
-            hand.maxForce_N = d->maxForce_N;
-            hand.maxForceRate_N_per_s = d->maxForceRate_N_per_s;
-            hand.couplingStiffness_N_per_m = d->couplingStiffness_N_per_m;
-            hand.couplingDamping_Ns_per_m = d->couplingDamping_Ns_per_m;
-        }
+        if (fromScene[h]) scene::applyHandSettings(*fromScene[h], hand);
         hands.push_back(hand);
     }
 

@@ -15,21 +15,17 @@
 #include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/material.h"
+#include "test_support.h"
 
 namespace hapticut::haptics {
 namespace {
 
-/// The emulation's test controls, resolved from the same library the backend opens.
-/// The device, or nothing with `error` holding the message: the shape these tests read best in.
+/// The device, or nothing with `error` holding the message.
 std::unique_ptr<OpenHapticsDevice> openOrSay(const OpenHapticsOptions& options, std::string& error) {
-    auto device = OpenHapticsDevice::open(options);
-    if (!device) {
-        error = device.error().message;
-        return nullptr;
-    }
-    return std::move(*device);
+    return test::valueOrMessage(OpenHapticsDevice::open(options), error);
 }
 
+/// The emulation's test controls, resolved from the same library the backend opens.
 struct Emulator {
     void* handle = dlopen(HD_EMULATION_LIBRARY, RTLD_NOW);
     template <class F>

@@ -9,23 +9,19 @@
 #include <thread>
 
 #include "hapticut/haptics/sdl_device.h"
+#include "test_support.h"
 
 namespace hapticut::haptics {
 namespace {
 
 using namespace std::chrono_literals;
 
-/// A gamepad SDL believes in, whose rumble the test can hear.
-/// The device, or nothing with `error` holding the message: the shape these tests read best in.
+/// The device, or nothing with `error` holding the message.
 std::unique_ptr<SdlDevice> openOrSay(const SdlOptions& options, std::string& error) {
-    auto device = SdlDevice::open(options);
-    if (!device) {
-        error = device.error().message;
-        return nullptr;
-    }
-    return std::move(*device);
+    return test::valueOrMessage(SdlDevice::open(options), error);
 }
 
+/// A gamepad SDL believes in, whose rumble the test can hear.
 class VirtualPad : public ::testing::Test {
 protected:
     void SetUp() override {

@@ -100,6 +100,13 @@ Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::Dev
     return openDevice(spec, setup);
 }
 
+void applyHandSettings(const SceneDevice& device, haptics::Hand& hand) {
+    hand.maxForce_N = device.maxForce_N;
+    hand.maxForceRate_N_per_s = device.maxForceRate_N_per_s;
+    hand.couplingStiffness_N_per_m = device.couplingStiffness_N_per_m;
+    hand.couplingDamping_Ns_per_m = device.couplingDamping_Ns_per_m;
+}
+
 DeviceOptions deviceOptionsFor(const SceneDevice& device, bool fit_workspace, const std::string& hd_library) {
     DeviceOptions options;
     options.fitWorkspace = fit_workspace && device.fitWorkspace;

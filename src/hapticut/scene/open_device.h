@@ -49,6 +49,9 @@ struct DeviceOptions {
 /// The options a scene's [[devices]] entry sets, with `fit_workspace` false when the command line says so.
 DeviceOptions deviceOptionsFor(const SceneDevice& device, bool fit_workspace, const std::string& hd_library);
 
+/// Gives a hand its [[devices]] entry's own force limits and coupling.
+void applyHandSettings(const SceneDevice& device, haptics::Hand& hand);
+
 /// Opens a device for a hand on the scene's organ: mapped onto it and limited to the scene's maximum force.
 Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceName& spec,
                                           const DeviceOptions& options);

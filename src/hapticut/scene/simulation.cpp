@@ -10,6 +10,7 @@
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/physics/material.h"
+#include "hapticut/scene/open_device.h"
 
 namespace hapticut::scene {
 
@@ -63,12 +64,7 @@ void Simulation::startLoop() {
         // A mouse touches only while its button is held: hovering, a view change or a switch of hands
         // moves it anywhere without pressing or cutting.
         hand.touchesOnlyWhileButtonHeld = hand.device == mice_[static_cast<std::size_t>(h)].get();
-        if (const auto& s = handSettings_[static_cast<std::size_t>(h)]) {
-            hand.maxForce_N = s->maxForce_N;
-            hand.maxForceRate_N_per_s = s->maxForceRate_N_per_s;
-            hand.couplingStiffness_N_per_m = s->couplingStiffness_N_per_m;
-            hand.couplingDamping_Ns_per_m = s->couplingDamping_Ns_per_m;
-        }
+        if (const auto& s = handSettings_[static_cast<std::size_t>(h)]) applyHandSettings(*s, hand);
     }
     // One or two hands, each with a device, on an organ with faces at a scene's checked rate: the loop
     // can only fail to build if memory runs out, and then nothing here could go on.
