@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace hapticut::test {
@@ -34,6 +35,23 @@ physics::MassSpringModel oscillator(double m, double k, double c, double x0) {
     model.snapDistance_m = 0;
     model.snapSpeed_m_per_s = 0;
     return model;
+}
+
+void pressFrontWithTool(physics::MassSpringModel& model, const mesh::SurfaceMesh& mesh, int step) {
+    std::uint32_t front = 0;
+    for (std::uint32_t f = 0; f < mesh.faces.size(); ++f)
+        if (mesh.normals[f].z() > mesh.normals[front].z()) front = f;
+    physics::PointSpring& tool = model.tools[0];
+    tool.active = step < 300;
+    tool.nodes = mesh.faces[front];
+    tool.bary = Vec3(0.5, 0.3, 0.2);
+    tool.weights = physics::PointSpring::contactWeights(tool.bary);
+    const Vec3 surface =
+        0.5 * mesh.positions[tool.nodes[0]] + 0.3 * mesh.positions[tool.nodes[1]] + 0.2 * mesh.positions[tool.nodes[2]];
+    tool.anchor_m = surface - 0.003 * std::min(1.0, step / 50.0) * mesh.normals[front];
+    tool.stiffness_N_per_m = 400;
+    tool.maxForce_N = 3.3;
+    tool.normal = mesh.normals[front];
 }
 
 mesh::SurfaceMesh tetrahedron() {

@@ -27,6 +27,10 @@ T valueOrMessage(Result<T, Error> result, std::string& error) {
 /// The snap-back rule is off, so it is exactly the damped oscillator x'' = -k/m x - c/m x'.
 physics::MassSpringModel oscillator(double m_kg, double k_N_per_m, double c_Ns_per_m, double x0_m);
 
+/// A tool pressing the front of `mesh` (its model), 3 mm deep after 50 ms (a device approaching) through
+/// a 400 N/m coupling clamped at 3.3 N, held until 0.3 s, then lifted; `step` counts milliseconds.
+void pressFrontWithTool(physics::MassSpringModel& model, const mesh::SurfaceMesh& mesh, int step);
+
 /// A regular tetrahedron with outward faces (closed, 4 vertices, 6 edges).
 mesh::SurfaceMesh tetrahedron();
 

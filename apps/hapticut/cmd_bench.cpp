@@ -28,7 +28,7 @@ namespace {
 
 struct BenchOptions {
     std::vector<int> triangles = {1619, 9714, 100000};
-    std::vector<std::string> integrators = {"euler", "midpoint", "rk4", "symplectic"};
+    std::vector<std::string> integrators = {"euler", "midpoint", "rk4", "symplectic", "implicit"};
     double seconds = 0.5;
     std::string json;
     bool haptics = false;
@@ -167,14 +167,14 @@ int bench(const BenchOptions& o) {
         const auto s = physics::parseScheme(name);
         if (!s) {
             std::cerr << "hapticut bench: unknown integrator '" << name
-                      << "': expected euler, midpoint, rk4 or symplectic\n";
+                      << "': expected auto, euler, midpoint, rk4, symplectic or implicit\n";
             return 2;
         }
         schemes.push_back(*s);
     }
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
-    std::printf("%10s %8s %9s %-11s %11s %11s %13s %9s %15s\n", "triangles", "nodes", "springs", "integrator",
-                "us/step", "p99 us", "ns/spring-ev", "substeps", "us/sim-ms@1ms");
+    std::printf("%10s %8s %9s %-11s %11s %11s %13s %9s %15s %8s\n", "triangles", "nodes", "springs", "integrator",
+                "us/step", "p99 us", "ns/spring-ev", "substeps", "us/sim-ms@1ms", "CG its");
     std::mt19937 rng(42);
     for (int triangles : o.triangles) {
         const auto g0 = Clock::now();
@@ -182,7 +182,8 @@ int bench(const BenchOptions& o) {
         const mesh::SurfaceMesh& mesh = heart.source.mesh;
         const double generate_s = std::chrono::duration<double>(Clock::now() - g0).count();
         physics::MassSpringModel model = heart.buildModel();
-        for (physics::Scheme scheme : schemes) {
+        for (const physics::Scheme requested : schemes) {
+            const physics::Scheme scheme = physics::resolveScheme(requested, model, 1e-3);
             physics::Stepper stepper(scheme);
             stepper.setAutoSubstep(false);  // time one raw step; substeps are reported separately
             stepper.prepare(model);
@@ -190,21 +191,25 @@ int bench(const BenchOptions& o) {
             const int substeps = std::max(1, static_cast<int>(std::ceil(1e-3 / stable_s)));
             const double h = std::min(1e-3, stable_s);
             std::vector<double> samples;
+            physics::SolverStats solver;
             const auto end = Clock::now() + std::chrono::duration<double>(o.seconds);
             while (Clock::now() < end || samples.size() < 20) {
                 perturb(model, rng);
                 for (int i = 0; i < 50; ++i) {
                     const auto t0 = Clock::now();
-                    (void)stepper.step(model, h);
+                    const physics::StepResult step = stepper.step(model, h);
                     samples.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+                    if (scheme == physics::Scheme::BackwardEuler) solver.record(step.solve);
                 }
             }
             const Summary s = summarize(samples);
-            const double nsPerSpring =
-                1e3 * s.p50 / (static_cast<double>(model.springs.size()) * forceEvaluations(scheme));
-            std::printf("%10zu %8zu %9zu %-11s %11.1f %11.1f %13.2f %9d %15.1f\n", mesh.faces.size(),
+            // A CG iteration is one product with the springs' matrix, about the cost of one force evaluation.
+            const double evaluations = scheme == physics::Scheme::BackwardEuler ? 1 + solver.iterations.summary().mean
+                                                                                : forceEvaluations(scheme);
+            const double nsPerSpring = 1e3 * s.p50 / (static_cast<double>(model.springs.size()) * evaluations);
+            std::printf("%10zu %8zu %9zu %-11s %11.1f %11.1f %13.2f %9d %15.1f %8.1f\n", mesh.faces.size(),
                         model.nodes.size(), model.springs.size(), std::string(physics::schemeName(scheme)).c_str(),
-                        s.p50, s.p99, nsPerSpring, substeps, s.p50 * substeps);
+                        s.p50, s.p99, nsPerSpring, substeps, s.p50 * substeps, solver.iterations.summary().mean);
             results.push_back({{"triangles", mesh.faces.size()},
                                {"nodes", model.nodes.size()},
                                {"springs", model.springs.size()},
@@ -214,6 +219,7 @@ int bench(const BenchOptions& o) {
                                {"stable_dt_s", stable_s},
                                {"substeps_at_1ms", substeps},
                                {"us_per_simulated_ms", s.p50 * substeps},
+                               {"solver", solverJson(scheme, solver, stepper.solverSettings())},
                                {"heart_generation_s", generate_s}});
         }
     }

@@ -27,7 +27,9 @@ namespace {
 struct RunOptions {
     std::string model = "heart";
     int triangles = 1619;
-    std::string integrator = "rk4";
+    std::string integrator = "auto";
+    double solverTolerance = physics::SolverSettings{}.tolerance;
+    int solverMaxIterations = physics::SolverSettings{}.maxIterations;
     double dt_s = 1e-3;
     long steps = 1000;
     bool stepsGiven = false;
@@ -61,10 +63,12 @@ std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
         over.scheme = physics::parseScheme(o.integrator);
         if (!over.scheme) {
             std::cerr << "hapticut run: unknown integrator '" << o.integrator
-                      << "': expected euler, midpoint, rk4 or symplectic\n";
+                      << "': expected auto, euler, midpoint, rk4, symplectic or implicit\n";
             return std::nullopt;
         }
     }
+    if (given("--solver-tolerance")) over.solverTolerance = o.solverTolerance;
+    if (given("--solver-iterations")) over.solverMaxIterations = o.solverMaxIterations;
     if (given("--rate")) over.rate_hz = o.rate_hz;
     if (given("--coupling-stiffness")) over.couplingStiffness_N_per_m = o.couplingStiffness_N_per_m;
     if (given("--friction")) {
@@ -93,15 +97,17 @@ bool writeOutput(const std::string& file, const std::string& text, const char* w
     return true;
 }
 
-/// The fields every run report starts with: what was simulated, with which integrator.
+/// The fields every run report starts with: what was simulated, with which integrator (`requested`,
+/// which may be auto, and `scheme`, the one used).
 nlohmann::ordered_json reportHeader(const scene::ModelSource& source, const physics::MassSpringModel& model,
-                                    physics::Scheme scheme) {
+                                    physics::Scheme requested, physics::Scheme scheme) {
     nlohmann::ordered_json j;
     j["model"] = source.name;
     j["vertices"] = source.mesh.positions.size();
     j["faces"] = source.mesh.faces.size();
     j["springs"] = model.springs.size();
     j["integrator"] = physics::schemeName(scheme);
+    j["integrator_requested"] = physics::schemeName(requested);
     return j;
 }
 
@@ -251,7 +257,10 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
 
     std::cout << r.steps << " haptic steps (" << r.simTime_s << " s simulated) in " << r.wallTime_s
               << " s wall: " << r.hapticRate_hz << " steps/s; step " << r.stepTime_us.p50 << " us p50, "
-              << r.stepTime_us.p99 << " us p99, " << r.stepTime_us.max << " us max\n";
+              << r.stepTime_us.p99 << " us p99, " << r.stepTime_us.max << " us max; integrator "
+              << physics::schemeName(r.scheme)
+              << (r.substeps > 1 ? " in " + std::to_string(r.substeps) + " substeps" : std::string()) << "\n"
+              << solverLine(r.scheme, r.solver);
     if (o.realtime)
         std::cout << "period error " << r.periodError_us.p50 << " us p50, " << r.periodError_us.p99 << " us p99, "
                   << r.periodError_us.max << " us max; overruns " << r.overruns << "\n";
@@ -292,11 +301,12 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         status = 1;
     if (!exportDeformed(o.exportMesh, organ.mesh(), *source, model)) status = 1;
     if (!o.report.empty()) {
-        nlohmann::ordered_json j = reportHeader(*source, model, scheme);
+        nlohmann::ordered_json j = reportHeader(*source, model, scheme, r.scheme);
         j["vertices"] = organ.mesh().positions.size();
         j["faces"] = organ.mesh().faces.size();
         j["dt"] = 1 / rate_hz;
         j["substeps"] = r.substeps;
+        j["solver"] = solverJson(r.scheme, r.solver, config.loop.solver);
         j["steps"] = r.steps;
         j["tool"] = firstTool;
         j["tool_threshold_N"] = std::isfinite(config.loop.cutThreshold_N)
@@ -372,6 +382,7 @@ int run(RunOptions& o) {
     }
     scene::RunConfig config;
     config.scheme = settings->scheme;
+    config.solver = settings->solver;
     // A scene file's rate sets the step unless the command line gives one.
     const bool stepGiven = o.given.count("--dt") || o.given.count("--rate");
     config.dt_s = !o.scene.empty() && !stepGiven ? 1 / settings->rate_hz : o.dt_s;
@@ -395,8 +406,8 @@ int run(RunOptions& o) {
     const scene::ModelSource* source = &scene->source;
     physics::MassSpringModel model = scene->buildModel();
     std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes, " << model.springs.size()
-              << " springs, " << physics::schemeName(config.scheme) << ", dt " << config.dt_s << " s, " << config.steps
-              << " steps\n";
+              << " springs, integrator " << physics::schemeName(config.scheme) << ", dt " << config.dt_s << " s, "
+              << config.steps << " steps\n";
 
     Progress progress("simulating");
     const scene::RunResult r =
@@ -405,7 +416,9 @@ int run(RunOptions& o) {
 
     std::cout << "simulated " << r.simTime_s << " s in " << r.wallTime_s << " s wall; step " << r.step_us.mean
               << " us mean, " << r.step_us.p99 << " us p99 (" << r.substeps << " substep"
-              << (r.substeps == 1 ? "" : "s") << " each, stable below " << r.stableStep_s * 1e3 << " ms)\n";
+              << (r.substeps == 1 ? "" : "s") << " each of " << physics::schemeName(r.scheme) << ", stable below "
+              << r.stableStep_s * 1e3 << " ms)\n"
+              << solverLine(r.scheme, r.solver);
     if (config.force)
         std::cout << "pressed node " << r.forceNode << " with " << config.force->force_N.norm() << " N: displaced "
                   << r.forceNodeDisplacementAtRelease_m * 1e3 << " mm at release, "
@@ -420,10 +433,11 @@ int run(RunOptions& o) {
     int status = r.nanEvents > 0 ? 3 : 0;
     if (!exportDeformed(o.exportMesh, source->mesh, *source, model)) status = 1;
     if (!o.report.empty()) {
-        nlohmann::ordered_json j = reportHeader(*source, model, config.scheme);
+        nlohmann::ordered_json j = reportHeader(*source, model, config.scheme, r.scheme);
         j["dt"] = config.dt_s;
         j["steps"] = r.steps;
         j["substeps"] = r.substeps;
+        j["solver"] = solverJson(r.scheme, r.solver, config.solver);
         j["stable_dt_s"] = r.stableStep_s;
         j["sim_time_s"] = r.simTime_s;
         j["wall_time_s"] = r.wallTime_s;
@@ -459,7 +473,17 @@ Command addRunCommand(CLI::App& app) {
     cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")
         ->capture_default_str()
         ->check(CLI::Range(12, 20'000'000));
-    cmd->add_option("--integrator", o->integrator, "euler, midpoint, rk4 or symplectic")->capture_default_str();
+    cmd->add_option("--integrator", o->integrator,
+                    "auto (RK4 where one step per period is stable, else implicit), euler, midpoint, rk4, "
+                    "symplectic or implicit (backward Euler)")
+        ->capture_default_str();
+    cmd->add_option("--solver-tolerance", o->solverTolerance,
+                    "The implicit solve stops below this residual, relative to the right-hand side")
+        ->capture_default_str()
+        ->check(CLI::Range(1e-14, 1.0));
+    cmd->add_option("--solver-iterations", o->solverMaxIterations, "The implicit solve's iteration cap")
+        ->capture_default_str()
+        ->check(CLI::Range(1, physics::kMaxSolverIterations));
     cmd->add_option("--dt", o->dt_s, "Time step in seconds")->capture_default_str()->check(CLI::Range(1e-7, 1.0));
     cmd->add_option("--steps", o->steps, "Number of steps")
         ->capture_default_str()

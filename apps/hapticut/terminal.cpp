@@ -57,6 +57,30 @@ nlohmann::ordered_json toJson(const Summary& s) {
 
 nlohmann::ordered_json toJson(const Vec3& v) { return nlohmann::ordered_json::array({v.x(), v.y(), v.z()}); }
 
+nlohmann::ordered_json solverJson(physics::Scheme scheme, const physics::SolverStats& stats,
+                                  const physics::SolverSettings& settings) {
+    if (scheme != physics::Scheme::BackwardEuler) return nullptr;
+    const Summary iterations = stats.iterations.summary();
+    return {{"method", "conjugate gradients, block-Jacobi preconditioner, warm start"},
+            {"tolerance", settings.tolerance},
+            {"max_iterations", settings.maxIterations},
+            {"solves", stats.solves},
+            {"iterations",
+             {{"mean", iterations.mean}, {"p50", iterations.p50}, {"p99", iterations.p99}, {"max", iterations.max}}},
+            {"unconverged_solves", stats.unconverged},
+            {"max_relative_residual", stats.maxRelativeResidual}};
+}
+
+std::string solverLine(physics::Scheme scheme, const physics::SolverStats& stats) {
+    if (scheme != physics::Scheme::BackwardEuler || stats.solves == 0) return "";
+    const Summary iterations = stats.iterations.summary();
+    std::ostringstream s;
+    s << "implicit steps: " << iterations.p50 << " CG iterations p50, " << iterations.p99 << " p99, " << iterations.max
+      << " max; " << stats.unconverged << " of " << stats.solves
+      << " solves stopped at the cap (largest relative residual " << stats.maxRelativeResidual << ")\n";
+    return s.str();
+}
+
 bool writeJson(const std::filesystem::path& file, const nlohmann::ordered_json& json) {
     if (const auto error = writeTextFileAtomically(file, json.dump(2) + "\n")) {
         std::cerr << error->toString() << "\n";

@@ -10,6 +10,7 @@
 
 #include "hapticut/common/stats.h"
 #include "hapticut/geometry/vec.h"
+#include "hapticut/physics/solver_stats.h"
 #include "hapticut/scene/scene.h"
 
 namespace hapticut::app {
@@ -34,6 +35,11 @@ std::optional<std::pair<int, int>> parseSize(const std::string& text, int min, i
 
 nlohmann::ordered_json toJson(const Summary& s);
 nlohmann::ordered_json toJson(const Vec3& v);
+/// The implicit scheme's solves over a run and the settings they stopped by; null for an explicit scheme.
+nlohmann::ordered_json solverJson(physics::Scheme scheme, const physics::SolverStats& stats,
+                                  const physics::SolverSettings& settings);
+/// "; implicit: N CG iterations p50, ... " for a run's summary line; empty for an explicit scheme.
+std::string solverLine(physics::Scheme scheme, const physics::SolverStats& stats);
 
 /// The model (`heart` or a file), with its warnings printed; on failure prints "file:line: message" and
 /// returns nothing.

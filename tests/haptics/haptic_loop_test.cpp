@@ -217,7 +217,9 @@ TEST(HapticLoop, MaterialCommandsScaleTheModelLiveAndTheStableStepFollows) {
     device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));
     const double k0 = h.model.springs.stiffness[5], anchor0 = h.model.nodes.anchorStiffness[5],
                  m0 = h.model.nodes.mass[5];
-    HapticLoop loop(h.organ, device);
+    LoopConfig rk4;
+    rk4.scheme = physics::Scheme::RungeKutta4;
+    HapticLoop loop(h.organ, device, rk4);
     runSimulated(loop, 8);
     const double stable0 = loop.snapshots().readLatest().stableStep_s;
     ASSERT_GT(stable0, 0);
@@ -234,6 +236,25 @@ TEST(HapticLoop, MaterialCommandsScaleTheModelLiveAndTheStableStepFollows) {
     // less than that factor: damping and the tool coupling, unchanged, also bound it).
     const double stable1 = loop.snapshots().readLatest().stableStep_s;
     EXPECT_LT(stable1, 0.75 * stable0);
+    EXPECT_FALSE(loop.snapshots().readLatest().watchdogTripped);
+}
+
+// With the default Auto, the thesis's heart runs RK4 until the material is made so stiff that RK4 would
+// need substeps; then the loop integrates implicitly, in one step per period.
+TEST(HapticLoop, AutoTurnsImplicitWhenTheMaterialOutgrowsRK4) {
+    HeartScene h;
+    VirtualDevice device;
+    device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));
+    HapticLoop loop(h.organ, device);
+    runSimulated(loop, 8);
+    EXPECT_EQ(loop.scheme(), physics::Scheme::RungeKutta4);
+    EXPECT_EQ(loop.snapshots().readLatest().scheme, physics::Scheme::RungeKutta4);
+    ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScaleStructuralStiffness, 10.0}));
+    runSimulated(loop, 8);
+    EXPECT_EQ(loop.scheme(), physics::Scheme::BackwardEuler);
+    EXPECT_EQ(loop.substeps(), 1);
+    EXPECT_EQ(loop.stats().solver.solves, 8);
+    EXPECT_GT(loop.snapshots().readLatest().solverIterations, 0);
     EXPECT_FALSE(loop.snapshots().readLatest().watchdogTripped);
 }
 

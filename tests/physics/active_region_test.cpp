@@ -7,29 +7,10 @@
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/material.h"
+#include "test_support.h"
 
 namespace hapticut::physics {
 namespace {
-
-/// A tool pressing the front of the heart, 3 mm deep after 50 ms (a device approaching), held until
-/// 0.3 s, then lifted.
-void pressWithTool(MassSpringModel& model, const mesh::SurfaceMesh& mesh, int step) {
-    std::uint32_t front = 0;
-    for (std::uint32_t f = 0; f < mesh.faces.size(); ++f)
-        if (mesh.normals[f].z() > mesh.normals[front].z()) front = f;
-    PointSpring& tool = model.tools[0];
-    tool.active = step < 300;
-    tool.nodes = mesh.faces[front];
-    tool.bary = Vec3(0.5, 0.3, 0.2);
-    const Vec3 w = tool.bary.cwiseAbs2();
-    tool.weights = w / w.sum();
-    const Vec3 surface =
-        0.5 * mesh.positions[tool.nodes[0]] + 0.3 * mesh.positions[tool.nodes[1]] + 0.2 * mesh.positions[tool.nodes[2]];
-    tool.anchor_m = surface - 0.003 * std::min(1.0, step / 50.0) * mesh.normals[front];
-    tool.stiffness_N_per_m = 400;
-    tool.maxForce_N = 3.3;
-    tool.normal = mesh.normals[front];
-}
 
 TEST(ActiveRegion, MatchesTheFullSimulationWhileOnlyTheRegionNearTheToolIsAwake) {
     mesh::procedural::HeartOptions options;
@@ -43,8 +24,8 @@ TEST(ActiveRegion, MatchesTheFullSimulationWhileOnlyTheRegionNearTheToolIsAwake)
     std::size_t largestRegion = 0;
     double worst = 0, largestDisplacement = 0;
     for (int step = 0; step < 800; ++step) {
-        pressWithTool(full, mesh, step);
-        pressWithTool(local, mesh, step);
+        test::pressFrontWithTool(full, mesh, step);
+        test::pressFrontWithTool(local, mesh, step);
         ASSERT_TRUE(fullStepper.step(full, 1e-3).finite);
         ASSERT_TRUE(localStepper.step(local, 1e-3).finite);
         largestRegion = std::max(largestRegion, localStepper.awakeCount());

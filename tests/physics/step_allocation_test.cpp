@@ -13,7 +13,8 @@ namespace {
 
 TEST(Stepper, StepsWithoutHeapAllocation) {
     MassSpringModel model = buildModel(mesh::procedural::makeHeart({}), Material{});
-    for (Scheme scheme : {Scheme::ExplicitEuler, Scheme::Midpoint, Scheme::RungeKutta4, Scheme::SymplecticEuler}) {
+    for (Scheme scheme : {Scheme::ExplicitEuler, Scheme::Midpoint, Scheme::RungeKutta4, Scheme::SymplecticEuler,
+                          Scheme::BackwardEuler}) {
         Stepper stepper(scheme);
         stepper.prepare(model);
         model.nodes.externalForce[11] = Vec3(0, 0, -1);

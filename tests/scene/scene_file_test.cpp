@@ -49,7 +49,9 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     expectError("[device]\nstiffness_N_per_m = \"hard\"\n", 2, "device.stiffness_N_per_m: expected a number");
     expectError("[simulation]\nrate_hz = 50\n", 2, "simulation.rate_hz: 50 is out of range; allowed: 100 to 10000");
     expectError("[simulation]\nintegrator = \"verlet\"\n", 2,
-                "'verlet' is not allowed; allowed: euler, midpoint, rk4, symplectic");
+                "'verlet' is not allowed; allowed: auto, euler, implicit, midpoint, rk4, symplectic");
+    expectError("[simulation]\nsolver_max_iterations = 0\n", 2,
+                "simulation.solver_max_iterations: 0 is out of range; allowed: 1 to 10000");
     expectError("[simulation]\nactive_region = 1\n", 2, "simulation.active_region: expected true or false");
     expectError("[model]\ntranslate_m = [1, 2]\n", 2, "model.translate_m: expected three numbers");
     expectError("[model]\ntranslate_m = [1, \"a\", 2]\n", 2, "expected three finite numbers");

@@ -4,6 +4,8 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include <string>
+
 #include "hapticut/common/text_file.h"
 #include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/haptics/step_log.h"
@@ -64,9 +66,14 @@ void materialSlider(scene::Simulation& session, const char* label, scene::Materi
 
 void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const Rates& rates) {
     ImGui::Text("render %.0f fps   haptic %.0f Hz", rates.renderFps, rates.hapticRate_hz);
-    ImGui::Text("step %.1f us (max %.1f us)   %d substep%s", s.stepTime_us, s.maxStepTime_us, s.substeps,
-                s.substeps == 1 ? "" : "s");
-    ImGui::Text("stable step %.2f ms   overruns %ld   cut events %ld", s.stableStep_s * 1e3, s.overruns, s.cutEvents);
+    ImGui::Text("step %.1f us (max %.1f us)", s.stepTime_us, s.maxStepTime_us);
+    if (s.scheme == physics::Scheme::BackwardEuler)
+        ImGui::Text("implicit, %d CG iterations   overruns %ld   cut events %ld", s.solverIterations, s.overruns,
+                    s.cutEvents);
+    else
+        ImGui::Text("%s, %d substep%s (stable below %.2f ms)   overruns %ld   cut events %ld",
+                    std::string(physics::schemeName(s.scheme)).c_str(), s.substeps, s.substeps == 1 ? "" : "s",
+                    s.stableStep_s * 1e3, s.overruns, s.cutEvents);
     if (s.watchdogTripped) {
         ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "watchdog tripped: force is zero");
         ImGui::SameLine();
@@ -75,8 +82,9 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
     if (s.paused) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "physics paused (space)");
     haptics::LoopConfig& c = session.config();
     int scheme = static_cast<int>(c.scheme);
-    const char* schemes[] = {"euler", "midpoint", "rk4", "symplectic"};
-    bool restart = ImGui::Combo("integrator", &scheme, schemes, 4);
+    // In the order of physics::Scheme.
+    const char* schemes[] = {"euler", "midpoint", "rk4", "symplectic", "implicit", "auto"};
+    bool restart = ImGui::Combo("integrator", &scheme, schemes, 6);
     float rate = static_cast<float>(c.rate_hz);
     ImGui::SliderFloat("loop rate", &rate, 250.0f, 4000.0f, "%.0f Hz", ImGuiSliderFlags_Logarithmic);
     restart |= ImGui::IsItemDeactivatedAfterEdit();

@@ -8,5 +8,6 @@ namespace hapticut {
 
 using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
 
 }  // namespace hapticut

@@ -78,6 +78,8 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
     for (const HandState& hand : hands_)
         allHands_N_per_m += hand.setup.couplingStiffness_N_per_m.value_or(preparedCouplingStiffness_);
     stepper_.setToolStiffness(allHands_N_per_m);
+    stepper_.setScheme(physics::resolveScheme(config_.scheme, model_, 1 / config_.rate_hz, allHands_N_per_m));
+    stepper_.setSolverSettings(config_.solver);
     stepper_.setActiveRegion(config_.activeRegion);
     stepper_.prepare(model_);
     bvh_.build(surface());
@@ -264,7 +266,10 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
 void HapticLoop::advanceTissue(Frame& frame) noexcept {
     // The tissue moves under the tools' springs; the collision tree and the proxies follow it.
     if (paused_) return;
-    if (!stepper_.step(model_, 1 / config_.rate_hz).finite) {
+    const physics::StepResult result = stepper_.step(model_, 1 / config_.rate_hz);
+    if (stepper_.scheme() == physics::Scheme::BackwardEuler) stats_.solver.record(result.solve);
+    lastSolve_ = result.solve;
+    if (!result.finite) {
         tripWatchdog();
         for (HandFrame& hand : frame) hand.force_N = Vec3::Zero();
     }
@@ -358,7 +363,10 @@ void HapticLoop::scaleMaterial(LoopCommand::Kind kind, double factor) noexcept {
         default: return;
     }
     try {
-        stepper_.prepare(model_);  // a stiffer or lighter model needs a smaller step: substeps follow
+        // A stiffer or lighter model needs a smaller step: substeps follow, or Auto turns implicit.
+        stepper_.setScheme(
+            physics::resolveScheme(config_.scheme, model_, 1 / config_.rate_hz, stepper_.toolStiffness_N_per_m()));
+        stepper_.prepare(model_);
     } catch (...) {
         stats_.watchdogTripped = true;  // out of memory re-preparing: stop pushing rather than step unprepared
     }
@@ -390,7 +398,9 @@ void HapticLoop::publishSnapshot(const StepOutput& out) {
     s.maxStepTime_us = std::max(maxStepSinceSnapshot_us_, out.stepTime_us);
     maxStepSinceSnapshot_us_ = 0;
     s.stableStep_s = stepper_.stableStep_s();
-    s.substeps = stepper_.substepsFor(1 / config_.rate_hz);
+    s.substeps = substeps();
+    s.scheme = stepper_.scheme();
+    s.solverIterations = lastSolve_.iterations;
     s.overruns = stats_.overruns;
     s.cutEvents = stats_.cutEvents;
     s.contactSteps = stats_.contactSteps;

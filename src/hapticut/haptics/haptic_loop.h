@@ -22,12 +22,16 @@
 #include "hapticut/haptics/proxy.h"
 #include "hapticut/haptics/snapshot_publisher.h"
 #include "hapticut/physics/integrators.h"
+#include "hapticut/physics/solver_stats.h"
 
 namespace hapticut::haptics {
 
 struct LoopConfig {
     double rate_hz = 1000;  // 1 kHz (R7); up to 10 kHz
-    physics::Scheme scheme = physics::Scheme::RungeKutta4;
+    /// Auto keeps the thesis's RK4 where one step per period is stable (the 1,619 heart) and integrates
+    /// implicitly where RK4 would need substeps (finer and badly shaped organs); see resolveScheme.
+    physics::Scheme scheme = physics::Scheme::Auto;
+    physics::SolverSettings solver{};        // the implicit scheme's linear solve
     double couplingStiffness_N_per_m = 400;  // k_h of the virtual spring between proxy and device; live changes up to
                                              // this value. 400 N/m keeps RK4 at one step per ms on the 1,619 heart.
     double couplingDamping_Ns_per_m = 0.3;   // b_h on the device velocity, only while in contact
@@ -82,6 +86,7 @@ struct LoopStats {
     LatencyHistogram cutTime_us{0.1, 100'000};  // the cut and the updates it needs (tree, stepper, proxy)
     double maxForce_N = 0;                      // the largest force sent to any hand
     double wallTime_s = 0;
+    physics::SolverStats solver;  // the implicit scheme's solves; none for an explicit one
 };
 
 struct LoopCommand {
@@ -141,6 +146,10 @@ public:
     long topologyVersion() const { return topologyVersion_; }
     double time_s() const { return static_cast<double>(stepIndex_) / config_.rate_hz; }
     double rate_hz() const { return config_.rate_hz; }
+    /// The scheme the tissue is integrated with: config.scheme, with Auto resolved for this organ.
+    physics::Scheme scheme() const { return stepper_.scheme(); }
+    /// Substeps per period of the scheme on the current organ (1 for the implicit one).
+    int substeps() const { return stepper_.substepsFor(1 / config_.rate_hz); }
 
     // For schedulers (loop_scheduler.h), from the thread that steps the loop or while it is stopped.
     /// On the wall clock a step that overruns its period withholds its force (the watchdog).
@@ -199,6 +208,7 @@ private:
     int cuttingHand_ = -1;  // the hand whose cut is in progress
     LoopConfig config_;
     physics::Stepper stepper_;
+    physics::SolveReport lastSolve_;  // the latest step's, for the snapshot
     collision::Bvh bvh_;
     cutting::ProgressiveCutter cutter_;
     long topologyVersion_ = 0;

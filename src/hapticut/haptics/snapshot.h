@@ -7,6 +7,7 @@
 
 #include "hapticut/mesh/surface_mesh.h"
 #include "hapticut/physics/point_spring.h"
+#include "hapticut/physics/scheme.h"
 
 namespace hapticut::haptics {
 
@@ -34,6 +35,8 @@ struct Snapshot {
     double maxStepTime_us = 0;  // the slowest step since the previous snapshot
     double stableStep_s = 0;    // the integrator's stable step on the current model
     int substeps = 1;
+    physics::Scheme scheme = physics::Scheme::RungeKutta4;  // the one in use (Auto resolved)
+    int solverIterations = 0;                               // the implicit scheme's, in the latest step
     long overruns = 0, cutEvents = 0, contactSteps = 0;
     bool watchdogTripped = false, paused = false;
 };

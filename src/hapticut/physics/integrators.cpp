@@ -29,6 +29,8 @@ void Stepper::reserveFor(std::size_t n, std::size_t ns) {
     const std::size_t nodes = roomToGrow(n), springs = roomToGrow(ns);
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) reserveTouched(*buffer, nodes);
     reserveTouched(allNodes_, nodes);
+    reserveTouched(allSprings_, springs);
+    implicit_.reserve(nodes, springs);
     region_.reserve(nodes, springs);
     springsAt_.reserve(nodes, springs);
 }
@@ -41,6 +43,9 @@ void Stepper::prepare(const MassSpringModel& model) {
     rawStableDt_ = stableDt_ / kStableSafety;
     allNodes_.resize(n);
     for (std::uint32_t i = 0; i < n; ++i) allNodes_[i] = i;
+    allSprings_.resize(ns);
+    for (std::uint32_t k = 0; k < ns; ++k) allSprings_[k] = k;
+    implicit_.resize(n, ns);
     springsAt_.build(model.springs, n);
     region_.reset(model);
     preparedNodes_ = n;
@@ -66,6 +71,8 @@ void Stepper::topologyChanged(const MassSpringModel& model, std::span<const std:
     if (n > x0_.capacity() || ns > springsAt_.springCapacity()) reserveFor(n, ns);
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n, Vec3::Zero());
     for (auto i = static_cast<std::uint32_t>(allNodes_.size()); i < n; ++i) allNodes_.push_back(i);
+    for (auto k = static_cast<std::uint32_t>(allSprings_.size()); k < ns; ++k) allSprings_.push_back(k);
+    implicit_.resize(n, ns);
     region_.resize(n, ns);
     springsAt_.update(model.springs, n, springs);
     // The nodes whose modes may have changed: the listed ones and the ends of the listed springs.
@@ -81,9 +88,15 @@ void Stepper::topologyChanged(const MassSpringModel& model, std::span<const std:
 }
 
 int Stepper::substepsFor(double dt_s) const {
+    if (scheme_ == Scheme::BackwardEuler || scheme_ == Scheme::Auto) return 1;
     if (!autoSubstep_ || stableDt_ <= 0 || dt_s <= stableDt_) return 1;
     // The small tolerance keeps an exact multiple (10 x the stable step) from rounding up to 11.
     return static_cast<int>(std::min(std::ceil(dt_s / stableDt_ * (1 - 1e-12)), 1e6));
+}
+
+SolveRegion Stepper::solveRegion() const {
+    if (activeRegion_) return {region_.nodes(), region_.touched(), region_.springs()};
+    return {allNodes_, allNodes_, allSprings_};
 }
 
 std::span<const std::uint32_t> Stepper::integratedNodes() const {
@@ -98,6 +111,7 @@ void Stepper::accelerations(const MassSpringModel& model, std::span<const Vec3> 
 }
 
 StepResult Stepper::step(MassSpringModel& model, double dt_s) {
+    if (scheme_ == Scheme::Auto) setScheme(resolveScheme(Scheme::Auto, model, dt_s, toolStiffness_));
     if (preparedNodes_ != model.nodes.size() || preparedSprings_ != model.springs.size()) prepare(model);
     StepResult result;
     result.substeps = substepsFor(dt_s);
@@ -109,8 +123,12 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
     if (activeRegion_)
         for (std::uint32_t i : region_.touched())
             xs_[i] = n.position[i], vs_[i] = n.velocity[i];  // resting neighbours, read by every stage
-    const double h = dt_s / result.substeps;
-    for (int i = 0; i < result.substeps; ++i) substep(model, h);
+    if (scheme_ == Scheme::BackwardEuler) {
+        result.solve = implicit_.step(model, dt_s, solveRegion());
+    } else {
+        const double h = dt_s / result.substeps;
+        for (int i = 0; i < result.substeps; ++i) substep(model, h);
+    }
 
     for (std::uint32_t i : nodes) {
         if (!n.position[i].allFinite() || !n.velocity[i].allFinite()) result.finite = false;
@@ -119,11 +137,12 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
             n.velocity[i].squaredNorm() < model.snapSpeed_m_per_s * model.snapSpeed_m_per_s) {
             n.position[i] = n.restPosition[i];
             n.velocity[i] = Vec3::Zero();
+            implicit_.forget(i);
         }
     }
     if (!result.finite) {
         // Roll back rather than let NaN spread through the model and into a device.
-        for (std::uint32_t i : nodes) n.position[i] = x0_[i], n.velocity[i] = Vec3::Zero();
+        for (std::uint32_t i : nodes) n.position[i] = x0_[i], n.velocity[i] = Vec3::Zero(), implicit_.forget(i);
     }
     if (activeRegion_) {
         accelerations(model, n.position, n.velocity);  // forces at the end state decide who sleeps and wakes
@@ -138,6 +157,8 @@ void Stepper::substep(MassSpringModel& model, double h) {
         case Scheme::SymplecticEuler: symplecticEulerSubstep(model, h); break;
         case Scheme::Midpoint: midpointSubstep(model, h); break;
         case Scheme::RungeKutta4: rungeKutta4Substep(model, h); break;
+        case Scheme::BackwardEuler:
+        case Scheme::Auto: break;  // solved in step(), never substepped
     }
 }
 

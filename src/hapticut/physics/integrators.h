@@ -1,5 +1,6 @@
-// The time integrators behind one interface (SPEC R5): a Stepper substeps for stability (stability.h)
-// and integrates only the active region (active_region.h); each scheme is one substep function.
+// The time integrators behind one interface (SPEC R5): a Stepper substeps the explicit schemes for
+// stability (stability.h), solves the implicit one (backward_euler.h) in one step, and integrates only
+// the active region (active_region.h); each explicit scheme is one substep function.
 #pragma once
 
 #include <cstdint>
@@ -7,6 +8,7 @@
 #include <vector>
 
 #include "hapticut/physics/active_region.h"
+#include "hapticut/physics/backward_euler.h"
 #include "hapticut/physics/mass_spring_model.h"
 #include "hapticut/physics/node_springs.h"
 #include "hapticut/physics/scheme.h"
@@ -17,11 +19,13 @@ namespace hapticut::physics {
 struct StepResult {
     int substeps = 1;
     bool finite = true;  // false: the step produced NaN/inf; the state was rolled back and velocities zeroed
+    SolveReport solve;   // the implicit scheme's linear solve; zero iterations for the explicit ones
 };
 
 /// Advances a model in time. Owns scratch buffers so that stepping never allocates once prepared.
 class Stepper {
 public:
+    /// Scheme::Auto is resolved (resolveScheme) on the first step, when the step size is known.
     explicit Stepper(Scheme scheme = Scheme::RungeKutta4) : scheme_(scheme) {}
 
     Scheme scheme() const { return scheme_; }
@@ -38,6 +42,10 @@ public:
                          std::span<const std::uint32_t> springs);
     /// Stiffness a tool may add to any node (the haptic coupling); counted in the stable step.
     void setToolStiffness(double stiffness_N_per_m);
+    double toolStiffness_N_per_m() const { return toolStiffness_; }
+    /// When the implicit scheme's linear solve stops.
+    void setSolverSettings(SolverSettings settings) { implicit_.setSettings(settings); }
+    const SolverSettings& solverSettings() const { return implicit_.settings(); }
     /// Substeps are off when false: every step is taken as asked, stable or not.
     void setAutoSubstep(bool on) { autoSubstep_ = on; }
     double stableStep_s() const { return stableDt_; }
@@ -66,6 +74,8 @@ private:
     void lowerStableStepAt(const MassSpringModel& model, std::uint32_t i);
     /// Capacity for `n` nodes and `ns` springs, with room to grow, so that cuts rarely reallocate.
     void reserveFor(std::size_t n, std::size_t ns);
+    /// The region the implicit solve covers: the awake nodes, or all of them.
+    SolveRegion solveRegion() const;
 
     Scheme scheme_;
     bool autoSubstep_ = true;
@@ -73,7 +83,8 @@ private:
     double toolStiffness_ = 0;
     std::size_t preparedNodes_ = static_cast<std::size_t>(-1), preparedSprings_ = 0;
     std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
-    std::vector<std::uint32_t> allNodes_;
+    std::vector<std::uint32_t> allNodes_, allSprings_;
+    BackwardEuler implicit_;
     bool activeRegion_ = false;
     ActiveRegion region_;
     NodeSprings springsAt_;

@@ -10,6 +10,7 @@ namespace hapticut::physics {
 
 bool modeStable(Scheme scheme, double w2, double c, double h_s) {
     const double h = h_s;
+    if (scheme == Scheme::BackwardEuler || scheme == Scheme::Auto) return true;  // Auto resolves before a step
     if (scheme == Scheme::SymplecticEuler) {
         // Its update matrix has determinant 1 - c h and trace 2 - w2 h² - c h; both eigenvalues lie in
         // the unit disc exactly when c h <= 2 and w2 h² + 2 c h <= 4.
@@ -42,7 +43,7 @@ double largestStableStep(Scheme scheme, double w2, double c) {
 
 void lowerStableStepForNode(Scheme scheme, double& dt_s, double inverse_mass, double anchor_k, double anchor_d,
                             double k, double d) {
-    if (inverse_mass == 0) return;
+    if (inverse_mass == 0 || scheme == Scheme::BackwardEuler) return;
     // A mode still stable at dt cannot lower it: one check instead of a bisection for almost every node.
     auto lower = [&](double w2, double c) {
         if (dt_s < 1e9 && modeStable(scheme, w2, c, dt_s)) return;
@@ -53,6 +54,7 @@ void lowerStableStepForNode(Scheme scheme, double& dt_s, double inverse_mass, do
 }
 
 double stableTimeStep(const MassSpringModel& model, Scheme scheme, double extra_stiffness_N_per_m) {
+    if (scheme == Scheme::BackwardEuler) return kStableSafety * 1e9;
     const Nodes& n = model.nodes;
     const Springs& s = model.springs;
     std::vector<double> k(n.size(), 0.0), d(n.size(), 0.0);
@@ -65,6 +67,12 @@ double stableTimeStep(const MassSpringModel& model, Scheme scheme, double extra_
         lowerStableStepForNode(scheme, dt, n.inverseMass[i], n.anchorStiffness[i] + extra_stiffness_N_per_m,
                                n.anchorDamping[i], k[i], d[i]);
     return kStableSafety * dt;
+}
+
+Scheme resolveScheme(Scheme requested, const MassSpringModel& model, double dt_s, double extra_stiffness_N_per_m) {
+    if (requested != Scheme::Auto) return requested;
+    return stableTimeStep(model, Scheme::RungeKutta4, extra_stiffness_N_per_m) >= dt_s ? Scheme::RungeKutta4
+                                                                                       : Scheme::BackwardEuler;
 }
 
 }  // namespace hapticut::physics

@@ -24,8 +24,12 @@ void lowerStableStepForNode(Scheme scheme, double& dt_s, double inverse_mass, do
                             double k, double d);
 
 /// Largest time step (s) for which every node's local modes are stable under `scheme`, with the
-/// kStableSafety factor applied. `extra_stiffness_N_per_m` is added to every node, for a tool spring
-/// that may attach anywhere.
+/// kStableSafety factor applied; 1e9 s for BackwardEuler, which is stable at any step.
+/// `extra_stiffness_N_per_m` is added to every node, for a tool spring that may attach anywhere.
 double stableTimeStep(const MassSpringModel& model, Scheme scheme, double extra_stiffness_N_per_m = 0);
+
+/// The scheme to step `model` with at dt_s: `requested` itself unless it is Auto, which keeps the
+/// thesis's RK4 where one RK4 step of dt_s is stable and takes BackwardEuler where RK4 would need substeps.
+Scheme resolveScheme(Scheme requested, const MassSpringModel& model, double dt_s, double extra_stiffness_N_per_m = 0);
 
 }  // namespace hapticut::physics

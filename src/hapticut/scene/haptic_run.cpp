@@ -93,10 +93,9 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.cutEvents = st.cutEvents;
     r.cutTime_us = st.cutTime_us.summary();
     r.invariantProblems = cutting::checkInvariants(organ, mass_kg).problems;
-    physics::Stepper probe(config.loop.scheme);
-    probe.setToolStiffness(config.loop.couplingStiffness_N_per_m);
-    probe.prepare(model);
-    r.substeps = probe.substepsFor(1 / config.loop.rate_hz);
+    r.scheme = loop.scheme();
+    r.substeps = loop.substeps();
+    r.solver = st.solver;
     return r;
 }
 

@@ -47,7 +47,9 @@ struct HapticRunResult {
     double maxForce_N = 0;
     double maxProxyPenetration_m = 0;  // by the ray-parity test on the current surface, every step until a cut opens it
     double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
+    physics::Scheme scheme = physics::Scheme::RungeKutta4;  // the one used (Auto resolved)
     int substeps = 1;
+    physics::SolverStats solver;  // the implicit scheme's solves
     // Cutting: what the scalpel did, how long cut events took, and whether the organ stayed sound.
     cutting::CutStats cut;
     long cutEvents = 0;

@@ -20,7 +20,9 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
                       const std::function<void(long, long)>& progress) {
     using Clock = std::chrono::steady_clock;
     RunResult r;
-    physics::Stepper stepper(config.scheme);
+    r.scheme = physics::resolveScheme(config.scheme, model, config.dt_s);
+    physics::Stepper stepper(r.scheme);
+    stepper.setSolverSettings(config.solver);
     stepper.prepare(model);
     r.stableStep_s = stepper.stableStep_s();
     r.substeps = stepper.substepsFor(config.dt_s);
@@ -48,6 +50,7 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
         const physics::StepResult step = stepper.step(model, config.dt_s);
         stepTimes[static_cast<std::size_t>(i)] = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
         if (!step.finite) ++r.nanEvents;
+        if (r.scheme == physics::Scheme::BackwardEuler) r.solver.record(step.solve);
         const double displacement = physics::maxDisplacement(model);
         r.maxDisplacement_m = std::max(r.maxDisplacement_m, displacement);
         if (released && r.recoveryTime_s < 0 && displacement < kRecoveredDistance_m)

@@ -8,6 +8,7 @@
 #include "hapticut/common/stats.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/mass_spring_model.h"
+#include "hapticut/physics/solver_stats.h"
 
 namespace hapticut::scene {
 
@@ -18,7 +19,8 @@ struct PointForce {
 };
 
 struct RunConfig {
-    physics::Scheme scheme = physics::Scheme::RungeKutta4;
+    physics::Scheme scheme = physics::Scheme::Auto;
+    physics::SolverSettings solver{};
     double dt_s = 1e-3;
     long steps = 1000;
     std::optional<PointForce> force;
@@ -27,8 +29,10 @@ struct RunConfig {
 struct RunResult {
     long steps = 0;
     double simTime_s = 0, wallTime_s = 0;
-    Summary step_us;   // wall time per step
-    int substeps = 1;  // per step, chosen for stability
+    Summary step_us;                                        // wall time per step
+    physics::Scheme scheme = physics::Scheme::RungeKutta4;  // the one used (Auto resolved)
+    int substeps = 1;                                       // per step, chosen for stability
+    physics::SolverStats solver;                            // the implicit scheme's solves
     double stableStep_s = 0;
     double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
     double kineticEnergyEnd_J = 0;

@@ -15,6 +15,7 @@ physics::MassSpringModel Scene::buildModel() const {
 haptics::LoopConfig Scene::loopConfig() const {
     haptics::LoopConfig config;
     config.scheme = settings.scheme;
+    config.solver = settings.solver;
     config.rate_hz = settings.rate_hz;
     config.couplingStiffness_N_per_m = settings.couplingStiffness_N_per_m;
     config.couplingDamping_Ns_per_m = settings.couplingDamping_Ns_per_m;
@@ -47,6 +48,8 @@ void applyOverrides(const SceneOverrides& o, SceneFile& s) {
     if (o.model) s.model = *o.model;
     if (o.triangles) s.triangles = *o.triangles;
     if (o.scheme) s.scheme = *o.scheme;
+    if (o.solverTolerance) s.solver.tolerance = *o.solverTolerance;
+    if (o.solverMaxIterations) s.solver.maxIterations = *o.solverMaxIterations;
     if (o.rate_hz) s.rate_hz = *o.rate_hz;
     if (o.couplingStiffness_N_per_m) s.couplingStiffness_N_per_m = *o.couplingStiffness_N_per_m;
     if (o.friction) s.staticFriction = (*o.friction)[0], s.dynamicFriction = (*o.friction)[1];

@@ -21,6 +21,8 @@ struct SceneOverrides {
     std::optional<std::string> model;
     std::optional<int> triangles;
     std::optional<physics::Scheme> scheme;
+    std::optional<double> solverTolerance;
+    std::optional<int> solverMaxIterations;
     std::optional<double> rate_hz;
     std::optional<double> couplingStiffness_N_per_m;
     std::optional<std::array<double, 2>> friction;  // static, dynamic

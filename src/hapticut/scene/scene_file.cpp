@@ -286,9 +286,13 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
                 s.devices.push_back(parseDevice((*list)[i], i, s, directory));
         }
         if (const toml::table* m = subTable(root, "simulation")) {
-            allowOnly(*m, "simulation", {"integrator", "rate_hz", "active_region"});
-            s.scheme = *physics::parseScheme(
-                text(*m, "simulation", "integrator", "rk4", {"euler", "midpoint", "rk4", "symplectic"}));
+            allowOnly(*m, "simulation",
+                      {"integrator", "rate_hz", "active_region", "solver_tolerance", "solver_max_iterations"});
+            s.scheme = *physics::parseScheme(text(*m, "simulation", "integrator", "auto",
+                                                  {"auto", "euler", "midpoint", "rk4", "symplectic", "implicit"}));
+            s.solver.tolerance = number(*m, "simulation", "solver_tolerance", s.solver.tolerance, 1e-14, 1);
+            s.solver.maxIterations = static_cast<int>(std::lround(number(
+                *m, "simulation", "solver_max_iterations", s.solver.maxIterations, 1, physics::kMaxSolverIterations)));
             s.rate_hz = number(*m, "simulation", "rate_hz", s.rate_hz, 100, 10'000);
             s.activeRegion = boolean(*m, "simulation", "active_region", s.activeRegion);
         }

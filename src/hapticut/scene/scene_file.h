@@ -56,7 +56,8 @@ struct SceneFile {
     // [[devices]]: one per hand, at most two; empty when the scene has the single [device] table (or neither)
     std::vector<SceneDevice> devices;
     // [simulation]
-    physics::Scheme scheme = physics::Scheme::RungeKutta4;
+    physics::Scheme scheme = physics::Scheme::Auto;
+    physics::SolverSettings solver;
     double rate_hz = 1000;
     bool activeRegion = true;
     // [rendering]

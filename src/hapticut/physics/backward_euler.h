@@ -1,0 +1,53 @@
+// Linearised backward Euler (Baraff & Witkin 1998): one Newton step of the implicit update per time
+// step, solved by conjugate gradients with a block-Jacobi preconditioner, warm-started from the last
+// step's answer. Unconditionally stable on the springs and the tool coupling, so a step is one solve
+// at any mesh resolution, sliver or coupling stiffness, where the explicit schemes need substeps.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "hapticut/physics/backward_euler_system.h"
+
+namespace hapticut::physics {
+
+/// The most iterations a solve may be allowed (a setting above it is taken as this).
+inline constexpr int kMaxSolverIterations = 10'000;
+
+/// When the conjugate-gradient solve stops: at a residual below `tolerance` times the right-hand
+/// side's (both Euclidean norms, in newton-seconds), or after `maxIterations`, whichever comes first.
+struct SolverSettings {
+    double tolerance = 1e-4;
+    int maxIterations = 40;
+};
+
+/// How one solve went.
+struct SolveReport {
+    int iterations = 0;
+    double relativeResidual = 0;  // |b - A Δv| / |b| at the end; 0 when b is zero
+    bool converged = true;        // false: stopped by the iteration cap (or a breakdown) above the tolerance
+};
+
+class BackwardEuler {
+public:
+    void reserve(std::size_t nodes, std::size_t springs);
+    /// Room for a model of this size; new nodes start without a warm start.
+    void resize(std::size_t nodes, std::size_t springs);
+    void setSettings(SolverSettings settings);
+    const SolverSettings& settings() const { return settings_; }
+
+    /// Advances the region's nodes by h seconds: v += Δv, x += h v. The resting neighbours stay put.
+    SolveReport step(MassSpringModel& model, double h, SolveRegion region);
+    /// Drops node i's warm start: it was put to rest, so its last change of velocity is no guess.
+    void forget(std::uint32_t i) { deltaV_[i].setZero(); }
+
+private:
+    SolveReport solve();
+
+    SolverSettings settings_;
+    BackwardEulerSystem system_;
+    std::vector<Vec3> deltaV_;  // the unknown, kept between steps as the next warm start
+    std::vector<Vec3> residual_, preconditioned_, direction_, product_;
+};
+
+}  // namespace hapticut::physics

@@ -1,0 +1,26 @@
+// What the implicit scheme's linear solves did over a run: iterations, the cap, residuals. Recording
+// never allocates, so the haptic loop keeps it.
+#pragma once
+
+#include <algorithm>
+
+#include "hapticut/common/latency_histogram.h"
+#include "hapticut/physics/backward_euler.h"
+
+namespace hapticut::physics {
+
+struct SolverStats {
+    long solves = 0;
+    long unconverged = 0;  // solves stopped by the iteration cap (or a breakdown) above the tolerance
+    double maxRelativeResidual = 0;
+    LatencyHistogram iterations{1, kMaxSolverIterations};  // one bin per iteration count
+
+    void record(const SolveReport& report) noexcept {
+        ++solves;
+        if (!report.converged) ++unconverged;
+        maxRelativeResidual = std::max(maxRelativeResidual, report.relativeResidual);
+        iterations.record(report.iterations);
+    }
+};
+
+}  // namespace hapticut::physics

@@ -1,0 +1,261 @@
+// The implicit scheme (linearised backward Euler, solved by conjugate gradients) against its closed
+// form, its convergence order, RK4 at small steps and the static solution; its stability far beyond
+// the explicit schemes' limits; and the choice Auto makes.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/mesh/procedural/primitives.h"
+#include "hapticut/physics/integrators.h"
+#include "hapticut/physics/material.h"
+#include "hapticut/physics/spring_forces.h"
+#include "test_support.h"
+
+namespace hapticut::physics {
+namespace {
+
+constexpr SolverSettings kTight{.tolerance = 1e-12, .maxIterations = kMaxSolverIterations};
+
+mesh::SurfaceMesh heartMesh(int triangles) {
+    mesh::procedural::HeartOptions options;
+    options.triangles = triangles;
+    return mesh::procedural::makeHeart(options);
+}
+
+// For x'' = -w2 x - c x', a backward-Euler step is [x; v] <- (I - h A)^-1 [x; v] with A = [0 1; -w2 -c].
+// The system is linear, so the one Newton step of the linearised scheme must be the exact implicit step.
+TEST(BackwardEuler, IsTheExactImplicitStepOnALinearOscillator) {
+    const double m = 0.01, k = 40, c = 0.2, x0 = 0.005, h = 2e-3;
+    MassSpringModel model = test::oscillator(m, k, c, x0);
+    Stepper stepper(Scheme::BackwardEuler);
+    stepper.setSolverSettings(kTight);
+    Eigen::Matrix2d a;
+    a << 0, 1, -k / m, -c / m;
+    const Eigen::Matrix2d update = (Eigen::Matrix2d::Identity() - h * a).inverse();
+    Eigen::Vector2d expected(x0, 0);
+    for (int i = 0; i < 200; ++i) {
+        (void)stepper.step(model, h);
+        expected = update * expected;
+        ASSERT_NEAR(model.nodes.position[0].x(), expected(0), 1e-12 * x0) << "step " << i;
+        ASSERT_NEAR(model.nodes.velocity[0].x(), expected(1), 1e-12 * x0 * std::sqrt(k / m)) << "step " << i;
+    }
+}
+
+double oscillatorErrorAtOneSecond(double dt_s) {
+    MassSpringModel model = test::oscillator(1, 100, 0, 0.01);
+    Stepper stepper(Scheme::BackwardEuler);
+    stepper.setSolverSettings(kTight);
+    for (long i = 0, steps = std::lround(1 / dt_s); i < steps; ++i) (void)stepper.step(model, dt_s);
+    return std::abs(model.nodes.position[0].x() - 0.01 * std::cos(10.0));
+}
+
+TEST(BackwardEuler, ConvergesAtFirstOrder) {
+    const double e1 = oscillatorErrorAtOneSecond(1e-3), e2 = oscillatorErrorAtOneSecond(5e-4);
+    EXPECT_NEAR(std::log2(e1 / e2), 1, 0.1) << "errors " << e1 << ", " << e2;
+}
+
+/// The heart pressed by the tool for `duration_s`, stepped at dt_s by `scheme`.
+MassSpringModel pressedHeart(const mesh::SurfaceMesh& mesh, Scheme scheme, double dt_s, double duration_s) {
+    MassSpringModel model = buildModel(mesh, Material{});
+    Stepper stepper(scheme);
+    stepper.setSolverSettings(kTight);
+    const long steps = std::lround(duration_s / dt_s);
+    for (long i = 0; i < steps; ++i) {
+        test::pressFrontWithTool(model, mesh, static_cast<int>(static_cast<double>(i) * dt_s * 1000));
+        EXPECT_TRUE(stepper.step(model, dt_s).finite);
+    }
+    return model;
+}
+
+double largestDifference(const MassSpringModel& a, const MassSpringModel& b) {
+    double worst = 0;
+    for (std::size_t i = 0; i < a.nodes.size(); ++i)
+        worst = std::max(worst, (a.nodes.position[i] - b.nodes.position[i]).norm());
+    return worst;
+}
+
+// On the nonlinear heart pressed by a tool, the scheme approaches RK4 at small steps, and halving the
+// step halves the difference: first order on the real model, not only on the oscillator.
+TEST(BackwardEuler, AgreesWithRK4AtSmallStepsOnThePressedHeart) {
+    const mesh::SurfaceMesh mesh = heartMesh(500);
+    const double duration = 0.06;
+    const MassSpringModel reference = pressedHeart(mesh, Scheme::RungeKutta4, 1e-5, duration);
+    const double displacement = maxDisplacement(reference);
+    ASSERT_GT(displacement, 3e-4) << "the press must really deform the tissue";
+    const double coarse = largestDifference(pressedHeart(mesh, Scheme::BackwardEuler, 2e-5, duration), reference);
+    const double fine = largestDifference(pressedHeart(mesh, Scheme::BackwardEuler, 1e-5, duration), reference);
+    EXPECT_LT(fine, 0.01 * displacement) << "difference " << fine << " m in a press of " << displacement << " m";
+    EXPECT_NEAR(std::log2(coarse / fine), 1, 0.15) << "differences " << coarse << ", " << fine;
+}
+
+// Without any damping the scheme still loses energy: backward Euler's numerical dissipation, which is
+// what keeps it stable at any step.
+TEST(BackwardEuler, DissipatesEnergyWithoutPhysicalDamping) {
+    Material undamped;
+    undamped.structuralDamping_Ns = 0;
+    undamped.positioningDamping_Ns_per_m3 = 0;
+    MassSpringModel model = buildModel(heartMesh(500), undamped);
+    model.snapDistance_m = 0;
+    for (std::size_t i = 0; i < model.nodes.size(); ++i) model.nodes.position[i] += test::wobble(i, 1e-3);
+    Stepper stepper(Scheme::BackwardEuler);
+    stepper.setSolverSettings(kTight);
+    const double e0 = kineticEnergy(model) + potentialEnergy(model);
+    double previous = e0;
+    for (int i = 0; i < 200; ++i) {
+        (void)stepper.step(model, 1e-3);
+        const double e = kineticEnergy(model) + potentialEnergy(model);
+        ASSERT_LT(e, previous) << "step " << i;
+        previous = e;
+    }
+    EXPECT_LT(previous, 0.01 * e0);
+}
+
+// Static equilibrium by Newton's method on the spring forces, with a central-difference Jacobian: an
+// independent answer for where a loaded model comes to rest.
+std::vector<Vec3> staticSolution(MassSpringModel model) {
+    const std::size_t n = model.nodes.size();
+    auto force = [&](const Eigen::VectorXd& q) {
+        std::vector<Vec3> x(n), v(n, Vec3::Zero()), a(n);
+        for (std::size_t i = 0; i < n; ++i) x[i] = q.segment<3>(3 * i);
+        computeAccelerations(model, x, v, a);
+        Eigen::VectorXd f(3 * n);
+        for (std::size_t i = 0; i < n; ++i) f.segment<3>(3 * i) = model.nodes.mass[i] * a[i];
+        return f;
+    };
+    Eigen::VectorXd q(3 * n);
+    for (std::size_t i = 0; i < n; ++i) q.segment<3>(3 * i) = model.nodes.position[i];
+    for (int iteration = 0; iteration < 30; ++iteration) {
+        const Eigen::VectorXd f = force(q);
+        if (f.norm() < 1e-14) break;
+        Eigen::MatrixXd jacobian(3 * n, 3 * n);
+        const double e = 1e-7;
+        for (std::size_t j = 0; j < 3 * n; ++j) {
+            Eigen::VectorXd plus = q, minus = q;
+            plus(j) += e;
+            minus(j) -= e;
+            jacobian.col(j) = (force(plus) - force(minus)) / (2 * e);
+        }
+        q -= jacobian.partialPivLu().solve(f);
+    }
+    std::vector<Vec3> x(n);
+    for (std::size_t i = 0; i < n; ++i) x[i] = q.segment<3>(3 * i);
+    return x;
+}
+
+TEST(BackwardEuler, ALoadedModelSettlesOnTheStaticSolution) {
+    MassSpringModel model =
+        buildModel(mesh::procedural::makeSphere(Vec3::Zero(), 0.03, 12, 8), Material{});
+    model.snapDistance_m = 0;
+    model.nodes.externalForce[3] = Vec3(0, 0, -1.5);
+    model.nodes.externalForce[20] = Vec3(1.0, 0.6, 0);
+    model.gravity_m_per_s2 = Vec3(0, -9.81, 0);
+    const std::vector<Vec3> expected = staticSolution(model);
+    double displacement = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i)
+        displacement = std::max(displacement, (expected[i] - model.nodes.restPosition[i]).norm());
+    ASSERT_GT(displacement, 1e-3) << "the load must really deform the model";
+
+    Stepper stepper(Scheme::BackwardEuler);
+    stepper.setSolverSettings(kTight);
+    for (int i = 0; i < 400; ++i) ASSERT_TRUE(stepper.step(model, 10e-3).finite);
+    double worst = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i)
+        worst = std::max(worst, (model.nodes.position[i] - expected[i]).norm());
+    EXPECT_LT(worst, 1e-6 * displacement) << "off by " << worst << " m in a deformation of " << displacement << " m";
+}
+
+// The 100,000-triangle heart, where RK4 needs a step 500 times smaller, pressed by the tool and
+// stepped at 10 ms: bounded throughout, and back at rest after the tool lifts.
+TEST(BackwardEuler, StaysBoundedAtTenMillisecondStepsOnTheHundredThousandTriangleHeart) {
+    const mesh::SurfaceMesh mesh = heartMesh(100'000);
+    MassSpringModel model = buildModel(mesh, Material{});
+    EXPECT_LT(stableTimeStep(model, Scheme::RungeKutta4, 400), 2e-5);
+    Stepper stepper(Scheme::BackwardEuler);
+    double largest = 0;
+    for (int step = 0; step < 100; ++step) {
+        test::pressFrontWithTool(model, mesh, step * 10);
+        const StepResult r = stepper.step(model, 10e-3);
+        ASSERT_TRUE(r.finite) << "step " << step;
+        largest = std::max(largest, maxDisplacement(model));
+    }
+    EXPECT_GT(largest, 1e-3) << "the press must really deform the tissue";
+    EXPECT_LT(largest, 0.01) << "a 3 mm press moves nothing a centimetre";
+    EXPECT_LT(maxDisplacement(model), 1e-5) << "back at rest 0.7 s after the tool lifted";
+}
+
+// A coupling a hundred times stiffer than the default, at which RK4 would need substeps on every
+// node the tool may touch, at one step per millisecond.
+TEST(BackwardEuler, TakesAStiffToolCouplingAtOneStepPerMillisecond) {
+    const mesh::SurfaceMesh mesh = heartMesh(1619);
+    MassSpringModel model = buildModel(mesh, Material{});
+    EXPECT_LT(stableTimeStep(model, Scheme::RungeKutta4, 40'000), 0.5e-3);
+    Stepper stepper(Scheme::BackwardEuler);
+    double force = 0;
+    for (int step = 0; step < 200; ++step) {
+        test::pressFrontWithTool(model, mesh, step);
+        model.tools[0].stiffness_N_per_m = 40'000;
+        model.tools[0].maxForce_N = 1e9;
+        ASSERT_TRUE(stepper.step(model, 1e-3).finite) << "step " << step;
+        force = model.tools[0].forceOnTool(model.nodes.position).norm();
+        ASSERT_LT(maxDisplacement(model), 0.01) << "step " << step;
+    }
+    EXPECT_GT(force, 0.1) << "the tool really presses";
+}
+
+TEST(BackwardEuler, OnlyTheActiveRegionMatchesTheFullSolve) {
+    const mesh::SurfaceMesh mesh = heartMesh(9714);
+    MassSpringModel full = buildModel(mesh, Material{}), local = full;
+    Stepper fullStepper(Scheme::BackwardEuler), localStepper(Scheme::BackwardEuler);
+    localStepper.setActiveRegion(true);
+    double worst = 0, largest = 0;
+    std::size_t largestRegion = 0;
+    for (int step = 0; step < 600; ++step) {
+        test::pressFrontWithTool(full, mesh, step);
+        test::pressFrontWithTool(local, mesh, step);
+        ASSERT_TRUE(fullStepper.step(full, 1e-3).finite);
+        ASSERT_TRUE(localStepper.step(local, 1e-3).finite);
+        largestRegion = std::max(largestRegion, localStepper.awakeCount());
+        largest = std::max(largest, maxDisplacement(full));
+        worst = std::max(worst, largestDifference(full, local));
+    }
+    EXPECT_GT(largest, 1e-3);
+    EXPECT_LT(worst, 0.01 * largest) << "worst difference " << worst << " m";
+    EXPECT_LT(largestRegion, full.nodes.size() / 3) << "the region stays local";
+    EXPECT_EQ(localStepper.awakeCount(), 0u) << "asleep again 0.3 s after the tool left";
+}
+
+TEST(BackwardEuler, ReportsIterationsAndResidualAndStopsAtTheCap) {
+    const mesh::SurfaceMesh mesh = heartMesh(1619);
+    MassSpringModel capped = buildModel(mesh, Material{}), converged = capped;
+    Stepper cappedStepper(Scheme::BackwardEuler), convergedStepper(Scheme::BackwardEuler);
+    cappedStepper.setSolverSettings({.tolerance = 1e-10, .maxIterations = 2});
+    convergedStepper.setSolverSettings({.tolerance = 1e-6, .maxIterations = 1000});
+    test::pressFrontWithTool(capped, mesh, 20);
+    test::pressFrontWithTool(converged, mesh, 20);
+    const SolveReport a = cappedStepper.step(capped, 1e-3).solve;
+    EXPECT_EQ(a.iterations, 2);
+    EXPECT_FALSE(a.converged);
+    EXPECT_GT(a.relativeResidual, 1e-10);
+    const SolveReport b = convergedStepper.step(converged, 1e-3).solve;
+    EXPECT_TRUE(b.converged);
+    EXPECT_GT(b.iterations, 2);
+    EXPECT_LE(b.relativeResidual, 1e-6);
+}
+
+TEST(Auto, KeepsRK4WhereOneStepIsStableAndTakesTheImplicitSchemeElsewhere) {
+    const MassSpringModel thesisSized = buildModel(heartMesh(1619), Material{});
+    const MassSpringModel finer = buildModel(heartMesh(9714), Material{});
+    EXPECT_EQ(resolveScheme(Scheme::Auto, thesisSized, 1e-3, 400), Scheme::RungeKutta4);
+    EXPECT_EQ(resolveScheme(Scheme::Auto, finer, 1e-3, 400), Scheme::BackwardEuler);
+    EXPECT_EQ(resolveScheme(Scheme::Auto, finer, 1e-5, 400), Scheme::RungeKutta4);
+    EXPECT_EQ(resolveScheme(Scheme::Midpoint, finer, 1e-3, 400), Scheme::Midpoint);
+    Stepper stepper(Scheme::Auto);
+    MassSpringModel model = finer;
+    (void)stepper.step(model, 1e-3);
+    EXPECT_EQ(stepper.scheme(), Scheme::BackwardEuler);
+}
+
+}  // namespace
+}  // namespace hapticut::physics
