@@ -145,8 +145,7 @@ std::vector<Vec3> staticSolution(MassSpringModel model) {
 }
 
 TEST(BackwardEuler, ALoadedModelSettlesOnTheStaticSolution) {
-    MassSpringModel model =
-        buildModel(mesh::procedural::makeSphere(Vec3::Zero(), 0.03, 12, 8), Material{});
+    MassSpringModel model = buildModel(mesh::procedural::makeSphere(Vec3::Zero(), 0.03, 12, 8), Material{});
     model.snapDistance_m = 0;
     model.nodes.externalForce[3] = Vec3(0, 0, -1.5);
     model.nodes.externalForce[20] = Vec3(1.0, 0.6, 0);

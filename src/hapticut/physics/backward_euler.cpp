@@ -10,13 +10,13 @@ namespace hapticut::physics {
 
 void BackwardEuler::reserve(std::size_t nodes, std::size_t springs) {
     system_.reserve(nodes, springs);
-    for (auto* v : {&deltaV_, &residual_, &preconditioned_, &direction_, &product_}) reserveTouched(*v, nodes);
+    for (auto* v : {&deltaV_, &solution_, &residual_, &preconditioned_, &direction_, &product_})
+        reserveTouched(*v, nodes);
 }
 
-void BackwardEuler::resize(std::size_t nodes, std::size_t springs) {
-    system_.resize(nodes, springs);
-    for (auto* v : {&deltaV_, &residual_, &preconditioned_, &direction_, &product_})
-        v->resize(std::max(nodes, v->size()), Vec3::Zero());
+void BackwardEuler::resize(std::size_t nodes) {
+    system_.resize(nodes);
+    deltaV_.resize(std::max(nodes, deltaV_.size()), Vec3::Zero());
 }
 
 void BackwardEuler::setSettings(SolverSettings settings) {
@@ -26,65 +26,60 @@ void BackwardEuler::setSettings(SolverSettings settings) {
 
 SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion region) {
     system_.assemble(model, h, region);
+    const std::size_t count = region.nodes.size();
+    // Capacity is reserved for every node: these never allocate in a step.
+    for (auto* v : {&solution_, &residual_, &preconditioned_, &direction_, &product_}) v->resize(count);
+    for (std::size_t k = 0; k < count; ++k) solution_[k] = deltaV_[region.nodes[k]];  // the warm start
     const SolveReport report = solve();
     Nodes& n = model.nodes;
-    for (std::uint32_t i : region.nodes) {
-        n.velocity[i] += deltaV_[i];
+    for (std::size_t k = 0; k < count; ++k) {
+        const std::uint32_t i = region.nodes[k];
+        deltaV_[i] = solution_[k];
+        n.velocity[i] += solution_[k];
         n.position[i] += h * n.velocity[i];
     }
     return report;
 }
 
 SolveReport BackwardEuler::solve() {
-    const SolveRegion& region = system_.region();
+    const std::size_t count = system_.size();
     const std::span<const Vec3> b = system_.rhs();
-    auto dot = [&](const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
-        double sum = 0;
-        for (std::uint32_t i : region.nodes) sum += p[i].dot(q[i]);
-        return sum;
-    };
-    // The products read the resting neighbours' entries, which must be zero; a node awake in an earlier
-    // step may have left values there. This zeroes them while keeping the awake nodes' warm start.
-    for (std::uint32_t i : region.touched) direction_[i].setZero();
-    for (std::uint32_t i : region.nodes) direction_[i] = deltaV_[i];
-    for (std::uint32_t i : region.touched) deltaV_[i] = direction_[i];
-
-    double bNorm2 = 0;
-    for (std::uint32_t i : region.nodes) bNorm2 += b[i].squaredNorm();
     SolveReport report;
+    double bNorm2 = 0;
+    for (const Vec3& bk : b) bNorm2 += bk.squaredNorm();
     if (bNorm2 == 0) {
-        for (std::uint32_t i : region.nodes) deltaV_[i].setZero();
+        std::fill(solution_.begin(), solution_.end(), Vec3::Zero());
         return report;
     }
     const double stop2 = settings_.tolerance * settings_.tolerance * bNorm2;
 
-    system_.multiply(deltaV_, product_);
-    double r2 = 0;
-    for (std::uint32_t i : region.nodes) {
-        residual_[i] = b[i] - product_[i];
-        r2 += residual_[i].squaredNorm();
+    // Each iteration is one product and two passes over the unknowns, with the dot products fused in.
+    (void)system_.multiply(solution_, product_);
+    double r2 = 0, rz = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+        residual_[k] = b[k] - product_[k];
+        direction_[k] = system_.precondition(k, residual_[k]);
+        r2 += residual_[k].squaredNorm();
+        rz += residual_[k].dot(direction_[k]);
     }
-    system_.precondition(residual_, preconditioned_);
-    for (std::uint32_t i : region.nodes) direction_[i] = preconditioned_[i];
-    double rz = dot(residual_, preconditioned_);
     while (r2 > stop2 && report.iterations < settings_.maxIterations) {
-        system_.multiply(direction_, product_);
-        const double pq = dot(direction_, product_);
+        const double pq = system_.multiply(direction_, product_);
         if (!(pq > 0) || !std::isfinite(pq)) break;  // a breakdown: keep what was reached
-        const double step = rz / pq;
+        const double alpha = rz / pq;
+        double rzNext = 0;
         r2 = 0;
-        for (std::uint32_t i : region.nodes) {
-            deltaV_[i] += step * direction_[i];
-            residual_[i] -= step * product_[i];
-            r2 += residual_[i].squaredNorm();
+        for (std::size_t k = 0; k < count; ++k) {
+            solution_[k] += alpha * direction_[k];
+            residual_[k] -= alpha * product_[k];
+            preconditioned_[k] = system_.precondition(k, residual_[k]);
+            r2 += residual_[k].squaredNorm();
+            rzNext += residual_[k].dot(preconditioned_[k]);
         }
         ++report.iterations;
         if (r2 <= stop2) break;
-        system_.precondition(residual_, preconditioned_);
-        const double rzNext = dot(residual_, preconditioned_);
         const double beta = rzNext / rz;
         rz = rzNext;
-        for (std::uint32_t i : region.nodes) direction_[i] = preconditioned_[i] + beta * direction_[i];
+        for (std::size_t k = 0; k < count; ++k) direction_[k] = preconditioned_[k] + beta * direction_[k];
     }
     report.relativeResidual = std::sqrt(r2 / bNorm2);
     report.converged = r2 <= stop2;

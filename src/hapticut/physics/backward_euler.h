@@ -32,7 +32,7 @@ class BackwardEuler {
 public:
     void reserve(std::size_t nodes, std::size_t springs);
     /// Room for a model of this size; new nodes start without a warm start.
-    void resize(std::size_t nodes, std::size_t springs);
+    void resize(std::size_t nodes);
     void setSettings(SolverSettings settings);
     const SolverSettings& settings() const { return settings_; }
 
@@ -46,8 +46,9 @@ private:
 
     SolverSettings settings_;
     BackwardEulerSystem system_;
-    std::vector<Vec3> deltaV_;  // the unknown, kept between steps as the next warm start
-    std::vector<Vec3> residual_, preconditioned_, direction_, product_;
+    std::vector<Vec3> deltaV_;  // by node: the last step's change of velocity, the next warm start
+    // By unknown (the region's nodes in order): the conjugate-gradient vectors.
+    std::vector<Vec3> solution_, residual_, preconditioned_, direction_, product_;
 };
 
 }  // namespace hapticut::physics

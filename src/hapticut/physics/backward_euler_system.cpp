@@ -10,118 +10,145 @@
 namespace hapticut::physics {
 
 void BackwardEulerSystem::reserve(std::size_t nodes, std::size_t springs) {
-    reserveTouched(nodeDiagonal_, nodes);
+    reserveTouched(unknownOf_, nodes);
+    reserveTouched(diagonal_, nodes);
+    reserveTouched(toResting_, nodes);
+    reserveTouched(rowStart_, nodes + 1);
+    reserveTouched(couplings_, 2 * springs);
     reserveTouched(inverseBlock_, nodes);
+    reserveTouched(blockSum_, nodes);
+    reserveTouched(restingSum_, nodes);
     reserveTouched(rhs_, nodes);
     reserveTouched(pinned_, nodes);
-    reserveTouched(springScalar_, springs);
-    reserveTouched(springAxis_, springs);
 }
 
-void BackwardEulerSystem::resize(std::size_t nodes, std::size_t springs) {
-    nodeDiagonal_.resize(std::max(nodes, nodeDiagonal_.size()), 0.0);
-    inverseBlock_.resize(std::max(nodes, inverseBlock_.size()), Mat3::Zero());
-    rhs_.resize(std::max(nodes, rhs_.size()), Vec3::Zero());
-    springScalar_.resize(std::max(springs, springScalar_.size()), 0.0);
-    springAxis_.resize(std::max(springs, springAxis_.size()), Vec3::Zero());
+void BackwardEulerSystem::resize(std::size_t nodes) { unknownOf_.resize(std::max(nodes, unknownOf_.size()), kResting); }
+
+BackwardEulerSystem::SymmetricBlock BackwardEulerSystem::toSymmetricBlock(const Mat3& m) {
+    const auto f = [](double value) { return static_cast<float>(value); };
+    return {f(m(0, 0)), f(m(0, 1)), f(m(0, 2)), f(m(1, 1)), f(m(1, 2)), f(m(2, 2))};
 }
 
 void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, SolveRegion region) {
-    region_ = region;
-    springs_ = &model.springs;
     const Nodes& n = model.nodes;
     const Springs& s = model.springs;
     const std::vector<Vec3>& x = n.position;
     const std::vector<Vec3>& v = n.velocity;
     const double h2 = h * h;
-    // inverseBlock_ holds the diagonal blocks' spring parts until they are inverted below.
-    for (std::uint32_t i : region.touched) {
-        nodeDiagonal_[i] = 0;
-        inverseBlock_[i].setZero();
-        rhs_[i].setZero();
-    }
+    // Capacity is reserved for every node and spring: these resizes never allocate in a step.
+    const std::size_t count = region.nodes.size();
+    diagonal_.resize(count);
+    toResting_.resize(count);
+    inverseBlock_.resize(count);
+    blockSum_.resize(count);
+    restingSum_.resize(count);
+    rhs_.resize(count);
+    rowStart_.assign(count + 1, 0);
+    for (std::uint32_t i : region.touched) unknownOf_[i] = kResting;
     const Vec3 g = model.gravity_m_per_s2;
-    for (std::uint32_t i : region.nodes) {
-        const double k = n.anchorStiffness[i], d = n.anchorDamping[i];
-        const Vec3 f = n.externalForce[i] - k * (x[i] - n.restPosition[i]) - d * v[i] +
+    for (std::uint32_t k = 0; k < count; ++k) {
+        const std::uint32_t i = region.nodes[k];
+        unknownOf_[i] = k;
+        const double ka = n.anchorStiffness[i], da = n.anchorDamping[i];
+        const Vec3 f = n.externalForce[i] - ka * (x[i] - n.restPosition[i]) - da * v[i] +
                        (n.inverseMass[i] > 0 ? Vec3(n.mass[i] * g) : Vec3::Zero());
-        rhs_[i] = h * f - h2 * k * v[i];
-        nodeDiagonal_[i] = n.mass[i] + h * d + h2 * k;
+        rhs_[k] = h * f - h2 * ka * v[i];
+        diagonal_[k] = n.mass[i] + h * da + h2 * ka;
+        blockSum_[k].setZero();
+        restingSum_[k].setZero();
     }
     for (const PointSpring& tool : model.tools) {
         if (!tool.active) continue;
         const Vec3 force = tool.forceOnTool(x);
         // A clamped force no longer grows with the press: its stiffness is left out of the matrix.
-        const Vec3 p = tool.bary.x() * x[tool.nodes[0]] + tool.bary.y() * x[tool.nodes[1]] +
-                       tool.bary.z() * x[tool.nodes[2]];
+        const Vec3 p =
+            tool.bary.x() * x[tool.nodes[0]] + tool.bary.y() * x[tool.nodes[1]] + tool.bary.z() * x[tool.nodes[2]];
         const bool linear = force != Vec3::Zero() &&
                             (tool.stiffness_N_per_m * (p - tool.anchor_m) - tool.bias_N).norm() <= tool.maxForce_N;
-        const double k = linear ? tool.scale * tool.stiffness_N_per_m : 0.0;
+        const double kt = linear ? tool.scale * tool.stiffness_N_per_m : 0.0;
         for (int c = 0; c < 3; ++c) {
-            const std::uint32_t i = tool.nodes[c];
+            const std::uint32_t k = unknownOf_[tool.nodes[c]];
+            if (k == kResting) continue;  // the active region keeps a tool's nodes awake; a full solve has all
             const double w = tool.weights[c];
-            rhs_[i] -= h * w * force + h2 * k * w * v[i];
-            nodeDiagonal_[i] += h2 * k * w;
+            rhs_[k] -= h * w * force + h2 * kt * w * v[tool.nodes[c]];
+            diagonal_[k] += h2 * kt * w;
         }
     }
+    // The rows' lengths first, so that each row's couplings can be written in place.
+    for (std::uint32_t e : region.springs) {
+        const std::uint32_t ka = unknownOf_[s.a[e]], kb = unknownOf_[s.b[e]];
+        if (ka != kResting && kb != kResting) ++rowStart_[ka + 1], ++rowStart_[kb + 1];
+    }
+    for (std::size_t k = 0; k < count; ++k) rowStart_[k + 1] += rowStart_[k];
+    couplings_.resize(rowStart_[count]);
+    std::uint32_t* next = rowStart_.data();  // each row's next free slot; rowStart_[k] ends at row k's end
+    auto rowEnd = [&](std::uint32_t k) { return next[k]++; };
     for (std::uint32_t e : region.springs) {
         const std::uint32_t a = s.a[e], b = s.b[e];
         const Vec3 d = x[b] - x[a];
         const double len2 = d.squaredNorm();
+        const std::uint32_t ka = unknownOf_[a], kb = unknownOf_[b];
+        const bool inner = ka != kResting && kb != kResting;
         if (len2 < 1e-24) {  // coincident ends have no direction, as in the explicit force
-            springScalar_[e] = 0;
-            springAxis_[e].setZero();
+            if (inner) couplings_[rowEnd(ka)] = {kb, 0, 0, 0, 0}, couplings_[rowEnd(kb)] = {ka, 0, 0, 0, 0};
             continue;
         }
         const double len = std::sqrt(len2);
         const Vec3 dir = d / len;
         const Vec3 dv = v[b] - v[a];
-        const double k = s.stiffness[e], kd = s.damping[e];
-        const Vec3 force = (k * (len - s.restLength[e]) + kd * dv.dot(dir)) * dir;  // on a
+        const double ks = s.stiffness[e], kd = s.damping[e];
+        const Vec3 force = (ks * (len - s.restLength[e]) + kd * dv.dot(dir)) * dir;  // on a
         const double alpha = std::max(0.0, 1 - s.restLength[e] / len);
-        const Vec3 stiffnessTimesDv = k * (alpha * dv + (1 - alpha) * dir.dot(dv) * dir);
-        const Vec3 contribution = h * force + h2 * stiffnessTimesDv;
-        rhs_[a] += contribution;
-        rhs_[b] -= contribution;
-        const double c0 = h2 * k * alpha, c1 = h2 * k * (1 - alpha) + h * kd;
-        const Vec3 u = std::sqrt(c1) * dir;
-        springScalar_[e] = c0;
-        springAxis_[e] = u;
+        const Vec3 contribution = h * force + h2 * ks * (alpha * dv + (1 - alpha) * dir.dot(dv) * dir);
+        const double c0 = h2 * ks * alpha;
+        const Vec3 u = std::sqrt(h2 * ks * (1 - alpha) + h * kd) * dir;
         const Mat3 block = c0 * Mat3::Identity() + u * u.transpose();
-        inverseBlock_[a] += block;
-        inverseBlock_[b] += block;
+        if (ka != kResting) rhs_[ka] += contribution, blockSum_[ka] += block;
+        if (kb != kResting) rhs_[kb] -= contribution, blockSum_[kb] += block;
+        if (inner) {
+            const auto f = [](double value) { return static_cast<float>(value); };
+            couplings_[rowEnd(ka)] = {kb, f(c0), f(u.x()), f(u.y()), f(u.z())};
+            couplings_[rowEnd(kb)] = {ka, f(c0), f(u.x()), f(u.y()), f(u.z())};
+        } else {
+            restingSum_[ka != kResting ? ka : kb] += block;
+        }
     }
+    // The filling moved each row's start to its end: move them back.
+    for (std::size_t k = count; k > 0; --k) rowStart_[k] = rowStart_[k - 1];
+    rowStart_[0] = 0;
     pinned_.clear();
-    for (std::uint32_t i : region.nodes) {
-        if (n.inverseMass[i] == 0) {
-            pinned_.push_back(i);  // reserved for every node
-            inverseBlock_[i].setZero();
-            rhs_[i].setZero();
+    for (std::uint32_t k = 0; k < count; ++k) {
+        toResting_[k] = toSymmetricBlock(restingSum_[k]);
+        if (n.inverseMass[region.nodes[k]] == 0) {
+            pinned_.push_back(k);
+            inverseBlock_[k] = {};
+            rhs_[k].setZero();
             continue;
         }
-        Mat3 block = inverseBlock_[i];
-        block.diagonal().array() += nodeDiagonal_[i];
-        inverseBlock_[i] = block.inverse();  // positive definite: the mass alone makes it so
+        Mat3 block = blockSum_[k];
+        block.diagonal().array() += diagonal_[k];
+        inverseBlock_[k] = toSymmetricBlock(block.inverse());  // positive definite: the mass alone makes it so
     }
 }
 
-void BackwardEulerSystem::multiply(std::span<const Vec3> y, std::span<Vec3> out) const {
-    for (std::uint32_t i : region_.touched) out[i] = nodeDiagonal_[i] * y[i];
-    const std::vector<std::uint32_t>& ends_a = springs_->a;
-    const std::vector<std::uint32_t>& ends_b = springs_->b;
-    for (std::uint32_t e : region_.springs) {
-        const std::uint32_t a = ends_a[e], b = ends_b[e];
-        const Vec3& u = springAxis_[e];
-        const Vec3 dy = y[a] - y[b];
-        const Vec3 t = springScalar_[e] * dy + u.dot(dy) * u;
-        out[a] += t;
-        out[b] -= t;
+double BackwardEulerSystem::multiply(std::span<const Vec3> y, std::span<Vec3> out) const {
+    // Row by row: each unknown's sum builds up in registers and is stored once. yᵀAy is summed on the way.
+    double yAy = 0;
+    const std::size_t count = rhs_.size();
+    for (std::size_t k = 0; k < count; ++k) {
+        const Vec3 yk = y[k];
+        Vec3 sum = diagonal_[k] * yk + toResting_[k] * yk;
+        for (std::uint32_t c = rowStart_[k], end = rowStart_[k + 1]; c < end; ++c) {
+            const Coupling& s = couplings_[c];
+            const Vec3 dy = yk - y[s.other];
+            const Vec3 u(s.ux, s.uy, s.uz);
+            sum += s.c0 * dy + u.dot(dy) * u;
+        }
+        out[k] = sum;
+        yAy += yk.dot(sum);
     }
-    for (std::uint32_t i : pinned_) out[i].setZero();
-}
-
-void BackwardEulerSystem::precondition(std::span<const Vec3> r, std::span<Vec3> z) const {
-    for (std::uint32_t i : region_.nodes) z[i] = inverseBlock_[i] * r[i];
+    for (std::uint32_t k : pinned_) out[k].setZero();  // their y is zero: no share in yᵀAy
+    return yAy;
 }
 
 }  // namespace hapticut::physics

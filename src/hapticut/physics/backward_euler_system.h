@@ -18,40 +18,67 @@ struct SolveRegion {
     std::span<const std::uint32_t> nodes, touched, springs;
 };
 
+/// The unknowns are numbered by their place in the region's node list, so that every vector of the
+/// solve is contiguous whatever part of the organ is awake.
+///
 /// Each spring contributes h² K_s + h D_s = c0 I + u uᵀ to the matrix (c0 >= 0), so it is kept as four
 /// numbers. K_s = k [α I + (1 - α) n nᵀ] with α = max(0, 1 - r/l): a compressed spring's transverse
 /// stiffness, negative in the exact Jacobian, is dropped so the matrix stays positive definite (Choi &
 /// Ko 2002). D_s = k_d n nᵀ; the damping force's change with direction is left out, as in Baraff-Witkin.
-/// The tool's coupling is lumped onto the touched triangle's corners by their reaction weights: the
-/// exact Jacobian (reaction weights times barycentric ones) is not symmetric, the lumped one keeps each
-/// corner's row sum, which is what a press of the whole triangle feels.
+/// A spring to a resting neighbour only adds to its awake end's diagonal block (the neighbour's Δv is
+/// zero). The tool's coupling is lumped onto the touched triangle's corners by their reaction weights:
+/// the exact Jacobian (reaction weights times barycentric ones) is not symmetric; the lumped one keeps
+/// each corner's row sum, which is what a press of the whole triangle feels.
 class BackwardEulerSystem {
 public:
-    /// Capacity for `nodes` and `springs`, touched up front; then sized to at least the given counts.
+    /// Capacity for `nodes` and `springs`, touched up front.
     void reserve(std::size_t nodes, std::size_t springs);
-    void resize(std::size_t nodes, std::size_t springs);
+    /// Room for a model of `nodes` nodes.
+    void resize(std::size_t nodes);
 
     /// Builds the matrix, the right-hand side and the block-Jacobi preconditioner for a step of h seconds
-    /// from the model's current state, over `region`. The model's springs must not change until the
-    /// products that follow are done.
+    /// from the model's current state, over `region`.
     void assemble(const MassSpringModel& model, double h, SolveRegion region);
 
-    /// out = A y on the region's nodes. y must be zero on the resting neighbours.
-    void multiply(std::span<const Vec3> y, std::span<Vec3> out) const;
-    /// z = P⁻¹ r with P the 3×3 diagonal blocks of A.
-    void precondition(std::span<const Vec3> r, std::span<Vec3> z) const;
+    /// The number of unknowns (3-vectors): the region's nodes.
+    std::size_t size() const { return rhs_.size(); }
+    /// out = A y; returns yᵀ A y.
+    double multiply(std::span<const Vec3> y, std::span<Vec3> out) const;
+    /// P⁻¹ r for unknown k, with P the 3×3 diagonal blocks of A.
+    Vec3 precondition(std::size_t k, const Vec3& r) const { return inverseBlock_[k] * r; }
     std::span<const Vec3> rhs() const { return rhs_; }
-    const SolveRegion& region() const { return region_; }
 
 private:
-    SolveRegion region_;
-    const Springs* springs_ = nullptr;  // the assembled model's, for the ends in products
-    std::vector<double> nodeDiagonal_;  // m + h d + h² k of the node's own terms; zero on resting neighbours
-    std::vector<Mat3> inverseBlock_;    // the preconditioner; zero for a node without inverse mass
-    std::vector<double> springScalar_;  // c0
-    std::vector<Vec3> springAxis_;      // u
+    static constexpr std::uint32_t kResting = ~std::uint32_t{0};
+
+    /// A spring's c0 I + u uᵀ, seen from one end: `other` is the unknown at its other end. The matrix
+    /// is kept in single precision: it halves the memory each iteration streams through, and the
+    /// solution is still the double-precision right-hand side's (a rounded matrix changes the path of
+    /// the iterations, not where a converged solve ends up).
+    struct Coupling {
+        std::uint32_t other;
+        float c0, ux, uy, uz;
+    };
+    struct SymmetricBlock {
+        float xx, xy, xz, yy, yz, zz;
+        Vec3 operator*(const Vec3& r) const {
+            return {xx * r.x() + xy * r.y() + xz * r.z(), xy * r.x() + yy * r.y() + yz * r.z(),
+                    xz * r.x() + yz * r.y() + zz * r.z()};
+        }
+    };
+    static SymmetricBlock toSymmetricBlock(const Mat3& m);
+
+    std::vector<std::uint32_t> unknownOf_;  // by node: its unknown, or kResting; valid on the region's touched nodes
+    // By unknown. The matrix is kept by rows, each with its springs to other unknowns, so that a product
+    // gathers and never scatters: every row is summed in registers and written once.
+    std::vector<double> diagonal_;           // m + h d + h² k of its own terms and the tool's
+    std::vector<SymmetricBlock> toResting_;  // its springs to resting neighbours, whose Δv is zero
+    std::vector<std::uint32_t> rowStart_;    // its couplings are rowStart_[k] .. rowStart_[k + 1]
+    std::vector<Coupling> couplings_;
+    std::vector<SymmetricBlock> inverseBlock_;  // the preconditioner
+    std::vector<Mat3> blockSum_, restingSum_;   // its springs' blocks (all, to resting neighbours), while assembling
     std::vector<Vec3> rhs_;
-    std::vector<std::uint32_t> pinned_;  // region nodes without inverse mass: their rows are left out
+    std::vector<std::uint32_t> pinned_;  // unknowns of nodes without inverse mass: their rows are left out
 };
 
 }  // namespace hapticut::physics

@@ -45,7 +45,7 @@ void Stepper::prepare(const MassSpringModel& model) {
     for (std::uint32_t i = 0; i < n; ++i) allNodes_[i] = i;
     allSprings_.resize(ns);
     for (std::uint32_t k = 0; k < ns; ++k) allSprings_[k] = k;
-    implicit_.resize(n, ns);
+    implicit_.resize(n);
     springsAt_.build(model.springs, n);
     region_.reset(model);
     preparedNodes_ = n;
@@ -72,7 +72,7 @@ void Stepper::topologyChanged(const MassSpringModel& model, std::span<const std:
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n, Vec3::Zero());
     for (auto i = static_cast<std::uint32_t>(allNodes_.size()); i < n; ++i) allNodes_.push_back(i);
     for (auto k = static_cast<std::uint32_t>(allSprings_.size()); k < ns; ++k) allSprings_.push_back(k);
-    implicit_.resize(n, ns);
+    implicit_.resize(n);
     region_.resize(n, ns);
     springsAt_.update(model.springs, n, springs);
     // The nodes whose modes may have changed: the listed ones and the ends of the listed springs.
