@@ -68,6 +68,9 @@ nlohmann::ordered_json solverJson(physics::Scheme scheme, const physics::SolverS
             {"iterations",
              {{"mean", iterations.mean}, {"p50", iterations.p50}, {"p99", iterations.p99}, {"max", iterations.max}}},
             {"unconverged_solves", stats.unconverged},
+            {"max_newton_iterations", settings.maxNewtonIterations},
+            {"steps_with_newton_corrections", stats.corrected},
+            {"most_newton_iterations", stats.maxNewtonIterations},
             {"max_relative_residual", stats.maxRelativeResidual}};
 }
 
@@ -77,7 +80,9 @@ std::string solverLine(physics::Scheme scheme, const physics::SolverStats& stats
     std::ostringstream s;
     s << "implicit steps: " << iterations.p50 << " CG iterations p50, " << iterations.p99 << " p99, " << iterations.max
       << " max; " << stats.unconverged << " of " << stats.solves
-      << " solves stopped at the cap (largest relative residual " << stats.maxRelativeResidual << ")\n";
+      << " solves stopped at the cap (largest relative residual " << stats.maxRelativeResidual << "); "
+      << stats.corrected << " steps needed Newton corrections (at most " << stats.maxNewtonIterations
+      << " iterations)\n";
     return s.str();
 }
 

@@ -10,7 +10,8 @@ namespace hapticut::physics {
 
 void BackwardEuler::reserve(std::size_t nodes, std::size_t springs) {
     system_.reserve(nodes, springs);
-    for (auto* v : {&deltaV_, &solution_, &residual_, &preconditioned_, &direction_, &product_})
+    for (auto* v :
+         {&deltaV_, &startVelocity_, &motion_, &solution_, &residual_, &preconditioned_, &direction_, &product_})
         reserveTouched(*v, nodes);
 }
 
@@ -21,23 +22,48 @@ void BackwardEuler::resize(std::size_t nodes) {
 
 void BackwardEuler::setSettings(SolverSettings settings) {
     settings.maxIterations = std::clamp(settings.maxIterations, 1, kMaxSolverIterations);
+    settings.maxNewtonIterations = std::clamp(settings.maxNewtonIterations, 1, 100);
     settings_ = settings;
 }
 
 SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion region) {
-    system_.assemble(model, h, region);
+    Nodes& n = model.nodes;
     const std::size_t count = region.nodes.size();
     // Capacity is reserved for every node: these never allocate in a step.
-    for (auto* v : {&solution_, &residual_, &preconditioned_, &direction_, &product_}) v->resize(count);
-    for (std::size_t k = 0; k < count; ++k) solution_[k] = deltaV_[region.nodes[k]];  // the warm start
-    const SolveReport report = solve();
-    Nodes& n = model.nodes;
+    for (auto* v : {&startVelocity_, &motion_, &solution_, &residual_, &preconditioned_, &direction_, &product_})
+        v->resize(count);
     for (std::size_t k = 0; k < count; ++k) {
         const std::uint32_t i = region.nodes[k];
-        deltaV_[i] = solution_[k];
-        n.velocity[i] += solution_[k];
-        n.position[i] += h * n.velocity[i];
+        startVelocity_[k] = n.velocity[i];
+        solution_[k] = deltaV_[i];  // the warm start
     }
+    system_.assemble(model, h, region);
+    SolveReport report = solve();
+    for (std::size_t k = 0; k < count; ++k) {
+        const std::uint32_t i = region.nodes[k];
+        n.velocity[i] += solution_[k];
+        motion_[k] = h * n.velocity[i];
+        n.position[i] += motion_[k];
+    }
+    // Newton's corrections, solved with the matrix at the latest iterate x = x0 + h v, while the last
+    // iteration moved the springs too far for its linearisation to hold.
+    while (report.newtonIterations < settings_.maxNewtonIterations &&
+           system_.largestRelativeMotion(model.springs, region, motion_) > kLinearMotion) {
+        system_.assemble(model, h, region, startVelocity_);
+        std::fill(solution_.begin(), solution_.end(), Vec3::Zero());
+        const SolveReport correction = solve();
+        report.iterations += correction.iterations;
+        report.relativeResidual = correction.relativeResidual;
+        report.converged = report.converged && correction.converged;
+        ++report.newtonIterations;
+        for (std::size_t k = 0; k < count; ++k) {
+            const std::uint32_t i = region.nodes[k];
+            n.velocity[i] += solution_[k];
+            motion_[k] = h * solution_[k];
+            n.position[i] += motion_[k];
+        }
+    }
+    for (std::size_t k = 0; k < count; ++k) deltaV_[region.nodes[k]] = n.velocity[region.nodes[k]] - startVelocity_[k];
     return report;
 }
 

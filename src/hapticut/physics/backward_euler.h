@@ -19,11 +19,20 @@ inline constexpr int kMaxSolverIterations = 10'000;
 struct SolverSettings {
     double tolerance = 1e-4;
     int maxIterations = 40;
+    /// Newton iterations per step, the first included. Another is taken while the last one moved some
+    /// spring's ends apart by more than kLinearMotion of its rest length: there the springs turned
+    /// or stretched too far within the step for one linearisation to hold.
+    int maxNewtonIterations = 4;
 };
+
+/// A step whose springs' ends move apart by less than this fraction of their rest length is taken to
+/// be linear enough for one Newton iteration.
+inline constexpr double kLinearMotion = 0.05;
 
 /// How one solve went.
 struct SolveReport {
-    int iterations = 0;
+    int iterations = 0;           // conjugate-gradient iterations, over all Newton iterations
+    int newtonIterations = 1;     // linearisations solved
     double relativeResidual = 0;  // |b - A Δv| / |b| at the end; 0 when b is zero
     bool converged = true;        // false: stopped by the iteration cap (or a breakdown) above the tolerance
 };
@@ -47,8 +56,9 @@ private:
     SolverSettings settings_;
     BackwardEulerSystem system_;
     std::vector<Vec3> deltaV_;  // by node: the last step's change of velocity, the next warm start
-    // By unknown (the region's nodes in order): the conjugate-gradient vectors.
-    std::vector<Vec3> solution_, residual_, preconditioned_, direction_, product_;
+    // By unknown (the region's nodes in order): the velocities the step started from, the motion of the
+    // last Newton iteration, and the conjugate-gradient vectors.
+    std::vector<Vec3> startVelocity_, motion_, solution_, residual_, preconditioned_, direction_, product_;
 };
 
 }  // namespace hapticut::physics

@@ -29,7 +29,10 @@ BackwardEulerSystem::SymmetricBlock BackwardEulerSystem::toSymmetricBlock(const 
     return {f(m(0, 0)), f(m(0, 1)), f(m(0, 2)), f(m(1, 1)), f(m(1, 2)), f(m(2, 2))};
 }
 
-void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, SolveRegion region) {
+void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, SolveRegion region,
+                                   std::span<const Vec3> startVelocity) {
+    // The first linearisation adds h² K v to the right-hand side; a correction subtracts M (v - v0).
+    const bool correction = !startVelocity.empty();
     const Nodes& n = model.nodes;
     const Springs& s = model.springs;
     const std::vector<Vec3>& x = n.position;
@@ -52,7 +55,7 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         const double ka = n.anchorStiffness[i], da = n.anchorDamping[i];
         const Vec3 f = n.externalForce[i] - ka * (x[i] - n.restPosition[i]) - da * v[i] +
                        (n.inverseMass[i] > 0 ? Vec3(n.mass[i] * g) : Vec3::Zero());
-        rhs_[k] = h * f - h2 * ka * v[i];
+        rhs_[k] = h * f - (correction ? Vec3(n.mass[i] * (v[i] - startVelocity[k])) : Vec3(h2 * ka * v[i]));
         diagonal_[k] = n.mass[i] + h * da + h2 * ka;
         blockSum_[k].setZero();
         restingSum_[k].setZero();
@@ -70,7 +73,7 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
             const std::uint32_t k = unknownOf_[tool.nodes[c]];
             if (k == kResting) continue;  // the active region keeps a tool's nodes awake; a full solve has all
             const double w = tool.weights[c];
-            rhs_[k] -= h * w * force + h2 * kt * w * v[tool.nodes[c]];
+            rhs_[k] -= h * w * force + (correction ? Vec3::Zero() : Vec3(h2 * kt * w * v[tool.nodes[c]]));
             diagonal_[k] += h2 * kt * w;
         }
     }
@@ -99,7 +102,8 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         const double ks = s.stiffness[e], kd = s.damping[e];
         const Vec3 force = (ks * (len - s.restLength[e]) + kd * dv.dot(dir)) * dir;  // on a
         const double alpha = std::max(0.0, 1 - s.restLength[e] / len);
-        const Vec3 contribution = h * force + h2 * ks * (alpha * dv + (1 - alpha) * dir.dot(dv) * dir);
+        const Vec3 contribution =
+            h * force + (correction ? Vec3::Zero() : Vec3(h2 * ks * (alpha * dv + (1 - alpha) * dir.dot(dv) * dir)));
         const double c0 = h2 * ks * alpha;
         const Vec3 u = std::sqrt(h2 * ks * (1 - alpha) + h * kd) * dir;
         const Mat3 block = c0 * Mat3::Identity() + u * u.transpose();
@@ -129,6 +133,19 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         block.diagonal().array() += diagonal_[k];
         inverseBlock_[k] = toSymmetricBlock(block.inverse());  // positive definite: the mass alone makes it so
     }
+}
+
+double BackwardEulerSystem::largestRelativeMotion(const Springs& springs, SolveRegion region,
+                                                  std::span<const Vec3> motion) const {
+    double largest2 = 0;
+    for (std::uint32_t e : region.springs) {
+        const double rest = springs.restLength[e];
+        if (rest < 1e-9) continue;
+        const std::uint32_t ka = unknownOf_[springs.a[e]], kb = unknownOf_[springs.b[e]];
+        const Vec3 ma = ka != kResting ? motion[ka] : Vec3::Zero(), mb = kb != kResting ? motion[kb] : Vec3::Zero();
+        largest2 = std::max(largest2, (mb - ma).squaredNorm() / (rest * rest));
+    }
+    return std::sqrt(largest2);
 }
 
 double BackwardEulerSystem::multiply(std::span<const Vec3> y, std::span<Vec3> out) const {

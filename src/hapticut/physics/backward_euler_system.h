@@ -1,6 +1,8 @@
 // The linear system of one linearised backward-Euler step (Baraff & Witkin 1998, "Large steps in cloth
 // simulation"), assembled without forming a matrix: (M - h D - h² K) Δv = h (f(x0, v0) + h K v0), where
-// K = ∂f/∂x and D = ∂f/∂v of the springs, the positioning springs and the tools' coupling.
+// K = ∂f/∂x and D = ∂f/∂v of the springs, the positioning springs and the tools' coupling; and the
+// same matrix with a Newton correction's right-hand side, h f(x, v) - M (v - v0), for the steps where
+// one linearisation is not enough.
 #pragma once
 
 #include <cstdint>
@@ -37,8 +39,13 @@ public:
     void resize(std::size_t nodes);
 
     /// Builds the matrix, the right-hand side and the block-Jacobi preconditioner for a step of h seconds
-    /// from the model's current state, over `region`.
-    void assemble(const MassSpringModel& model, double h, SolveRegion region);
+    /// from the model's current state, over `region`. With `startVelocity` (by unknown) the state is a
+    /// Newton iterate x = x0 + h v of a step that started at those velocities, and the right-hand side
+    /// is the correction's; without it, the step's first linearisation.
+    void assemble(const MassSpringModel& model, double h, SolveRegion region, std::span<const Vec3> startVelocity = {});
+    /// The largest relative motion of a spring's ends, |m_b - m_a| / rest length, for a motion m by
+    /// unknown (zero on resting neighbours); springs shorter than a nanometre are skipped.
+    double largestRelativeMotion(const Springs& springs, SolveRegion region, std::span<const Vec3> motion) const;
 
     /// The number of unknowns (3-vectors): the region's nodes.
     std::size_t size() const { return rhs_.size(); }

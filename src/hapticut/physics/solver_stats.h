@@ -12,12 +12,16 @@ namespace hapticut::physics {
 struct SolverStats {
     long solves = 0;
     long unconverged = 0;  // solves stopped by the iteration cap (or a breakdown) above the tolerance
+    long corrected = 0;    // steps that needed more than one Newton iteration
+    int maxNewtonIterations = 0;
     double maxRelativeResidual = 0;
     LatencyHistogram iterations{1, kMaxSolverIterations};  // one bin per iteration count
 
     void record(const SolveReport& report) noexcept {
         ++solves;
         if (!report.converged) ++unconverged;
+        if (report.newtonIterations > 1) ++corrected;
+        maxNewtonIterations = std::max(maxNewtonIterations, report.newtonIterations);
         maxRelativeResidual = std::max(maxRelativeResidual, report.relativeResidual);
         iterations.record(report.iterations);
     }

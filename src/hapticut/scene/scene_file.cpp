@@ -287,12 +287,15 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
         }
         if (const toml::table* m = subTable(root, "simulation")) {
             allowOnly(*m, "simulation",
-                      {"integrator", "rate_hz", "active_region", "solver_tolerance", "solver_max_iterations"});
+                      {"integrator", "rate_hz", "active_region", "solver_tolerance", "solver_max_iterations",
+                       "solver_newton_iterations"});
             s.scheme = *physics::parseScheme(text(*m, "simulation", "integrator", "auto",
                                                   {"auto", "euler", "midpoint", "rk4", "symplectic", "implicit"}));
             s.solver.tolerance = number(*m, "simulation", "solver_tolerance", s.solver.tolerance, 1e-14, 1);
             s.solver.maxIterations = static_cast<int>(std::lround(number(
                 *m, "simulation", "solver_max_iterations", s.solver.maxIterations, 1, physics::kMaxSolverIterations)));
+            s.solver.maxNewtonIterations = static_cast<int>(std::lround(
+                number(*m, "simulation", "solver_newton_iterations", s.solver.maxNewtonIterations, 1, 100)));
             s.rate_hz = number(*m, "simulation", "rate_hz", s.rate_hz, 100, 10'000);
             s.activeRegion = boolean(*m, "simulation", "active_region", s.activeRegion);
         }
