@@ -6,6 +6,7 @@
 #include <iostream>
 #include <random>
 
+#include "bench/solver_kernels.h"
 #include "commands.h"
 #include "hapticut/collision/bvh.h"
 #include "hapticut/common/latency_histogram.h"
@@ -15,6 +16,7 @@
 #include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/mesh/vertex_faces.h"
 #include "hapticut/physics/integrators.h"
+#include "hapticut/physics/solver_kernels.h"
 #include "hapticut/scene/bench_scenes.h"
 #include "hapticut/scene/sample_trajectories.h"
 #include "terminal.h"
@@ -172,6 +174,10 @@ int bench(const BenchOptions& o) {
         }
         schemes.push_back(*s);
     }
+    std::string targets;
+    for (const char* t : physics::kernels::supportedTargets()) targets += std::string(targets.empty() ? "" : ", ") + t;
+    std::printf("SIMD: the implicit solve's kernels run with %s (this machine runs: %s)\n\n",
+                physics::kernels::targetName(), targets.c_str());
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
     std::printf("%10s %8s %9s %-11s %11s %11s %13s %9s %15s %8s\n", "triangles", "nodes", "springs", "integrator",
                 "us/step", "p99 us", "ns/spring-ev", "substeps", "us/sim-ms@1ms", "CG its");
@@ -223,6 +229,20 @@ int bench(const BenchOptions& o) {
                                {"heart_generation_s", generate_s}});
         }
     }
+    std::printf("\n%10s %-8s %12s %16s   (the implicit solve's product, every instruction set, same run)\n",
+                "triangles", "target", "product us", "ns/spring-end");
+    nlohmann::ordered_json kernelTimes = nlohmann::ordered_json::array();
+    for (int triangles : o.triangles) {
+        const physics::MassSpringModel model = scene::benchHeart(triangles).buildModel();
+        for (const bench::KernelTiming& t : bench::timeSolverKernels(model, std::min(o.seconds, 0.5))) {
+            std::printf("%10zu %-8s %12.1f %16.2f\n", model.springs.size() * 2 / 3, t.target.c_str(), t.product_us,
+                        t.ns_per_coupling);
+            kernelTimes.push_back({{"triangles", model.springs.size() * 2 / 3},
+                                   {"target", t.target},
+                                   {"product_us", t.product_us},
+                                   {"ns_per_spring_end", t.ns_per_coupling}});
+        }
+    }
     nlohmann::ordered_json haptics = nlohmann::ordered_json::array();
     if (o.haptics) {
         std::printf("\n%10s %12s %12s %12s %12s %12s %10s\n", "triangles", "build ms", "refit us", "refit p99",
@@ -243,7 +263,10 @@ int bench(const BenchOptions& o) {
     if (!o.json.empty()) {
         nlohmann::ordered_json j;
         j["benchmark"] = "integrator step on the procedural heart, one thread";
+        j["simd_target"] = physics::kernels::targetName();
+        j["simd_targets_supported"] = physics::kernels::supportedTargets();
         j["results"] = results;
+        j["solver_kernels"] = kernelTimes;
         if (o.haptics) j["haptics"] = haptics;
         if (o.cutting) j["cutting"] = cuts;
         if (o.render) j["render"] = frameRates;

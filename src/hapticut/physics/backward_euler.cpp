@@ -10,9 +10,9 @@ namespace hapticut::physics {
 
 void BackwardEuler::reserve(std::size_t nodes, std::size_t springs) {
     system_.reserve(nodes, springs);
-    for (auto* v :
-         {&deltaV_, &startVelocity_, &motion_, &solution_, &residual_, &preconditioned_, &direction_, &product_})
-        reserveTouched(*v, nodes);
+    for (auto* v : {&deltaV_, &startVelocity_, &motion_}) reserveTouched(*v, nodes);
+    for (auto* field : {&solution_, &residual_, &preconditioned_, &direction_, &product_})
+        for (auto* a : {&field->x, &field->y, &field->z}) reserveTouched(*a, nodes + kernels::kSliceRows);
 }
 
 void BackwardEuler::resize(std::size_t nodes) {
@@ -30,82 +30,72 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
     Nodes& n = model.nodes;
     const std::size_t count = region.nodes.size();
     // Capacity is reserved for every node: these never allocate in a step.
-    for (auto* v : {&startVelocity_, &motion_, &solution_, &residual_, &preconditioned_, &direction_, &product_})
-        v->resize(count);
-    for (std::size_t k = 0; k < count; ++k) {
-        const std::uint32_t i = region.nodes[k];
-        startVelocity_[k] = n.velocity[i];
-        solution_[k] = deltaV_[i];  // the warm start
-    }
+    startVelocity_.resize(count);
+    motion_.resize(count);
+    for (std::size_t k = 0; k < count; ++k) startVelocity_[k] = n.velocity[region.nodes[k]];
     system_.assemble(model, h, region);
-    SolveReport report = solve();
-    for (std::size_t k = 0; k < count; ++k) {
-        const std::uint32_t i = region.nodes[k];
-        n.velocity[i] += solution_[k];
-        motion_[k] = h * n.velocity[i];
-        n.position[i] += motion_[k];
+    for (auto* field : {&solution_, &residual_, &preconditioned_, &direction_, &product_})
+        field->resize(system_.rows());
+    for (std::size_t k = 0; k < system_.rows(); ++k) {  // the warm start; zero on the padding rows
+        const Vec3 guess = k < count ? deltaV_[region.nodes[k]] : Vec3::Zero();
+        solution_.x[k] = guess.x(), solution_.y[k] = guess.y(), solution_.z[k] = guess.z();
     }
+    SolveReport report = solve();
+    auto apply = [&](bool whole) {
+        for (std::size_t k = 0; k < count; ++k) {
+            const std::uint32_t i = region.nodes[k];
+            const Vec3 change(solution_.x[k], solution_.y[k], solution_.z[k]);
+            n.velocity[i] += change;
+            // The first iteration moves by the whole new velocity, a correction by its change.
+            motion_[k] = h * (whole ? n.velocity[i] : change);
+            n.position[i] += motion_[k];
+        }
+    };
+    apply(true);
     // Newton's corrections, solved with the matrix at the latest iterate x = x0 + h v, while the last
     // iteration moved the springs too far for its linearisation to hold.
     while (report.newtonIterations < settings_.maxNewtonIterations &&
            system_.largestRelativeMotion(model.springs, region, motion_) > kLinearMotion) {
         system_.assemble(model, h, region, startVelocity_);
-        std::fill(solution_.begin(), solution_.end(), Vec3::Zero());
+        for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(a->begin(), a->end(), 0.0);
         const SolveReport correction = solve();
         report.iterations += correction.iterations;
         report.relativeResidual = correction.relativeResidual;
         report.converged = report.converged && correction.converged;
         ++report.newtonIterations;
-        for (std::size_t k = 0; k < count; ++k) {
-            const std::uint32_t i = region.nodes[k];
-            n.velocity[i] += solution_[k];
-            motion_[k] = h * solution_[k];
-            n.position[i] += motion_[k];
-        }
+        apply(false);
     }
     for (std::size_t k = 0; k < count; ++k) deltaV_[region.nodes[k]] = n.velocity[region.nodes[k]] - startVelocity_[k];
     return report;
 }
 
 SolveReport BackwardEuler::solve() {
-    const std::size_t count = system_.size();
-    const std::span<const Vec3> b = system_.rhs();
+    const std::size_t rows = system_.rows();
+    const kernels::Field& b = system_.rhs();
+    const kernels::SystemRows matrix = system_.matrix();
+    const kernels::SymmetricBlocks& inverse = system_.inverseBlocks();
     SolveReport report;
     double bNorm2 = 0;
-    for (const Vec3& bk : b) bNorm2 += bk.squaredNorm();
+    for (std::size_t k = 0; k < rows; ++k) bNorm2 += b.x[k] * b.x[k] + b.y[k] * b.y[k] + b.z[k] * b.z[k];
     if (bNorm2 == 0) {
-        std::fill(solution_.begin(), solution_.end(), Vec3::Zero());
+        for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(a->begin(), a->end(), 0.0);
         return report;
     }
     const double stop2 = settings_.tolerance * settings_.tolerance * bNorm2;
 
     // Each iteration is one product and two passes over the unknowns, with the dot products fused in.
-    (void)system_.multiply(solution_, product_);
-    double r2 = 0, rz = 0;
-    for (std::size_t k = 0; k < count; ++k) {
-        residual_[k] = b[k] - product_[k];
-        direction_[k] = system_.precondition(k, residual_[k]);
-        r2 += residual_[k].squaredNorm();
-        rz += residual_[k].dot(direction_[k]);
-    }
+    (void)kernels::multiply(matrix, solution_, product_);
+    kernels::Sums sums = kernels::startPass(rows, b, product_, inverse, residual_, preconditioned_, direction_);
+    double r2 = sums.r2, rz = sums.rz;
     while (r2 > stop2 && report.iterations < settings_.maxIterations) {
-        const double pq = system_.multiply(direction_, product_);
+        const double pq = kernels::multiply(matrix, direction_, product_);
         if (!(pq > 0) || !std::isfinite(pq)) break;  // a breakdown: keep what was reached
-        const double alpha = rz / pq;
-        double rzNext = 0;
-        r2 = 0;
-        for (std::size_t k = 0; k < count; ++k) {
-            solution_[k] += alpha * direction_[k];
-            residual_[k] -= alpha * product_[k];
-            preconditioned_[k] = system_.precondition(k, residual_[k]);
-            r2 += residual_[k].squaredNorm();
-            rzNext += residual_[k].dot(preconditioned_[k]);
-        }
+        sums = kernels::updatePass(rows, rz / pq, direction_, product_, inverse, solution_, residual_, preconditioned_);
+        r2 = sums.r2;
         ++report.iterations;
         if (r2 <= stop2) break;
-        const double beta = rzNext / rz;
-        rz = rzNext;
-        for (std::size_t k = 0; k < count; ++k) direction_[k] = preconditioned_[k] + beta * direction_[k];
+        kernels::directionPass(rows, sums.rz / rz, preconditioned_, direction_);
+        rz = sums.rz;
     }
     report.relativeResidual = std::sqrt(r2 / bNorm2);
     report.converged = r2 <= stop2;

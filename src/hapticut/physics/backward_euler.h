@@ -57,8 +57,9 @@ private:
     BackwardEulerSystem system_;
     std::vector<Vec3> deltaV_;  // by node: the last step's change of velocity, the next warm start
     // By unknown (the region's nodes in order): the velocities the step started from, the motion of the
-    // last Newton iteration, and the conjugate-gradient vectors.
-    std::vector<Vec3> startVelocity_, motion_, solution_, residual_, preconditioned_, direction_, product_;
+    // last Newton iteration, and the conjugate-gradient vectors (padded rows, for the kernels).
+    std::vector<Vec3> startVelocity_, motion_;
+    kernels::Field solution_, residual_, preconditioned_, direction_, product_;
 };
 
 }  // namespace hapticut::physics

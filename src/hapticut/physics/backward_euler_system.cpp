@@ -10,23 +10,31 @@
 namespace hapticut::physics {
 
 void BackwardEulerSystem::reserve(std::size_t nodes, std::size_t springs) {
+    const std::size_t rows = nodes + kernels::kSliceRows;
     reserveTouched(unknownOf_, nodes);
-    reserveTouched(diagonal_, nodes);
-    reserveTouched(toResting_, nodes);
+    reserveTouched(diagonal_, rows);
     reserveTouched(rowStart_, nodes + 1);
     reserveTouched(couplings_, 2 * springs);
-    reserveTouched(inverseBlock_, nodes);
     reserveTouched(blockSum_, nodes);
     reserveTouched(restingSum_, nodes);
-    reserveTouched(rhs_, nodes);
-    reserveTouched(pinned_, nodes);
+    reserveTouched(pinned_, rows);
+    for (auto* field : {&rhs_.x, &rhs_.y, &rhs_.z}) reserveTouched(*field, rows);
+    for (auto* blocks : {&toResting_, &inverseBlock_})
+        for (auto* a : {&blocks->xx, &blocks->xy, &blocks->xz, &blocks->yy, &blocks->yz, &blocks->zz})
+            reserveTouched(*a, rows);
+    // Slices are as wide as their widest row: room for half as many slots again as there are couplings.
+    const std::size_t slots = 3 * springs + 4 * rows;
+    reserveTouched(sliced_.sliceBegin, rows / kernels::kSliceRows + 2);
+    reserveTouched(sliced_.other, slots);
+    for (auto* a : {&sliced_.c0, &sliced_.ux, &sliced_.uy, &sliced_.uz}) reserveTouched(*a, slots);
 }
 
 void BackwardEulerSystem::resize(std::size_t nodes) { unknownOf_.resize(std::max(nodes, unknownOf_.size()), kResting); }
 
-BackwardEulerSystem::SymmetricBlock BackwardEulerSystem::toSymmetricBlock(const Mat3& m) {
+void BackwardEulerSystem::setBlock(kernels::SymmetricBlocks& blocks, std::size_t k, const Mat3& m) {
     const auto f = [](double value) { return static_cast<float>(value); };
-    return {f(m(0, 0)), f(m(0, 1)), f(m(0, 2)), f(m(1, 1)), f(m(1, 2)), f(m(2, 2))};
+    blocks.xx[k] = f(m(0, 0)), blocks.xy[k] = f(m(0, 1)), blocks.xz[k] = f(m(0, 2));
+    blocks.yy[k] = f(m(1, 1)), blocks.yz[k] = f(m(1, 2)), blocks.zz[k] = f(m(2, 2));
 }
 
 void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, SolveRegion region,
@@ -40,12 +48,15 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     const double h2 = h * h;
     // Capacity is reserved for every node and spring: these resizes never allocate in a step.
     const std::size_t count = region.nodes.size();
-    diagonal_.resize(count);
-    toResting_.resize(count);
-    inverseBlock_.resize(count);
+    count_ = count;
+    rows_ = (count + kernels::kSliceRows - 1) / kernels::kSliceRows * kernels::kSliceRows;
+    diagonal_.assign(rows_, 0.0);
+    toResting_.resize(rows_);
+    inverseBlock_.resize(rows_);
+    pinned_.assign(rows_, 0);
     blockSum_.resize(count);
     restingSum_.resize(count);
-    rhs_.resize(count);
+    rhs_.resize(rows_);
     rowStart_.assign(count + 1, 0);
     for (std::uint32_t i : region.touched) unknownOf_[i] = kResting;
     const Vec3 g = model.gravity_m_per_s2;
@@ -55,7 +66,8 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         const double ka = n.anchorStiffness[i], da = n.anchorDamping[i];
         const Vec3 f = n.externalForce[i] - ka * (x[i] - n.restPosition[i]) - da * v[i] +
                        (n.inverseMass[i] > 0 ? Vec3(n.mass[i] * g) : Vec3::Zero());
-        rhs_[k] = h * f - (correction ? Vec3(n.mass[i] * (v[i] - startVelocity[k])) : Vec3(h2 * ka * v[i]));
+        const Vec3 b = h * f - (correction ? Vec3(n.mass[i] * (v[i] - startVelocity[k])) : Vec3(h2 * ka * v[i]));
+        rhs_.x[k] = b.x(), rhs_.y[k] = b.y(), rhs_.z[k] = b.z();
         diagonal_[k] = n.mass[i] + h * da + h2 * ka;
         blockSum_[k].setZero();
         restingSum_[k].setZero();
@@ -73,7 +85,8 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
             const std::uint32_t k = unknownOf_[tool.nodes[c]];
             if (k == kResting) continue;  // the active region keeps a tool's nodes awake; a full solve has all
             const double w = tool.weights[c];
-            rhs_[k] -= h * w * force + (correction ? Vec3::Zero() : Vec3(h2 * kt * w * v[tool.nodes[c]]));
+            const Vec3 b = h * w * force + (correction ? Vec3::Zero() : Vec3(h2 * kt * w * v[tool.nodes[c]]));
+            rhs_.x[k] -= b.x(), rhs_.y[k] -= b.y(), rhs_.z[k] -= b.z();
             diagonal_[k] += h2 * kt * w;
         }
     }
@@ -107,8 +120,14 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         const double c0 = h2 * ks * alpha;
         const Vec3 u = std::sqrt(h2 * ks * (1 - alpha) + h * kd) * dir;
         const Mat3 block = c0 * Mat3::Identity() + u * u.transpose();
-        if (ka != kResting) rhs_[ka] += contribution, blockSum_[ka] += block;
-        if (kb != kResting) rhs_[kb] -= contribution, blockSum_[kb] += block;
+        if (ka != kResting) {
+            rhs_.x[ka] += contribution.x(), rhs_.y[ka] += contribution.y(), rhs_.z[ka] += contribution.z();
+            blockSum_[ka] += block;
+        }
+        if (kb != kResting) {
+            rhs_.x[kb] -= contribution.x(), rhs_.y[kb] -= contribution.y(), rhs_.z[kb] -= contribution.z();
+            blockSum_[kb] += block;
+        }
         if (inner) {
             const auto f = [](double value) { return static_cast<float>(value); };
             couplings_[rowEnd(ka)] = {kb, f(c0), f(u.x()), f(u.y()), f(u.z())};
@@ -120,18 +139,64 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     // The filling moved each row's start to its end: move them back.
     for (std::size_t k = count; k > 0; --k) rowStart_[k] = rowStart_[k - 1];
     rowStart_[0] = 0;
-    pinned_.clear();
     for (std::uint32_t k = 0; k < count; ++k) {
-        toResting_[k] = toSymmetricBlock(restingSum_[k]);
+        setBlock(toResting_, k, restingSum_[k]);
         if (n.inverseMass[region.nodes[k]] == 0) {
-            pinned_.push_back(k);
-            inverseBlock_[k] = {};
-            rhs_[k].setZero();
+            // A pinned node's row is left out: no terms, no right-hand side, no preconditioner, so its
+            // unknown stays zero.
+            pinned_[k] = 1;
+            diagonal_[k] = 0;
+            setBlock(toResting_, k, Mat3::Zero());
+            setBlock(inverseBlock_, k, Mat3::Zero());
+            rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
             continue;
         }
         Mat3 block = blockSum_[k];
         block.diagonal().array() += diagonal_[k];
-        inverseBlock_[k] = toSymmetricBlock(block.inverse());  // positive definite: the mass alone makes it so
+        setBlock(inverseBlock_, k, block.inverse());  // positive definite: the mass alone makes it so
+    }
+    for (std::size_t k = count; k < rows_; ++k) {  // the padding rows are zero throughout
+        setBlock(toResting_, k, Mat3::Zero());
+        setBlock(inverseBlock_, k, Mat3::Zero());
+        rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
+    }
+    sliceCouplings();
+}
+
+void BackwardEulerSystem::sliceCouplings() {
+    constexpr std::size_t kSlice = kernels::kSliceRows;
+    const std::size_t slices = rows_ / kSlice;
+    sliced_.sliceBegin.resize(slices + 1);
+    std::size_t slots = 0;
+    for (std::size_t slice = 0; slice < slices; ++slice) {
+        sliced_.sliceBegin[slice] = static_cast<std::uint32_t>(slots);
+        std::uint32_t width = 0;
+        for (std::size_t k = slice * kSlice; k < std::min(count_, (slice + 1) * kSlice); ++k)
+            width = std::max(width, rowStart_[k + 1] - rowStart_[k]);
+        slots += width * kSlice;
+    }
+    sliced_.sliceBegin[slices] = static_cast<std::uint32_t>(slots);
+    sliced_.other.resize(slots);
+    for (auto* a : {&sliced_.c0, &sliced_.ux, &sliced_.uy, &sliced_.uz}) a->resize(slots);
+    for (std::size_t slice = 0; slice < slices; ++slice) {
+        const std::size_t begin = sliced_.sliceBegin[slice];
+        const std::size_t width = (sliced_.sliceBegin[slice + 1] - begin) / kSlice;
+        for (std::size_t lane = 0; lane < kSlice; ++lane) {
+            const std::size_t k = slice * kSlice + lane;
+            const bool real = k < count_ && !pinned_[k];
+            const std::size_t length = real ? rowStart_[k + 1] - rowStart_[k] : 0;
+            for (std::size_t j = 0; j < width; ++j) {
+                const std::size_t slot = begin + j * kSlice + lane;
+                if (j < length) {
+                    const Coupling& c = couplings_[rowStart_[k] + j];
+                    sliced_.other[slot] = static_cast<std::int32_t>(c.other);
+                    sliced_.c0[slot] = c.c0, sliced_.ux[slot] = c.ux, sliced_.uy[slot] = c.uy, sliced_.uz[slot] = c.uz;
+                } else {  // padding: a zero coupling to the row itself
+                    sliced_.other[slot] = static_cast<std::int32_t>(k);
+                    sliced_.c0[slot] = sliced_.ux[slot] = sliced_.uy[slot] = sliced_.uz[slot] = 0;
+                }
+            }
+        }
     }
 }
 
@@ -146,26 +211,6 @@ double BackwardEulerSystem::largestRelativeMotion(const Springs& springs, SolveR
         largest2 = std::max(largest2, (mb - ma).squaredNorm() / (rest * rest));
     }
     return std::sqrt(largest2);
-}
-
-double BackwardEulerSystem::multiply(std::span<const Vec3> y, std::span<Vec3> out) const {
-    // Row by row: each unknown's sum builds up in registers and is stored once. yᵀAy is summed on the way.
-    double yAy = 0;
-    const std::size_t count = rhs_.size();
-    for (std::size_t k = 0; k < count; ++k) {
-        const Vec3 yk = y[k];
-        Vec3 sum = diagonal_[k] * yk + toResting_[k] * yk;
-        for (std::uint32_t c = rowStart_[k], end = rowStart_[k + 1]; c < end; ++c) {
-            const Coupling& s = couplings_[c];
-            const Vec3 dy = yk - y[s.other];
-            const Vec3 u(s.ux, s.uy, s.uz);
-            sum += s.c0 * dy + u.dot(dy) * u;
-        }
-        out[k] = sum;
-        yAy += yk.dot(sum);
-    }
-    for (std::uint32_t k : pinned_) out[k].setZero();  // their y is zero: no share in yᵀAy
-    return yAy;
 }
 
 }  // namespace hapticut::physics

@@ -11,6 +11,7 @@
 
 #include "hapticut/geometry/vec.h"
 #include "hapticut/physics/mass_spring_model.h"
+#include "hapticut/physics/solver_kernels.h"
 
 namespace hapticut::physics {
 
@@ -48,12 +49,12 @@ public:
     double largestRelativeMotion(const Springs& springs, SolveRegion region, std::span<const Vec3> motion) const;
 
     /// The number of unknowns (3-vectors): the region's nodes.
-    std::size_t size() const { return rhs_.size(); }
-    /// out = A y; returns yᵀ A y.
-    double multiply(std::span<const Vec3> y, std::span<Vec3> out) const;
-    /// P⁻¹ r for unknown k, with P the 3×3 diagonal blocks of A.
-    Vec3 precondition(std::size_t k, const Vec3& r) const { return inverseBlock_[k] * r; }
-    std::span<const Vec3> rhs() const { return rhs_; }
+    std::size_t size() const { return count_; }
+    /// The rows of the kernels' vectors: size() padded to whole slices (the padding rows are zero).
+    std::size_t rows() const { return rows_; }
+    kernels::SystemRows matrix() const { return {rows_, diagonal_.data(), &toResting_, &sliced_}; }
+    const kernels::SymmetricBlocks& inverseBlocks() const { return inverseBlock_; }
+    const kernels::Field& rhs() const { return rhs_; }
 
 private:
     static constexpr std::uint32_t kResting = ~std::uint32_t{0};
@@ -66,26 +67,23 @@ private:
         std::uint32_t other;
         float c0, ux, uy, uz;
     };
-    struct SymmetricBlock {
-        float xx, xy, xz, yy, yz, zz;
-        Vec3 operator*(const Vec3& r) const {
-            return {xx * r.x() + xy * r.y() + xz * r.z(), xy * r.x() + yy * r.y() + yz * r.z(),
-                    xz * r.x() + yz * r.y() + zz * r.z()};
-        }
-    };
-    static SymmetricBlock toSymmetricBlock(const Mat3& m);
+    static void setBlock(kernels::SymmetricBlocks& blocks, std::size_t k, const Mat3& m);
+    /// Lays the rows' couplings out slice by slice for the kernels (pinned rows get none).
+    void sliceCouplings();
 
     std::vector<std::uint32_t> unknownOf_;  // by node: its unknown, or kResting; valid on the region's touched nodes
+    std::size_t count_ = 0, rows_ = 0;
     // By unknown. The matrix is kept by rows, each with its springs to other unknowns, so that a product
     // gathers and never scatters: every row is summed in registers and written once.
-    std::vector<double> diagonal_;           // m + h d + h² k of its own terms and the tool's
-    std::vector<SymmetricBlock> toResting_;  // its springs to resting neighbours, whose Δv is zero
-    std::vector<std::uint32_t> rowStart_;    // its couplings are rowStart_[k] .. rowStart_[k + 1]
+    std::vector<double> diagonal_;         // m + h d + h² k of its own terms and the tool's
+    kernels::SymmetricBlocks toResting_;   // its springs to resting neighbours, whose Δv is zero
+    std::vector<std::uint32_t> rowStart_;  // its couplings are rowStart_[k] .. rowStart_[k + 1]
     std::vector<Coupling> couplings_;
-    std::vector<SymmetricBlock> inverseBlock_;  // the preconditioner
-    std::vector<Mat3> blockSum_, restingSum_;   // its springs' blocks (all, to resting neighbours), while assembling
-    std::vector<Vec3> rhs_;
-    std::vector<std::uint32_t> pinned_;  // unknowns of nodes without inverse mass: their rows are left out
+    kernels::SlicedCouplings sliced_;          // the same, as the kernels read them
+    kernels::SymmetricBlocks inverseBlock_;    // the preconditioner
+    std::vector<Mat3> blockSum_, restingSum_;  // its springs' blocks (all, to resting neighbours), while assembling
+    kernels::Field rhs_;
+    std::vector<std::uint8_t> pinned_;  // 1 for nodes without inverse mass: their rows are left out
 };
 
 }  // namespace hapticut::physics

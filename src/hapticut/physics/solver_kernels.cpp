@@ -1,0 +1,186 @@
+// The implicit solve's SIMD kernels: this file is compiled once per target by Highway's foreach_target,
+// and the HWY_ONCE part at the end dispatches to the best one the machine supports.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "hapticut/physics/solver_kernels.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include <string_view>
+
+#include "hapticut/physics/solver_kernels.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace hapticut::physics::kernels::HWY_NAMESPACE {
+
+namespace hn = hwy::HWY_NAMESPACE;
+using D = hn::ScalableTag<double>;
+using V = hn::Vec<D>;
+
+/// Single-precision entries widened to double lanes.
+V loadFloats(D d, const float* p) { return hn::PromoteTo(d, hn::LoadU(hn::Rebind<float, D>(), p)); }
+
+/// The symmetric block m times (rx, ry, rz), for the rows at `at`.
+void symmetricTimes(D d, const SymmetricBlocks& m, std::size_t at, V rx, V ry, V rz, V& ox, V& oy, V& oz) {
+    const V xx = loadFloats(d, m.xx.data() + at), xy = loadFloats(d, m.xy.data() + at);
+    const V xz = loadFloats(d, m.xz.data() + at), yy = loadFloats(d, m.yy.data() + at);
+    const V yz = loadFloats(d, m.yz.data() + at), zz = loadFloats(d, m.zz.data() + at);
+    ox = hn::MulAdd(xx, rx, hn::MulAdd(xy, ry, hn::Mul(xz, rz)));
+    oy = hn::MulAdd(xy, rx, hn::MulAdd(yy, ry, hn::Mul(yz, rz)));
+    oz = hn::MulAdd(xz, rx, hn::MulAdd(yz, ry, hn::Mul(zz, rz)));
+}
+
+double Multiply(const SystemRows& a, const Field& y, Field& out) {
+    const D d;
+    const hn::Rebind<std::int32_t, D> di32;
+    const hn::Rebind<std::int64_t, D> di64;
+    const std::size_t lanes = hn::Lanes(d);
+    const SlicedCouplings& c = *a.couplings;
+    V yAy = hn::Zero(d);
+    for (std::size_t slice = 0; slice * kSliceRows < a.rows; ++slice) {
+        const std::size_t begin = c.sliceBegin[slice];
+        const std::size_t width = (c.sliceBegin[slice + 1] - begin) / kSliceRows;
+        for (std::size_t group = 0; group < kSliceRows; group += lanes) {
+            const std::size_t row = slice * kSliceRows + group;
+            const V yx = hn::LoadU(d, y.x.data() + row), yy = hn::LoadU(d, y.y.data() + row);
+            const V yz = hn::LoadU(d, y.z.data() + row);
+            // Each row's sum builds up in registers, gathering its neighbours' y; nothing is scattered.
+            V sx, sy, sz;
+            symmetricTimes(d, *a.toResting, row, yx, yy, yz, sx, sy, sz);
+            const V diag = hn::LoadU(d, a.diagonal + row);
+            sx = hn::MulAdd(diag, yx, sx), sy = hn::MulAdd(diag, yy, sy), sz = hn::MulAdd(diag, yz, sz);
+            for (std::size_t j = 0; j < width; ++j) {
+                const std::size_t slot = begin + j * kSliceRows + group;
+                const auto index = hn::PromoteTo(di64, hn::LoadU(di32, c.other.data() + slot));
+                const V dx = hn::Sub(yx, hn::GatherIndex(d, y.x.data(), index));
+                const V dy = hn::Sub(yy, hn::GatherIndex(d, y.y.data(), index));
+                const V dz = hn::Sub(yz, hn::GatherIndex(d, y.z.data(), index));
+                const V c0 = loadFloats(d, c.c0.data() + slot), ux = loadFloats(d, c.ux.data() + slot);
+                const V uy = loadFloats(d, c.uy.data() + slot), uz = loadFloats(d, c.uz.data() + slot);
+                const V along = hn::MulAdd(ux, dx, hn::MulAdd(uy, dy, hn::Mul(uz, dz)));
+                sx = hn::MulAdd(c0, dx, hn::MulAdd(along, ux, sx));
+                sy = hn::MulAdd(c0, dy, hn::MulAdd(along, uy, sy));
+                sz = hn::MulAdd(c0, dz, hn::MulAdd(along, uz, sz));
+            }
+            hn::StoreU(sx, d, out.x.data() + row), hn::StoreU(sy, d, out.y.data() + row);
+            hn::StoreU(sz, d, out.z.data() + row);
+            yAy = hn::MulAdd(yx, sx, hn::MulAdd(yy, sy, hn::MulAdd(yz, sz, yAy)));
+        }
+    }
+    return hn::GetLane(hn::SumOfLanes(d, yAy));
+}
+
+Sums StartPass(std::size_t rows, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r,
+               Field& z, Field& p) {
+    const D d;
+    V r2 = hn::Zero(d), rz = hn::Zero(d);
+    for (std::size_t i = 0; i < rows; i += hn::Lanes(d)) {
+        const V rx = hn::Sub(hn::LoadU(d, b.x.data() + i), hn::LoadU(d, product.x.data() + i));
+        const V ry = hn::Sub(hn::LoadU(d, b.y.data() + i), hn::LoadU(d, product.y.data() + i));
+        const V rzv = hn::Sub(hn::LoadU(d, b.z.data() + i), hn::LoadU(d, product.z.data() + i));
+        V zx, zy, zz;
+        symmetricTimes(d, inverse, i, rx, ry, rzv, zx, zy, zz);
+        hn::StoreU(rx, d, r.x.data() + i), hn::StoreU(ry, d, r.y.data() + i), hn::StoreU(rzv, d, r.z.data() + i);
+        hn::StoreU(zx, d, z.x.data() + i), hn::StoreU(zy, d, z.y.data() + i), hn::StoreU(zz, d, z.z.data() + i);
+        hn::StoreU(zx, d, p.x.data() + i), hn::StoreU(zy, d, p.y.data() + i), hn::StoreU(zz, d, p.z.data() + i);
+        r2 = hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::MulAdd(rzv, rzv, r2)));
+        rz = hn::MulAdd(rx, zx, hn::MulAdd(ry, zy, hn::MulAdd(rzv, zz, rz)));
+    }
+    return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz))};
+}
+
+Sums UpdatePass(std::size_t rows, double alpha, const Field& p, const Field& q, const SymmetricBlocks& inverse,
+                Field& x, Field& r, Field& z) {
+    const D d;
+    const V a = hn::Set(d, alpha), minusA = hn::Set(d, -alpha);
+    V r2 = hn::Zero(d), rz = hn::Zero(d);
+    for (std::size_t i = 0; i < rows; i += hn::Lanes(d)) {
+        hn::StoreU(hn::MulAdd(a, hn::LoadU(d, p.x.data() + i), hn::LoadU(d, x.x.data() + i)), d, x.x.data() + i);
+        hn::StoreU(hn::MulAdd(a, hn::LoadU(d, p.y.data() + i), hn::LoadU(d, x.y.data() + i)), d, x.y.data() + i);
+        hn::StoreU(hn::MulAdd(a, hn::LoadU(d, p.z.data() + i), hn::LoadU(d, x.z.data() + i)), d, x.z.data() + i);
+        const V rx = hn::MulAdd(minusA, hn::LoadU(d, q.x.data() + i), hn::LoadU(d, r.x.data() + i));
+        const V ry = hn::MulAdd(minusA, hn::LoadU(d, q.y.data() + i), hn::LoadU(d, r.y.data() + i));
+        const V rzv = hn::MulAdd(minusA, hn::LoadU(d, q.z.data() + i), hn::LoadU(d, r.z.data() + i));
+        V zx, zy, zz;
+        symmetricTimes(d, inverse, i, rx, ry, rzv, zx, zy, zz);
+        hn::StoreU(rx, d, r.x.data() + i), hn::StoreU(ry, d, r.y.data() + i), hn::StoreU(rzv, d, r.z.data() + i);
+        hn::StoreU(zx, d, z.x.data() + i), hn::StoreU(zy, d, z.y.data() + i), hn::StoreU(zz, d, z.z.data() + i);
+        r2 = hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::MulAdd(rzv, rzv, r2)));
+        rz = hn::MulAdd(rx, zx, hn::MulAdd(ry, zy, hn::MulAdd(rzv, zz, rz)));
+    }
+    return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz))};
+}
+
+void DirectionPass(std::size_t rows, double beta, const Field& z, Field& p) {
+    const D d;
+    const V b = hn::Set(d, beta);
+    for (std::size_t i = 0; i < rows; i += hn::Lanes(d)) {
+        hn::StoreU(hn::MulAdd(b, hn::LoadU(d, p.x.data() + i), hn::LoadU(d, z.x.data() + i)), d, p.x.data() + i);
+        hn::StoreU(hn::MulAdd(b, hn::LoadU(d, p.y.data() + i), hn::LoadU(d, z.y.data() + i)), d, p.y.data() + i);
+        hn::StoreU(hn::MulAdd(b, hn::LoadU(d, p.z.data() + i), hn::LoadU(d, z.z.data() + i)), d, p.z.data() + i);
+    }
+}
+
+}  // namespace hapticut::physics::kernels::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace hapticut::physics::kernels {
+
+namespace {
+std::int64_t forcedTarget = 0;  // forceTarget's choice; zero when the kernels run with the best
+}  // namespace
+
+HWY_EXPORT(Multiply);
+HWY_EXPORT(StartPass);
+HWY_EXPORT(UpdatePass);
+HWY_EXPORT(DirectionPass);
+
+double multiply(const SystemRows& a, const Field& y, Field& out) { return HWY_DYNAMIC_DISPATCH(Multiply)(a, y, out); }
+
+Sums startPass(std::size_t rows, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r,
+               Field& z, Field& p) {
+    return HWY_DYNAMIC_DISPATCH(StartPass)(rows, b, product, inverse, r, z, p);
+}
+
+Sums updatePass(std::size_t rows, double alpha, const Field& p, const Field& q, const SymmetricBlocks& inverse,
+                Field& x, Field& r, Field& z) {
+    return HWY_DYNAMIC_DISPATCH(UpdatePass)(rows, alpha, p, q, inverse, x, r, z);
+}
+
+void directionPass(std::size_t rows, double beta, const Field& z, Field& p) {
+    HWY_DYNAMIC_DISPATCH(DirectionPass)(rows, beta, z, p);
+}
+
+const char* targetName() {
+    const std::int64_t available = hwy::SupportedTargets() & HWY_TARGETS;
+    return hwy::TargetName(available & -available);  // the lowest bit is the best target
+}
+
+std::vector<const char*> supportedTargets() {
+    const std::int64_t forced = forcedTarget;
+    hwy::SetSupportedTargetsForTest(0);  // the machine's own list, whatever is forced now
+    std::vector<const char*> names;
+    for (std::int64_t target : hwy::SupportedAndGeneratedTargets()) names.push_back(hwy::TargetName(target));
+    hwy::SetSupportedTargetsForTest(forced);
+    return names;
+}
+
+bool forceTarget(const char* name) {
+    std::int64_t chosen = 0;  // zero: no restriction
+    hwy::SetSupportedTargetsForTest(0);
+    if (name) {
+        for (std::int64_t target : hwy::SupportedAndGeneratedTargets())
+            if (std::string_view(hwy::TargetName(target)) == name) chosen = target;
+        if (chosen == 0) {
+            hwy::SetSupportedTargetsForTest(forcedTarget);
+            return false;
+        }
+    }
+    forcedTarget = chosen;
+    hwy::SetSupportedTargetsForTest(chosen);
+    hwy::GetChosenTarget().Update(hwy::SupportedTargets());
+    return true;
+}
+
+}  // namespace hapticut::physics::kernels
+#endif

@@ -1,0 +1,74 @@
+// The implicit solve's inner loops as SIMD kernels (Google Highway), compiled for every instruction set
+// Highway knows on this architecture and chosen when the program starts: one binary uses AVX-512 where
+// the machine has it and SSE4 where it has nothing better.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace hapticut::physics::kernels {
+
+/// Rows are kept in slices of this many (a multiple of every target's double lanes); vectors are
+/// padded to a whole number of slices with zero rows.
+inline constexpr std::size_t kSliceRows = 16;
+
+/// Three coordinate arrays of a field of 3-vectors, one entry per row (structure of arrays).
+struct Field {
+    std::vector<double> x, y, z;
+    void resize(std::size_t rows) { x.resize(rows), y.resize(rows), z.resize(rows); }
+};
+
+/// A symmetric 3×3 block per row, one array per entry.
+struct SymmetricBlocks {
+    std::vector<float> xx, xy, xz, yy, yz, zz;
+    void resize(std::size_t rows) {
+        for (auto* a : {&xx, &xy, &xz, &yy, &yz, &zz}) a->resize(rows);
+    }
+};
+
+/// The matrix c0 I + u uᵀ of each coupling between two rows, stored column by column within each
+/// slice of kSliceRows rows (the sliced ELLPACK layout, SELL-16): slot (j, lane) of slice s is at
+/// sliceBegin[s] + j·kSliceRows + lane, and a row with fewer couplings than the slice's widest is
+/// padded with zero couplings to itself.
+struct SlicedCouplings {
+    std::vector<std::uint32_t> sliceBegin;  // one per slice, and the end
+    std::vector<std::int32_t> other;        // the row at the coupling's other end
+    std::vector<float> c0, ux, uy, uz;
+};
+
+/// The system's rows: a diagonal term, a symmetric block (springs to resting neighbours) and the
+/// couplings to other rows.
+struct SystemRows {
+    std::size_t rows = 0;  // a multiple of kSliceRows
+    const double* diagonal = nullptr;
+    const SymmetricBlocks* toResting = nullptr;
+    const SlicedCouplings* couplings = nullptr;
+};
+
+/// out = A y; returns yᵀ A y.
+double multiply(const SystemRows& a, const Field& y, Field& out);
+
+/// The sums a conjugate-gradient pass returns: |r|² and r·z.
+struct Sums {
+    double r2 = 0, rz = 0;
+};
+
+/// The first pass: r = b - Ax (`product` holds Ax), z = P⁻¹ r, p = z.
+Sums startPass(std::size_t rows, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r,
+               Field& z, Field& p);
+/// After a product q = A p: x += alpha p, r -= alpha q, z = P⁻¹ r.
+Sums updatePass(std::size_t rows, double alpha, const Field& p, const Field& q, const SymmetricBlocks& inverse,
+                Field& x, Field& r, Field& z);
+/// p = z + beta p.
+void directionPass(std::size_t rows, double beta, const Field& z, Field& p);
+
+/// The instruction set the kernels run with on this machine ("AVX3" is AVX-512, "EMU128" portable code).
+const char* targetName();
+/// Every instruction set compiled in that this machine runs, best first.
+std::vector<const char*> supportedTargets();
+/// Makes the kernels run with `name` (one of supportedTargets()); nullptr returns to the best. False
+/// for a name that is not supported here. For benchmarks and tests comparing targets in one run.
+bool forceTarget(const char* name);
+
+}  // namespace hapticut::physics::kernels
