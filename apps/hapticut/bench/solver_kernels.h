@@ -10,8 +10,8 @@
 namespace hapticut::bench {
 
 struct KernelTiming {
-    std::string target;      // "AVX3", "AVX2", "SSE4", "EMU128", ...
-    double product_us = 0;   // median time of one product with the whole model's matrix
+    std::string target;          // "AVX3", "AVX2", "SSE4", "EMU128", ...
+    double product_us = 0;       // median time of one product with the whole model's matrix
     double ns_per_coupling = 0;  // per spring end: each spring is read from both of its rows
 };
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 
 #include "hapticut/common/assert.h"
 #include "hapticut/common/reserve.h"
@@ -85,6 +86,10 @@ void Bvh::build(const SurfaceView& s) {
     leafOf_.assign(n, kNone);
     addedNext_.assign(n, kNone);
     if (n > 0) buildNode(s, 0, n, centroids, 0);
+    stale_.clear();
+    stale_.reserve(nodes_.size());
+    staleMark_.assign(nodes_.size(), 0);
+    refitCall_ = 0;
     builtFaces_ = n;
     addedFaces_ = 0;
 }
@@ -121,21 +126,44 @@ std::uint32_t Bvh::buildNode(const SurfaceView& s, std::uint32_t start, std::uin
     return index;
 }
 
+void Bvh::recomputeBox(const SurfaceView& s, std::size_t i) {
+    Node& node = nodes_[i];
+    if (node.count > 0) {
+        geometry::Aabb box;
+        visitLeaf(node, [&](std::uint32_t f) {
+            for (std::uint32_t v : s.faces[f]) box.grow(s.positions[v]);
+        });
+        node.box = box;
+    } else {
+        node.box = nodes_[i + 1].box;
+        node.box.grow(nodes_[node.right].box.min);
+        node.box.grow(nodes_[node.right].box.max);
+    }
+}
+
 void Bvh::refit(const SurfaceView& s) {
-    for (std::size_t i = nodes_.size(); i-- > 0;) {
-        Node& node = nodes_[i];
-        if (node.count > 0) {
-            geometry::Aabb box;
-            visitLeaf(node, [&](std::uint32_t f) {
-                for (std::uint32_t v : s.faces[f]) box.grow(s.positions[v]);
-            });
-            node.box = box;
-        } else {
-            node.box = nodes_[i + 1].box;
-            node.box.grow(nodes_[node.right].box.min);
-            node.box.grow(nodes_[node.right].box.max);
+    // Children come after their parent in preorder, so one pass backwards visits them first.
+    for (std::size_t i = nodes_.size(); i-- > 0;) recomputeBox(s, i);
+}
+
+void Bvh::refitFaces(const SurfaceView& s, std::span<const std::uint32_t> faces) {
+    if (++refitCall_ == 0) {  // the marks wrapped round: start them over
+        std::fill(staleMark_.begin(), staleMark_.end(), 0);
+        refitCall_ = 1;
+    }
+    stale_.clear();
+    for (std::uint32_t f : faces) {
+        if (f >= leafOf_.size()) continue;
+        // Up from the face's leaf until a node this call already listed: its ancestors are listed too.
+        for (std::uint32_t node = leafOf_[f]; node != kNone && staleMark_[node] != refitCall_;
+             node = nodes_[node].parent) {
+            staleMark_[node] = refitCall_;
+            stale_.push_back(node);  // reserved for every node at the build
         }
     }
+    // Children before parents: preorder numbers a child after its parent.
+    std::sort(stale_.begin(), stale_.end(), std::greater<>());
+    for (std::uint32_t node : stale_) recomputeBox(s, node);
 }
 
 void Bvh::growToContain(std::uint32_t node, const geometry::Aabb& box) {

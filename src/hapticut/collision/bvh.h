@@ -41,6 +41,10 @@ public:
     void build(const SurfaceView& surface);
     /// Recomputes every box bottom-up from the current positions, in time linear in the faces.
     void refit(const SurfaceView& surface);
+    /// Recomputes only the boxes of the leaves holding `faces` (repeats allowed) and of their
+    /// ancestors, in time proportional to those: for a deformation confined to a region. The other
+    /// faces must not have moved since the last refit. Never allocates.
+    void refitFaces(const SurfaceView& surface, std::span<const std::uint32_t> faces);
     /// After a topology edit: faces appended since the last call join the leaf whose box grows least
     /// (a face split off another lies inside its box), and the listed faces whose corners changed
     /// grow their leaf's box and its ancestors', so every query stays exact before the next refit.
@@ -76,6 +80,8 @@ private:
     std::uint32_t buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count,
                             std::vector<Vec3>& centroids, int depth);
     geometry::Aabb faceBox(const SurfaceView& s, std::uint32_t f) const;
+    /// Node i's box from its faces (a leaf) or its children (an inner node).
+    void recomputeBox(const SurfaceView& s, std::size_t i);
     /// Visits the faces of every leaf whose box (and ancestors' boxes) `enter` accepts.
     template <class Enter, class Visit>
     void traverse(Enter&& enter, Visit&& visit) const;
@@ -88,6 +94,9 @@ private:
     std::vector<std::uint32_t> faceOrder_;
     std::vector<std::uint32_t> leafOf_;     // the leaf holding each face
     std::vector<std::uint32_t> addedNext_;  // the next added face in the same leaf's chain, per face
+    // refitFaces: the nodes to recompute, and per node the call that last listed it.
+    std::vector<std::uint32_t> stale_, staleMark_;
+    std::uint32_t refitCall_ = 0;
     std::size_t builtFaces_ = 0, addedFaces_ = 0;
 };
 

@@ -6,6 +6,7 @@
 #include <new>
 
 #include "hapticut/common/assert.h"
+#include "hapticut/common/reserve.h"
 #include "hapticut/haptics/force_safety.h"
 #include "hapticut/mesh/adjacency.h"
 
@@ -83,6 +84,7 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
     stepper_.setActiveRegion(config_.activeRegion);
     stepper_.prepare(model_);
     bvh_.build(surface());
+    reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
     for (HandState& hand : hands_) {
         hand.proxy.setTopology(&organ_.vertexFaces());
         // Start the proxy where the device is, or just outside the surface if the device begins inside.
@@ -274,9 +276,23 @@ void HapticLoop::advanceTissue(Frame& frame) noexcept {
         for (HandFrame& hand : frame) hand.force_N = Vec3::Zero();
     }
     const collision::SurfaceView view = surface();
-    bvh_.refit(view);
+    refitMovedFaces(view);
     for (std::size_t h = 0; h < hands_.size(); ++h)
         if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
+}
+
+void HapticLoop::refitMovedFaces(const collision::SurfaceView& view) noexcept {
+    // Only the faces round the nodes that moved: the rest of the organ sleeps exactly at rest. A region
+    // of more than a quarter of the organ is cheaper to refit whole.
+    const std::span<const std::uint32_t> moved = stepper_.movedNodes();
+    if (4 * moved.size() > model_.nodes.size()) {
+        bvh_.refit(view);
+        return;
+    }
+    movedFaces_.clear();
+    for (std::uint32_t i : moved)
+        for (std::uint32_t f : organ_.vertexFaces().of(i)) movedFaces_.push_back(f);  // reserved: 3 per face
+    bvh_.refitFaces(view, movedFaces_);
 }
 
 void HapticLoop::sendForces(const Frame& frame, StepOutput& out) noexcept {
@@ -380,6 +396,7 @@ void HapticLoop::afterTopologyChange() {
     const cutting::TopologyChanges& changes = organ_.changes();
     // No refit: the boxes grow to hold the changed and added faces; the step's refit tightens them.
     bvh_.facesChanged(view, changes.faces);
+    if (3 * faces_.size() > movedFaces_.capacity()) reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
     stepper_.topologyChanged(model_, changes.nodes, changes.springs);
     // Once a cut has opened, the surface has lips: no longer closed, so no ray-parity check.
     for (HandState& hand : hands_)

@@ -148,6 +148,8 @@ public:
     double rate_hz() const { return config_.rate_hz; }
     /// The scheme the tissue is integrated with: config.scheme, with Auto resolved for this organ.
     physics::Scheme scheme() const { return stepper_.scheme(); }
+    /// The nodes the latest step moved (the active region's; every node without one).
+    std::span<const std::uint32_t> movedNodes() const { return stepper_.movedNodes(); }
     /// Substeps per period of the scheme on the current organ (1 for the implicit one).
     int substeps() const { return stepper_.substepsFor(1 / config_.rate_hz); }
 
@@ -188,6 +190,8 @@ private:
     void cut(const Frame& frame, StepOutput& out) noexcept;
     void coupleTools(Frame& frame, double t_s) noexcept;
     void advanceTissue(Frame& frame) noexcept;
+    /// The collision tree follows the tissue: the faces round the nodes the step moved.
+    void refitMovedFaces(const collision::SurfaceView& view) noexcept;
     void sendForces(const Frame& frame, StepOutput& out) noexcept;
     void finishStep(StepOutput& out, double elapsed_us) noexcept;
 
@@ -208,7 +212,8 @@ private:
     int cuttingHand_ = -1;  // the hand whose cut is in progress
     LoopConfig config_;
     physics::Stepper stepper_;
-    physics::SolveReport lastSolve_;  // the latest step's, for the snapshot
+    physics::SolveReport lastSolve_;         // the latest step's, for the snapshot
+    std::vector<std::uint32_t> movedFaces_;  // the faces round the nodes the latest step moved, for the refit
     collision::Bvh bvh_;
     cutting::ProgressiveCutter cutter_;
     long topologyVersion_ = 0;

@@ -30,6 +30,7 @@ void Stepper::reserveFor(std::size_t n, std::size_t ns) {
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) reserveTouched(*buffer, nodes);
     reserveTouched(allNodes_, nodes);
     reserveTouched(allSprings_, springs);
+    reserveTouched(moved_, nodes);
     implicit_.reserve(nodes, springs);
     region_.reserve(nodes, springs);
     springsAt_.reserve(nodes, springs);
@@ -145,6 +146,7 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
         for (std::uint32_t i : nodes) n.position[i] = x0_[i], n.velocity[i] = Vec3::Zero(), implicit_.forget(i);
     }
     if (activeRegion_) {
+        moved_.assign(nodes.begin(), nodes.end());     // reserved for every node: never allocates
         accelerations(model, n.position, n.velocity);  // forces at the end state decide who sleeps and wakes
         region_.updateSleep(model, a_);
     }

@@ -56,6 +56,10 @@ public:
     void setActiveRegion(bool on);
     void wake(std::uint32_t node) { region_.wake(node); }
     std::size_t awakeCount() const { return activeRegion_ ? region_.nodes().size() : preparedNodes_; }
+    /// The nodes the last step integrated: every node that can have moved in it.
+    std::span<const std::uint32_t> movedNodes() const {
+        return activeRegion_ ? std::span<const std::uint32_t>(moved_) : std::span<const std::uint32_t>(allNodes_);
+    }
 
     /// Advances by dt_s, in as many equal substeps as stability needs; applies the snap-back rule.
     StepResult step(MassSpringModel& model, double dt_s);
@@ -84,6 +88,7 @@ private:
     std::size_t preparedNodes_ = static_cast<std::size_t>(-1), preparedSprings_ = 0;
     std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
     std::vector<std::uint32_t> allNodes_, allSprings_;
+    std::vector<std::uint32_t> moved_;  // the active region's nodes in the last step
     BackwardEuler implicit_;
     bool activeRegion_ = false;
     ActiveRegion region_;

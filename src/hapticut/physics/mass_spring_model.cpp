@@ -44,6 +44,13 @@ double maxDisplacement(const MassSpringModel& model) {
     return std::sqrt(d2);
 }
 
+double maxDisplacement(const MassSpringModel& model, std::span<const std::uint32_t> nodes) {
+    double d2 = 0;
+    for (std::uint32_t i : nodes)
+        d2 = std::max(d2, (model.nodes.position[i] - model.nodes.restPosition[i]).squaredNorm());
+    return std::sqrt(d2);
+}
+
 bool allFinite(const MassSpringModel& model) {
     for (std::size_t i = 0; i < model.nodes.size(); ++i)
         if (!model.nodes.position[i].allFinite() || !model.nodes.velocity[i].allFinite()) return false;

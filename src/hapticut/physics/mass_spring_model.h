@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "hapticut/geometry/vec.h"
@@ -49,6 +50,8 @@ double kineticEnergy(const MassSpringModel& model);    // J
 double potentialEnergy(const MassSpringModel& model);  // J, springs and positioning springs
 Vec3 linearMomentum(const MassSpringModel& model);     // kg·m/s
 double maxDisplacement(const MassSpringModel& model);  // m, largest |x - rest|
+/// The same over `nodes` only (the ones a step moved: the rest sleep exactly at rest).
+double maxDisplacement(const MassSpringModel& model, std::span<const std::uint32_t> nodes);
 bool allFinite(const MassSpringModel& model);
 
 }  // namespace hapticut::physics

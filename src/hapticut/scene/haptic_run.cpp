@@ -58,7 +58,8 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
                 r.maxProxyPenetration_m = std::max(
                     r.maxProxyPenetration_m, collision::penetrationDepth(loop.bvh(), loop.surface(),
                                                                          s.hands[static_cast<std::size_t>(h)].proxy_m));
-        r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model));
+        // Over the nodes the step moved, so that a measurement on a large organ costs the region, not the organ.
+        r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model, loop.movedNodes()));
     };
     if (config.realtime) {
         haptics::RealTimeScheduler clock(loop);
