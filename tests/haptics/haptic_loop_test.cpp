@@ -179,6 +179,23 @@ TEST(HapticLoop, RunsInItsOwnThreadAtTheConfiguredRate) {
     EXPECT_GT(snap.step, 0);
 }
 
+// Steps held up for 30 ms each (an organ far too large to step in a period): the period error says so,
+// past the histogram's fine range, instead of showing the schedule restarted after each stall.
+TEST(HapticLoop, PeriodErrorStaysHonestWhenEveryStepIsLate) {
+    HeartScene h;
+    VirtualDevice device;
+    device.setPosition(frontPoint(h) + Vec3(0, 0, 0.01));
+    HapticLoop loop(h.organ, device);
+    RealTimeScheduler clock(loop);
+    ASSERT_FALSE(clock.start(8, [](const StepOutput&) { std::this_thread::sleep_for(std::chrono::milliseconds(30)); }));
+    while (clock.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    clock.stop();
+    const Summary late = loop.stats().periodError_us.summary();
+    EXPECT_EQ(late.count, 8u);
+    EXPECT_GT(late.p50, 25'000) << "each step after the first started about 29 ms late";
+    EXPECT_GT(late.max, 25'000);
+}
+
 TEST(HapticLoop, CommandsReachTheLoop) {
     HeartScene h;
     VirtualDevice device;

@@ -84,15 +84,21 @@ void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
     const auto spinMargin = std::chrono::microseconds(400);
     const auto begin = Clock::now();
     auto deadline = begin;
+    Clock::duration dropped{0};  // how late the next step already is when missed deadlines were dropped
     for (long i = 0; (max_steps < 0 || i < max_steps) && !stopRequested_.load(std::memory_order_relaxed); ++i) {
         if (deadline - Clock::now() > spinMargin) std::this_thread::sleep_until(deadline - spinMargin);
         while (Clock::now() < deadline) {}
-        loop_.recordPeriodError(std::chrono::duration<double, std::micro>(Clock::now() - deadline).count());
+        loop_.recordPeriodError(std::chrono::duration<double, std::micro>(Clock::now() - deadline + dropped).count());
+        dropped = Clock::duration{0};
         const StepOutput out = loop_.step();
         if (observer) observer(out);
         deadline += period;
-        // After a long stall, drop the missed deadlines instead of racing to catch up.
-        if (Clock::now() - deadline > 10 * period) deadline = Clock::now();
+        // After a long stall, drop the missed deadlines instead of racing to catch up; the next step's
+        // lateness is still recorded in full, so that a run whose every step overran says so.
+        if (const auto now = Clock::now(); now - deadline > 10 * period) {
+            dropped = now - deadline;
+            deadline = now;
+        }
     }
     loop_.addWallTime(std::chrono::duration<double>(Clock::now() - begin).count());
     loop_.zeroAllForces();
