@@ -261,6 +261,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
               << physics::schemeName(r.scheme)
               << (r.substeps > 1 ? " in " + std::to_string(r.substeps) + " substeps" : std::string()) << "\n"
               << solverLine(r.scheme, r.solver);
+    std::cout << (r.multiRate ? "multi-rate" : "single-rate") << " physics: " << r.physicsRate_hz << " steps/s, "
+              << r.physicsRealtimeFactor << " simulated s per wall s\n";
     if (o.realtime)
         std::cout << "period error " << r.periodError_us.p50 << " us p50, " << r.periodError_us.p99 << " us p99, "
                   << r.periodError_us.max << " us max; overruns " << r.overruns << "\n";
@@ -334,6 +336,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["sim_time_s"] = r.simTime_s;
         j["wall_time_s"] = r.wallTime_s;
         j["haptic_rate_hz"] = r.hapticRate_hz;
+        j["multi_rate"] = r.multiRate;
+        j["physics_rate_hz"] = r.physicsRate_hz;
+        j["physics_realtime_factor"] = r.physicsRealtimeFactor;
         j["step_us"] = toJson(r.stepTime_us);
         j["period_error_us"] = o.realtime ? toJson(r.periodError_us) : nlohmann::ordered_json(nullptr);
         j["overruns"] = r.overruns;

@@ -83,6 +83,13 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
     stepper_.setSolverSettings(config_.solver);
     stepper_.setActiveRegion(config_.activeRegion);
     stepper_.prepare(model_);
+    const bool multi = config_.physicsRate == LoopConfig::PhysicsRate::Multi ||
+                       (config_.physicsRate == LoopConfig::PhysicsRate::Auto && model_.nodes.size() > kMultiRateNodes);
+    if (multi) {
+        worker_ = std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
+                                                  config_.maxPhysicsStep_s);
+        reserveTouched(frameNodes_, roomToGrow(model_.nodes.size()));
+    }
     bvh_.build(surface());
     reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
     for (HandState& hand : hands_) {
@@ -95,7 +102,20 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
     snapshots_.prepare(model_.nodes.position, faces_, organ_.mesh().uvs, topologyVersion_, handCount());
 }
 
-HapticLoop::~HapticLoop() { zeroAllForces(); }  // a real device must never be left pushing
+HapticLoop::~HapticLoop() {
+    if (worker_) worker_->stop();
+    zeroAllForces();  // a real device must never be left pushing
+}
+
+void HapticLoop::setRealtime(bool on) {
+    realtime_ = on;
+    // On the wall clock the physics has its own thread; in simulated time it steps with the loop.
+    if (worker_) on ? worker_->start() : worker_->stop();
+}
+
+physics::Scheme HapticLoop::scheme() const { return worker_ ? worker_->stepper().scheme() : stepper_.scheme(); }
+
+int HapticLoop::substeps() const { return (worker_ ? worker_->stepper() : stepper_).substepsFor(1 / config_.rate_hz); }
 
 double HapticLoop::couplingStiffness_N_per_m(int hand) const {
     const HandState& h = hands_[static_cast<std::size_t>(hand)];
@@ -134,6 +154,7 @@ bool HapticLoop::touching(const Frame& frame, std::size_t h) const {
 
 StepOutput HapticLoop::step() noexcept {
     const auto start = Clock::now();
+    frameNodes_.clear();
     applyPendingCommands();
     StepOutput out;
     out.t_s = time_s();
@@ -233,14 +254,32 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
     // stable. Clamped, ramped in, and kept finite by the watchdog.
     const collision::SurfaceView view = surface();
     const double ramp = std::clamp((t_s - rampStart_s_) / config_.rampTime_s, 0.0, 1.0);
+    // Multi-rate: the surface is the latest physics frame's, which ages until the next one. The touched
+    // triangle is carried on at its nodes' velocities for that long, so that the force follows the
+    // tissue the hand presses between frames instead of a frozen surface.
+    const double ahead =
+        worker_ ? std::min(static_cast<double>(stepIndex_ - lastFrameStep_) / config_.rate_hz, config_.maxPhysicsStep_s)
+                : 0.0;
     for (std::size_t h = 0; h < static_cast<std::size_t>(kMaxHands); ++h) {
         physics::PointSpring& tool = model_.tools[h];
+        const bool wasActive = tool.active;
         tool.active = false;
         if (h >= hands_.size()) continue;
         HandState& hand = hands_[h];
         HandFrame& f = frame[h];
         f.touching = touching(frame, h);
+        if (!f.touching && worker_ && wasActive && !stats_.watchdogTripped && f.deviceOk && !letGo(frame, h) &&
+            static_cast<double>(stepIndex_ - hand.lastContactStep) < config_.maxPhysicsStep_s * config_.rate_hz) {
+            // Multi-rate: contact lost on a surface up to a physics step old. The physics keeps the tool
+            // where the device is for that long, pushing only if the tissue reaches it, so that tissue
+            // springing back meets the retreating tool as it would in a single-rate loop instead of
+            // bouncing free into it. The hand feels nothing until the surface says it touches.
+            tool.anchor_m = f.sample.position_m;
+            tool.active = true;
+            continue;
+        }
         if (!f.touching || stats_.watchdogTripped) continue;
+        hand.lastContactStep = stepIndex_;
         const Contact& contact = hand.proxy.contact();
         tool.nodes = faces_[contact.face];
         tool.bary = contact.bary;
@@ -254,7 +293,7 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         tool.maxForce_N = std::min(hand.setup.device->maxForce_N(), hand.setup.maxForce_N) * maxForceScale_;
         tool.scale = ramp;
         tool.normal = contact.side * faceNormal(view, contact.face);
-        f.force_N = tool.forceOnTool(model_.nodes.position);
+        f.force_N = ahead > 0 ? forceAhead(tool, ahead) : tool.forceOnTool(model_.nodes.position);
         tool.active = true;
         if (!f.force_N.allFinite()) tripWatchdog();
     }
@@ -265,10 +304,27 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         }
 }
 
+Vec3 HapticLoop::forceAhead(const physics::PointSpring& tool, double ahead_s) const {
+    const physics::Nodes& n = model_.nodes;
+    std::array<Vec3, 3> x;
+    physics::PointSpring local = tool;
+    for (std::size_t c = 0; c < 3; ++c) {
+        x[c] = n.position[tool.nodes[c]] + ahead_s * n.velocity[tool.nodes[c]];
+        local.nodes[c] = static_cast<std::uint32_t>(c);
+    }
+    return local.forceOnTool(x);
+}
+
 void HapticLoop::advanceTissue(Frame& frame) noexcept {
     // The tissue moves under the tools' springs; the collision tree and the proxies follow it.
+    if (worker_) {
+        advanceMultiRate(frame);
+        return;
+    }
     if (paused_) return;
     const physics::StepResult result = stepper_.step(model_, 1 / config_.rate_hz);
+    ++stats_.physicsSteps;
+    stats_.physicsTime_s += 1 / config_.rate_hz;
     if (stepper_.scheme() == physics::Scheme::BackwardEuler) stats_.solver.record(result.solve);
     lastSolve_ = result.solve;
     if (!result.finite) {
@@ -279,6 +335,113 @@ void HapticLoop::advanceTissue(Frame& frame) noexcept {
     refitMovedFaces(view);
     for (std::size_t h = 0; h < hands_.size(); ++h)
         if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
+}
+
+void HapticLoop::advanceMultiRate(Frame& frame) noexcept {
+    worker_->setTools(model_.tools);
+    // Cuts and edits reach the physics' copy between its steps: hold it, and bring it up to date once
+    // it is idle, with every frame it made taken in first. Until then it steps the organ as it was.
+    if (pendingSync_ || pendingEditCount_ > 0) {
+        if (!worker_->idle()) {
+            worker_->requestHold();
+        } else {
+            takeFrames(frame);
+            syncWorker();
+            worker_->release();
+        }
+    }
+    if (!worker_->threaded() && !paused_ && (stepIndex_ + 1) % config_.simulatedPhysicsEvery == 0)
+        worker_->stepNow(config_.simulatedPhysicsEvery / config_.rate_hz);
+    takeFrames(frame);
+}
+
+void HapticLoop::takeFrames(Frame& frame) noexcept {
+    bool any = false, whole = false;
+    movedFaces_.clear();
+    physics::Nodes& n = model_.nodes;
+    while (const PhysicsFrame* f = worker_->takeFrame()) {
+        any = true;
+        for (std::size_t k = 0; k < f->nodes.size(); ++k) {
+            n.position[f->nodes[k]] = f->positions[k];
+            n.velocity[f->nodes[k]] = f->velocities[k];
+        }
+        // The faces round what moved, unless that is a quarter of the organ or would outgrow the lists.
+        if (frameNodes_.size() + f->nodes.size() <= frameNodes_.capacity())
+            frameNodes_.insert(frameNodes_.end(), f->nodes.begin(), f->nodes.end());
+        whole = whole || 4 * f->nodes.size() > n.size();
+        for (std::size_t k = 0; k < f->nodes.size() && !whole; ++k) {
+            const std::span<const std::uint32_t> faces = organ_.vertexFaces().of(f->nodes[k]);
+            if (movedFaces_.size() + faces.size() > movedFaces_.capacity())
+                whole = true;
+            else
+                movedFaces_.insert(movedFaces_.end(), faces.begin(), faces.end());
+        }
+        if (f->implicit) stats_.solver.record(f->solve);
+        lastSolve_ = f->solve;
+        ++stats_.physicsSteps;
+        stats_.physicsTime_s += f->dt_s;
+        if (!f->finite) {
+            tripWatchdog();
+            for (HandFrame& hand : frame) hand.force_N = Vec3::Zero();
+        }
+        worker_->releaseFrame();
+    }
+    if (!any) return;
+    lastFrameStep_ = stepIndex_ + 1;  // the frame's state is the next step's present
+    const collision::SurfaceView view = surface();
+    whole ? bvh_.refit(view) : bvh_.refitFaces(view, movedFaces_);
+    for (std::size_t h = 0; h < hands_.size(); ++h)
+        if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
+}
+
+void HapticLoop::syncWorker() noexcept {
+    try {
+        for (int e = 0; e < pendingEditCount_; ++e) {
+            const ModelEdit& edit = pendingEdits_[static_cast<std::size_t>(e)];
+            (void)applyModelEdit(model_, edit);
+            worker_->edit(edit);
+            if (edit.kind == ModelEdit::Kind::ResetModel) {
+                bvh_.refit(surface());  // every node went back to rest
+                for (HandState& hand : hands_) hand.proxy.followSurface(surface(), bvh_);
+            }
+        }
+        pendingEditCount_ = 0;
+        if (!pendingSync_) return;
+        // The cuts since the last sync: the nodes and springs they added or changed, copied over.
+        physics::MassSpringModel& w = worker_->model();
+        const physics::Nodes& n = model_.nodes;
+        const physics::Springs& s = model_.springs;
+        const std::size_t oldNodes = w.nodes.size(), oldSprings = w.springs.size();
+        auto copyNode = [&](std::uint32_t i) {
+            physics::Nodes& wn = w.nodes;
+            wn.position[i] = n.position[i], wn.velocity[i] = n.velocity[i], wn.restPosition[i] = n.restPosition[i];
+            wn.externalForce[i] = n.externalForce[i], wn.mass[i] = n.mass[i], wn.inverseMass[i] = n.inverseMass[i];
+            wn.anchorStiffness[i] = n.anchorStiffness[i], wn.anchorDamping[i] = n.anchorDamping[i];
+        };
+        auto copySpring = [&](std::uint32_t k) {
+            physics::Springs& ws = w.springs;
+            ws.a[k] = s.a[k], ws.b[k] = s.b[k], ws.restLength[k] = s.restLength[k];
+            ws.stiffness[k] = s.stiffness[k], ws.damping[k] = s.damping[k];
+        };
+        physics::Nodes& wn = w.nodes;
+        for (auto* v : {&wn.position, &wn.velocity, &wn.restPosition, &wn.externalForce}) v->resize(n.size());
+        for (auto* v : {&wn.mass, &wn.inverseMass, &wn.anchorStiffness, &wn.anchorDamping}) v->resize(n.size());
+        physics::Springs& ws = w.springs;
+        ws.a.resize(s.size()), ws.b.resize(s.size());
+        for (auto* v : {&ws.restLength, &ws.stiffness, &ws.damping}) v->resize(s.size());
+        for (std::uint32_t i : pendingNodes_) copyNode(i);
+        for (auto i = static_cast<std::uint32_t>(oldNodes); i < n.size(); ++i) copyNode(i);
+        for (std::uint32_t k : pendingSprings_) copySpring(k);
+        for (auto k = static_cast<std::uint32_t>(oldSprings); k < s.size(); ++k) copySpring(k);
+        worker_->stepper().topologyChanged(w, pendingNodes_, pendingSprings_);
+        worker_->modelGrew();
+        if (roomToGrow(n.size()) > frameNodes_.capacity()) reserveTouched(frameNodes_, roomToGrow(n.size()));
+    } catch (const std::bad_alloc&) {
+        stats_.watchdogTripped = true;  // out of memory following the edit: stop pushing rather than go on
+    }
+    pendingNodes_.clear();
+    pendingSprings_.clear();
+    pendingSync_ = false;
 }
 
 void HapticLoop::refitMovedFaces(const collision::SurfaceView& view) noexcept {
@@ -341,43 +504,46 @@ void HapticLoop::applyPendingCommands() noexcept {
                     hands_[static_cast<std::size_t>(c->hand)].setup.cutThreshold_N = std::max(c->value, 0.0);
                 break;
             case LoopCommand::Kind::ResetModel:
-                std::copy(model_.nodes.restPosition.begin(), model_.nodes.restPosition.end(),
-                          model_.nodes.position.begin());
-                std::fill(model_.nodes.velocity.begin(), model_.nodes.velocity.end(), Vec3::Zero());
-                break;  // the awake nodes find themselves at rest and fall asleep
+                // The awake nodes find themselves at rest and fall asleep.
+                editModel({ModelEdit::Kind::ResetModel, 1});
+                break;
             case LoopCommand::Kind::ResetWatchdog:
                 // Forces fade in again, as at the start: the hand may have moved while they were off.
                 if (stats_.watchdogTripped) rampStart_s_ = time_s();
                 stats_.watchdogTripped = false;
                 break;
-            case LoopCommand::Kind::Pause: paused_ = true; break;
-            case LoopCommand::Kind::Resume: paused_ = false; break;
-            case LoopCommand::Kind::ScaleMass:
+            case LoopCommand::Kind::Pause:
+            case LoopCommand::Kind::Resume:
+                paused_ = c->kind == LoopCommand::Kind::Pause;
+                if (worker_) worker_->setPaused(paused_);
+                break;
+            case LoopCommand::Kind::ScaleMass: editModel({ModelEdit::Kind::ScaleMass, c->value}); break;
             case LoopCommand::Kind::ScaleStructuralStiffness:
+                editModel({ModelEdit::Kind::ScaleStructuralStiffness, c->value});
+                break;
             case LoopCommand::Kind::ScaleStructuralDamping:
+                editModel({ModelEdit::Kind::ScaleStructuralDamping, c->value});
+                break;
             case LoopCommand::Kind::ScalePositioningStiffness:
-            case LoopCommand::Kind::ScalePositioningDamping: scaleMaterial(c->kind, c->value); break;
+                editModel({ModelEdit::Kind::ScalePositioningStiffness, c->value});
+                break;
+            case LoopCommand::Kind::ScalePositioningDamping:
+                editModel({ModelEdit::Kind::ScalePositioningDamping, c->value});
+                break;
         }
     }
 }
 
-void HapticLoop::scaleMaterial(LoopCommand::Kind kind, double factor) noexcept {
-    if (!(factor > 0) || !std::isfinite(factor)) return;
-    auto scale = [factor](std::vector<double>& values) {
-        for (double& v : values) v *= factor;
-    };
-    using K = LoopCommand::Kind;
-    switch (kind) {
-        case K::ScaleMass:
-            scale(model_.nodes.mass);
-            for (double& m : model_.nodes.inverseMass) m /= factor;
-            break;
-        case K::ScaleStructuralStiffness: scale(model_.springs.stiffness); break;
-        case K::ScaleStructuralDamping: scale(model_.springs.damping); break;
-        case K::ScalePositioningStiffness: scale(model_.nodes.anchorStiffness); break;
-        case K::ScalePositioningDamping: scale(model_.nodes.anchorDamping); break;
-        default: return;
+void HapticLoop::editModel(const ModelEdit& edit) noexcept {
+    if (!worker_) {
+        applyEdit(edit);
+    } else if (pendingEditCount_ < static_cast<int>(pendingEdits_.size())) {
+        pendingEdits_[static_cast<std::size_t>(pendingEditCount_++)] = edit;  // made once the physics is held
     }
+}
+
+void HapticLoop::applyEdit(const ModelEdit& edit) noexcept {
+    if (!applyModelEdit(model_, edit) || edit.kind == ModelEdit::Kind::ResetModel) return;
     try {
         // A stiffer or lighter model needs a smaller step: substeps follow, or Auto turns implicit.
         stepper_.setScheme(
@@ -398,6 +564,11 @@ void HapticLoop::afterTopologyChange() {
     bvh_.facesChanged(view, changes.faces);
     if (3 * faces_.size() > movedFaces_.capacity()) reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
     stepper_.topologyChanged(model_, changes.nodes, changes.springs);
+    if (worker_) {  // the physics' copy follows once it is held (advanceMultiRate)
+        pendingNodes_.insert(pendingNodes_.end(), changes.nodes.begin(), changes.nodes.end());
+        pendingSprings_.insert(pendingSprings_.end(), changes.springs.begin(), changes.springs.end());
+        pendingSync_ = true;
+    }
     // Once a cut has opened, the surface has lips: no longer closed, so no ray-parity check.
     for (HandState& hand : hands_)
         hand.proxy.surfaceRemeshed(view, bvh_, hand.proxy.params().closedSurface && !cutter_.stats().opened);
@@ -418,6 +589,8 @@ void HapticLoop::publishSnapshot(const StepOutput& out) {
     s.substeps = substeps();
     s.scheme = stepper_.scheme();
     s.solverIterations = lastSolve_.iterations;
+    s.multiRate = worker_ != nullptr;
+    s.physicsRate_hz = worker_ && time_s() > 0 ? static_cast<double>(stats_.physicsSteps) / time_s() : config_.rate_hz;
     s.overruns = stats_.overruns;
     s.cutEvents = stats_.cutEvents;
     s.contactSteps = stats_.contactSteps;

@@ -19,6 +19,7 @@
 #include "hapticut/common/spsc_queue.h"
 #include "hapticut/cutting/progressive_cutter.h"
 #include "hapticut/haptics/device.h"
+#include "hapticut/haptics/physics_worker.h"
 #include "hapticut/haptics/proxy.h"
 #include "hapticut/haptics/snapshot_publisher.h"
 #include "hapticut/physics/integrators.h"
@@ -31,7 +32,13 @@ struct LoopConfig {
     /// Auto keeps the thesis's RK4 where one step per period is stable (the 1,619 heart) and integrates
     /// implicitly where RK4 would need substeps (finer and badly shaped organs); see resolveScheme.
     physics::Scheme scheme = physics::Scheme::Auto;
-    physics::SolverSettings solver{};        // the implicit scheme's linear solve
+    physics::SolverSettings solver{};  // the implicit scheme's linear solve
+    /// Multi: the physics on its own thread at the rate it can hold (physics_worker.h) while this loop
+    /// keeps its period against the latest surface. Auto: multi-rate for organs of more than
+    /// kMultiRateNodes nodes, whose steps do not fit a period; single-rate below.
+    enum class PhysicsRate { Single, Multi, Auto } physicsRate = PhysicsRate::Auto;
+    double maxPhysicsStep_s = 0.02;          // multi-rate: a physics step is at most this long (then it falls behind)
+    int simulatedPhysicsEvery = 4;           // multi-rate in simulated time: a physics step every this many periods
     double couplingStiffness_N_per_m = 400;  // k_h of the virtual spring between proxy and device; live changes up to
                                              // this value. 400 N/m keeps RK4 at one step per ms on the 1,619 heart.
     double couplingDamping_Ns_per_m = 0.3;   // b_h on the device velocity, only while in contact
@@ -44,6 +51,9 @@ struct LoopConfig {
     ProxyParams proxy{};
     cutting::CutterParams cutter{};
 };
+
+/// Auto's threshold for a multi-rate loop: about 80,000 triangles.
+inline constexpr std::size_t kMultiRateNodes = 40'000;
 
 /// The force a hand may gain per second unless its Hand says otherwise: 1.5 N in a millisecond is a
 /// jolt, a press that reaches the Touch's 3.3 N in 2 ms is not.
@@ -87,6 +97,8 @@ struct LoopStats {
     double maxForce_N = 0;                      // the largest force sent to any hand
     double wallTime_s = 0;
     physics::SolverStats solver;  // the implicit scheme's solves; none for an explicit one
+    long physicsSteps = 0;        // equal to steps in a single-rate loop
+    double physicsTime_s = 0;     // simulated by them
 };
 
 struct LoopCommand {
@@ -147,15 +159,19 @@ public:
     double time_s() const { return static_cast<double>(stepIndex_) / config_.rate_hz; }
     double rate_hz() const { return config_.rate_hz; }
     /// The scheme the tissue is integrated with: config.scheme, with Auto resolved for this organ.
-    physics::Scheme scheme() const { return stepper_.scheme(); }
+    physics::Scheme scheme() const;
     /// The nodes the latest step moved (the active region's; every node without one).
-    std::span<const std::uint32_t> movedNodes() const { return stepper_.movedNodes(); }
+    std::span<const std::uint32_t> movedNodes() const {
+        return worker_ ? std::span<const std::uint32_t>(frameNodes_) : stepper_.movedNodes();
+    }
     /// Substeps per period of the scheme on the current organ (1 for the implicit one).
-    int substeps() const { return stepper_.substepsFor(1 / config_.rate_hz); }
+    int substeps() const;
+    /// Whether the physics runs apart from this loop (LoopConfig::physicsRate).
+    bool multiRate() const { return worker_ != nullptr; }
 
     // For schedulers (loop_scheduler.h), from the thread that steps the loop or while it is stopped.
     /// On the wall clock a step that overruns its period withholds its force (the watchdog).
-    void setRealtime(bool on) { realtime_ = on; }
+    void setRealtime(bool on);
     void recordPeriodError(double late_us) { stats_.periodError_us.record(late_us); }
     void addWallTime(double seconds) { stats_.wallTime_s += seconds; }
     void zeroAllForces() noexcept;
@@ -170,8 +186,9 @@ private:
         Hand setup;
         GodObjectProxy proxy;
         double stiffnessCap_N_per_m = std::numeric_limits<double>::infinity();
-        double lastForce_N = 0;           // the force of the previous step, which decides whether to cut
-        Vec3 sentForce_N = Vec3::Zero();  // what the device was last told, for the force-rate limit
+        double lastForce_N = 0;             // the force of the previous step, which decides whether to cut
+        Vec3 sentForce_N = Vec3::Zero();    // what the device was last told, for the force-rate limit
+        long lastContactStep = -1'000'000;  // the last step in which it touched
     };
     /// What a step knows about each hand as it goes through its phases.
     struct HandFrame {
@@ -190,6 +207,17 @@ private:
     void cut(const Frame& frame, StepOutput& out) noexcept;
     void coupleTools(Frame& frame, double t_s) noexcept;
     void advanceTissue(Frame& frame) noexcept;
+    /// Multi-rate: hands the tools to the physics, steps it in simulated time, and takes in its frames.
+    void advanceMultiRate(Frame& frame) noexcept;
+    /// Multi-rate: every frame the physics made so far, into the model, the tree and the proxies.
+    void takeFrames(Frame& frame) noexcept;
+    /// Multi-rate, with the physics held: the edits and cuts made since it was last held, into its copy.
+    void syncWorker() noexcept;
+    /// Multi-rate: the tool's force with its triangle carried `ahead_s` on at its nodes' velocities.
+    Vec3 forceAhead(const physics::PointSpring& tool, double ahead_s) const;
+    /// An edit to the model: now in a single-rate loop, and in a multi-rate one once the physics is held.
+    void editModel(const ModelEdit& edit) noexcept;
+    void applyEdit(const ModelEdit& edit) noexcept;
     /// The collision tree follows the tissue: the faces round the nodes the step moved.
     void refitMovedFaces(const collision::SurfaceView& view) noexcept;
     void sendForces(const Frame& frame, StepOutput& out) noexcept;
@@ -202,7 +230,6 @@ private:
     void tripWatchdog() noexcept;
     /// Brings the tree, the stepper, the proxies and the snapshots' face log up to date after a cut.
     void afterTopologyChange();
-    void scaleMaterial(LoopCommand::Kind kind, double factor) noexcept;
     void publishSnapshot(const StepOutput& out);
 
     cutting::CutModel& organ_;
@@ -212,8 +239,15 @@ private:
     int cuttingHand_ = -1;  // the hand whose cut is in progress
     LoopConfig config_;
     physics::Stepper stepper_;
-    physics::SolveReport lastSolve_;         // the latest step's, for the snapshot
-    std::vector<std::uint32_t> movedFaces_;  // the faces round the nodes the latest step moved, for the refit
+    physics::SolveReport lastSolve_;            // the latest step's, for the snapshot
+    std::vector<std::uint32_t> movedFaces_;     // the faces round the nodes the latest step moved, for the refit
+    std::unique_ptr<PhysicsWorker> worker_;     // multi-rate only
+    std::vector<std::uint32_t> frameNodes_;     // multi-rate: the nodes the frames taken this step moved
+    std::array<ModelEdit, 16> pendingEdits_{};  // multi-rate: edits waiting for the physics to be held
+    int pendingEditCount_ = 0;
+    std::vector<std::uint32_t> pendingNodes_, pendingSprings_;  // multi-rate: what cuts changed since the last sync
+    bool pendingSync_ = false;
+    long lastFrameStep_ = 0;  // multi-rate: the step whose present the latest frame's state is
     collision::Bvh bvh_;
     cutting::ProgressiveCutter cutter_;
     long topologyVersion_ = 0;

@@ -37,6 +37,8 @@ struct Snapshot {
     int substeps = 1;
     physics::Scheme scheme = physics::Scheme::RungeKutta4;  // the one in use (Auto resolved)
     int solverIterations = 0;                               // the implicit scheme's, in the latest step
+    bool multiRate = false;
+    double physicsRate_hz = 0;  // physics steps per second: the loop's rate unless multi-rate
     long overruns = 0, cutEvents = 0, contactSteps = 0;
     bool watchdogTripped = false, paused = false;
 };

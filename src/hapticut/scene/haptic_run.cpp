@@ -97,6 +97,9 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.scheme = loop.scheme();
     r.substeps = loop.substeps();
     r.solver = st.solver;
+    r.multiRate = loop.multiRate();
+    r.physicsRate_hz = st.wallTime_s > 0 ? static_cast<double>(st.physicsSteps) / st.wallTime_s : 0;
+    r.physicsRealtimeFactor = st.wallTime_s > 0 ? st.physicsTime_s / st.wallTime_s : 0;
     return r;
 }
 

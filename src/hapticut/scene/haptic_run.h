@@ -49,7 +49,10 @@ struct HapticRunResult {
     double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
     physics::Scheme scheme = physics::Scheme::RungeKutta4;  // the one used (Auto resolved)
     int substeps = 1;
-    physics::SolverStats solver;  // the implicit scheme's solves
+    physics::SolverStats solver;       // the implicit scheme's solves
+    bool multiRate = false;            // the physics ran on its own thread (or every few steps in simulated time)
+    double physicsRate_hz = 0;         // physics steps per wall-clock second
+    double physicsRealtimeFactor = 0;  // simulated physics seconds per wall-clock second
     // Cutting: what the scalpel did, how long cut events took, and whether the organ stayed sound.
     cutting::CutStats cut;
     long cutEvents = 0;

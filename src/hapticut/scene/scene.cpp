@@ -16,6 +16,7 @@ haptics::LoopConfig Scene::loopConfig() const {
     haptics::LoopConfig config;
     config.scheme = settings.scheme;
     config.solver = settings.solver;
+    config.physicsRate = settings.physicsRate;
     config.rate_hz = settings.rate_hz;
     config.couplingStiffness_N_per_m = settings.couplingStiffness_N_per_m;
     config.couplingDamping_Ns_per_m = settings.couplingDamping_Ns_per_m;

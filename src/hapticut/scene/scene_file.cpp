@@ -288,7 +288,10 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
         if (const toml::table* m = subTable(root, "simulation")) {
             allowOnly(*m, "simulation",
                       {"integrator", "rate_hz", "active_region", "solver_tolerance", "solver_max_iterations",
-                       "solver_newton_iterations"});
+                       "solver_newton_iterations", "physics_rate"});
+            const std::string rate = text(*m, "simulation", "physics_rate", "auto", {"auto", "single", "multi"});
+            using PR = haptics::LoopConfig::PhysicsRate;
+            s.physicsRate = rate == "single" ? PR::Single : rate == "multi" ? PR::Multi : PR::Auto;
             s.scheme = *physics::parseScheme(text(*m, "simulation", "integrator", "auto",
                                                   {"auto", "euler", "midpoint", "rk4", "symplectic", "implicit"}));
             s.solver.tolerance = number(*m, "simulation", "solver_tolerance", s.solver.tolerance, 1e-14, 1);

@@ -60,6 +60,7 @@ struct SceneFile {
     physics::SolverSettings solver;
     double rate_hz = 1000;
     bool activeRegion = true;
+    haptics::LoopConfig::PhysicsRate physicsRate = haptics::LoopConfig::PhysicsRate::Auto;
     // [rendering]
     std::string stereo = "off";  // off, quad, anaglyph, side-by-side
     bool wireframe = false;

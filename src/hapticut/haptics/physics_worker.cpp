@@ -1,0 +1,148 @@
+// The multi-rate loop's physics thread, and the frames and edits it exchanges with the haptic thread.
+#include "hapticut/haptics/physics_worker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hapticut/common/reserve.h"
+
+namespace hapticut::haptics {
+
+bool applyModelEdit(physics::MassSpringModel& model, const ModelEdit& edit) {
+    if (edit.kind != ModelEdit::Kind::ResetModel && !(edit.factor > 0 && std::isfinite(edit.factor))) return false;
+    physics::Nodes& n = model.nodes;
+    auto scale = [&](std::vector<double>& values) {
+        for (double& v : values) v *= edit.factor;
+    };
+    using K = ModelEdit::Kind;
+    switch (edit.kind) {
+        case K::ResetModel:
+            std::copy(n.restPosition.begin(), n.restPosition.end(), n.position.begin());
+            std::fill(n.velocity.begin(), n.velocity.end(), Vec3::Zero());
+            break;
+        case K::ScaleMass:
+            scale(n.mass);
+            for (double& m : n.inverseMass) m /= edit.factor;
+            break;
+        case K::ScaleStructuralStiffness: scale(model.springs.stiffness); break;
+        case K::ScaleStructuralDamping: scale(model.springs.damping); break;
+        case K::ScalePositioningStiffness: scale(n.anchorStiffness); break;
+        case K::ScalePositioningDamping: scale(n.anchorDamping); break;
+    }
+    return true;
+}
+
+PhysicsWorker::PhysicsWorker(const physics::MassSpringModel& model, const physics::Stepper& stepper,
+                             physics::Scheme requested, double period_s, double maxStep_s)
+    : model_(model),
+      stepper_(stepper),
+      requested_(requested),
+      period_s_(period_s),
+      maxStep_s_(std::max(maxStep_s, period_s)) {
+    stepper_.prepare(model_);
+    modelGrew();
+}
+
+void PhysicsWorker::modelGrew() {
+    const std::size_t room = roomToGrow(model_.nodes.size());
+    for (PhysicsFrame& f : frames_) {
+        reserveTouched(f.nodes, room);
+        reserveTouched(f.positions, room);
+        reserveTouched(f.velocities, room);
+    }
+}
+
+void PhysicsWorker::edit(const ModelEdit& edit) {
+    if (!applyModelEdit(model_, edit) || edit.kind == ModelEdit::Kind::ResetModel) return;
+    stepper_.setScheme(physics::resolveScheme(requested_, model_, period_s_, stepper_.toolStiffness_N_per_m()));
+    stepper_.prepare(model_);
+}
+
+void PhysicsWorker::start() {
+    if (threaded()) return;
+    stop_ = false;
+    thread_ = std::thread([this] { threadMain(); });
+}
+
+void PhysicsWorker::stop() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+}
+
+void PhysicsWorker::setTools(const Tools& tools) {
+    tools_.writeSlot() = tools;
+    tools_.publish();
+}
+
+const PhysicsFrame* PhysicsWorker::takeFrame() {
+    if (!ready_[static_cast<std::size_t>(readFrame_)].load(std::memory_order_acquire)) return nullptr;
+    return &frames_[static_cast<std::size_t>(readFrame_)];
+}
+
+void PhysicsWorker::releaseFrame() {
+    ready_[static_cast<std::size_t>(readFrame_)].store(false, std::memory_order_release);
+    readFrame_ ^= 1;
+}
+
+void PhysicsWorker::stepOnce(double dt_s) {
+    model_.tools = tools_.readLatest();
+    const physics::StepResult result = stepper_.step(model_, dt_s);
+    // The frame the haptic side gave back; in simulated time it was given back before this call.
+    PhysicsFrame& frame = frames_[static_cast<std::size_t>(writeFrame_)];
+    const std::span<const std::uint32_t> moved = stepper_.movedNodes();
+    frame.nodes.assign(moved.begin(), moved.end());
+    frame.positions.resize(moved.size());
+    frame.velocities.resize(moved.size());
+    for (std::size_t k = 0; k < moved.size(); ++k) {
+        frame.positions[k] = model_.nodes.position[moved[k]];
+        frame.velocities[k] = model_.nodes.velocity[moved[k]];
+    }
+    frame.dt_s = dt_s;
+    frame.finite = result.finite;
+    frame.solve = result.solve;
+    frame.implicit = stepper_.scheme() == physics::Scheme::BackwardEuler;
+    ready_[static_cast<std::size_t>(writeFrame_)].store(true, std::memory_order_release);
+    writeFrame_ ^= 1;
+    steps_.fetch_add(1, std::memory_order_relaxed);
+    simulated_s_.store(simulated_s_.load(std::memory_order_relaxed) + dt_s, std::memory_order_relaxed);
+}
+
+void PhysicsWorker::stepNow(double dt_s) {
+    if (ready_[static_cast<std::size_t>(writeFrame_)].load(std::memory_order_acquire)) return;  // not taken yet
+    stepOnce(dt_s);
+}
+
+void PhysicsWorker::threadMain() {
+    using Clock = std::chrono::steady_clock;
+    auto pause = [] { std::this_thread::sleep_for(std::chrono::microseconds(50)); };
+    auto last = Clock::now();
+    while (!stop_.load(std::memory_order_relaxed)) {
+        const bool frameFree = !ready_[static_cast<std::size_t>(writeFrame_)].load(std::memory_order_acquire);
+        if (hold_.load(std::memory_order_acquire) && frameFree) {
+            // Every frame made so far is with the haptic side: it may edit both copies now.
+            idle_.store(true, std::memory_order_release);
+            while (hold_.load(std::memory_order_acquire) && !stop_.load(std::memory_order_relaxed)) pause();
+            idle_.store(false, std::memory_order_release);
+            last = Clock::now();  // the held time is not simulated
+            continue;
+        }
+        if (!frameFree || paused_.load(std::memory_order_relaxed)) {
+            pause();
+            if (paused_.load(std::memory_order_relaxed)) last = Clock::now();
+            continue;
+        }
+        // As long as the previous step took, so that the tissue keeps up with the wall clock; within a
+        // haptic period and maxStep (beyond it the physics falls behind, and the report says so).
+        const auto now = Clock::now();
+        const double dt = std::clamp(std::chrono::duration<double>(now - last).count(), period_s_, maxStep_s_);
+        if (std::chrono::duration<double>(now - last).count() < period_s_) {
+            pause();
+            continue;
+        }
+        last = now;
+        stepOnce(dt);
+    }
+    idle_.store(true, std::memory_order_release);
+}
+
+}  // namespace hapticut::haptics

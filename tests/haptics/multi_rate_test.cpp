@@ -1,0 +1,157 @@
+// The multi-rate loop: the physics stepped apart from the haptic loop, on its own copy of the organ,
+// against the single-rate loop on the same presses, cuts and edits; and on its own thread in real time.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+
+#include "hapticut/collision/bvh.h"
+#include "hapticut/cutting/invariants.h"
+#include "hapticut/haptics/loop_scheduler.h"
+#include "hapticut/haptics/replay_device.h"
+#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/mesh/procedural/tools.h"
+#include "hapticut/physics/material.h"
+#include "hapticut/scene/sample_trajectories.h"
+
+namespace hapticut::haptics {
+namespace {
+
+mesh::SurfaceMesh heart(int triangles) {
+    mesh::procedural::HeartOptions options;
+    options.triangles = triangles;
+    return mesh::procedural::makeHeart(options);
+}
+
+struct Trace {
+    std::vector<double> force_N;
+    long cutEvents = 0, physicsSteps = 0;
+    double physicsTime_s = 0;
+    std::vector<std::string> problems;
+    std::size_t physicsNodes = 0, organNodes = 0;
+    bool multiRate = false;
+};
+
+/// The trajectory replayed in simulated time through a loop with `rate`.
+Trace replay(const mesh::SurfaceMesh& mesh, const Trajectory& path, LoopConfig::PhysicsRate rate,
+             double threshold_N = 1e9) {
+    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
+    const double mass = physics::totalMass(organ.model());
+    ReplayDevice device(path);
+    LoopConfig config;
+    config.physicsRate = rate;
+    config.cutThreshold_N = threshold_N;
+    HapticLoop loop(organ, device, config);
+    Trace t;
+    t.multiRate = loop.multiRate();
+    runSimulated(loop, std::lround(path.duration_s() * config.rate_hz) + 1,
+                 [&](const StepOutput& s) { t.force_N.push_back(s.hand().force_N.norm()); });
+    t.cutEvents = loop.stats().cutEvents;
+    t.physicsSteps = loop.stats().physicsSteps;
+    t.physicsTime_s = loop.stats().physicsTime_s;
+    t.problems = cutting::checkInvariants(organ, mass).problems;
+    t.organNodes = organ.model().nodes.size();
+    return t;
+}
+
+// The press on the 9,714 heart with the physics stepped every 4 ms (a quarter of the haptic rate): the
+// hand feels the same press. The tolerance: 1% of the peak force in root mean square over the trace;
+// more than 5% in under 1% of its steps (the transients where the device turns round or leaves, which
+// last less than a physics step); and never more than 30%.
+TEST(MultiRate, ThePressFeelsLikeTheSingleRateOneOnTheFinerHeart) {
+    const mesh::SurfaceMesh mesh = heart(9714);
+    collision::Bvh bvh;
+    bvh.build({mesh.positions, mesh.faces});
+    const Trajectory path = scene::pressTrajectory(mesh, bvh);
+    const Trace single = replay(mesh, path, LoopConfig::PhysicsRate::Single);
+    const Trace multi = replay(mesh, path, LoopConfig::PhysicsRate::Multi);
+    ASSERT_FALSE(single.multiRate);
+    ASSERT_TRUE(multi.multiRate);
+    ASSERT_EQ(single.force_N.size(), multi.force_N.size());
+    double peak = 0, worst = 0, squares = 0;
+    for (double f : single.force_N) peak = std::max(peak, f);
+    std::size_t over = 0;
+    for (std::size_t i = 0; i < single.force_N.size(); ++i) {
+        const double d = multi.force_N[i] - single.force_N[i];
+        worst = std::max(worst, std::abs(d));
+        squares += d * d;
+        over += std::abs(d) > 0.05 * peak;
+    }
+    const auto steps = static_cast<double>(single.force_N.size());
+    const double rms = std::sqrt(squares / steps);
+    ASSERT_GT(peak, 0.2) << "the press must really push back";
+    EXPECT_LT(rms, 0.01 * peak) << "rms difference " << rms << " N in a press of " << peak << " N";
+    EXPECT_LT(static_cast<double>(over), 0.01 * steps) << over << " steps differ by more than 5%";
+    EXPECT_LT(worst, 0.3 * peak) << "worst difference " << worst << " N";
+    EXPECT_EQ(single.physicsSteps, static_cast<long>(single.force_N.size()));
+    EXPECT_NEAR(static_cast<double>(multi.physicsSteps), static_cast<double>(single.physicsSteps) / 4, 1.0);
+    EXPECT_NEAR(multi.physicsTime_s, single.physicsTime_s, 4e-3);
+}
+
+// A scalpel stroke while the physics runs apart: every cut reaches the physics' copy between its steps,
+// the organ stays sound, and the wound is the single-rate one's.
+TEST(MultiRate, CutsReachThePhysicsAndTheOrganStaysSound) {
+    const mesh::SurfaceMesh mesh = heart(1619);
+    collision::Bvh bvh;
+    bvh.build({mesh.positions, mesh.faces});
+    const Trajectory path = scene::strokeTrajectory(mesh, bvh, 0.012);
+    const Trace single = replay(mesh, path, LoopConfig::PhysicsRate::Single, mesh::procedural::kScalpelThreshold_N);
+    const Trace multi = replay(mesh, path, LoopConfig::PhysicsRate::Multi, mesh::procedural::kScalpelThreshold_N);
+    EXPECT_GT(multi.cutEvents, 5);
+    EXPECT_TRUE(multi.problems.empty()) << multi.problems.front();
+    const auto cuts = static_cast<double>(single.cutEvents);
+    EXPECT_NEAR(static_cast<double>(multi.cutEvents), cuts, 0.2 * cuts);
+    for (double f : multi.force_N) ASSERT_TRUE(std::isfinite(f));
+}
+
+// Material edits and a reset reach the physics' copy once it is held: a heart made ten times stiffer is
+// stepped implicitly there, and after a reset the organ is back at rest.
+TEST(MultiRate, EditsReachThePhysicsCopy) {
+    const mesh::SurfaceMesh mesh = heart(1619);
+    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
+    collision::Bvh bvh;
+    bvh.build({mesh.positions, mesh.faces});
+    ReplayDevice device(scene::pressTrajectory(mesh, bvh));
+    LoopConfig config;
+    config.physicsRate = LoopConfig::PhysicsRate::Multi;
+    HapticLoop loop(organ, device, config);
+    runSimulated(loop, 1000);  // the press reaches the surface after about 0.8 s
+    EXPECT_EQ(loop.scheme(), physics::Scheme::RungeKutta4);
+    EXPECT_GT(physics::maxDisplacement(organ.model()), 1e-3) << "pressed";
+    ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScaleStructuralStiffness, 10.0}));
+    runSimulated(loop, 8);
+    EXPECT_EQ(loop.scheme(), physics::Scheme::BackwardEuler);
+    EXPECT_DOUBLE_EQ(organ.model().springs.stiffness[0], 10 * physics::buildModel(mesh, physics::Material{}).springs.stiffness[0]);
+    ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::Pause, 0}));
+    ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ResetModel, 0}));
+    runSimulated(loop, 8);
+    EXPECT_EQ(physics::maxDisplacement(organ.model()), 0.0) << "reset";
+}
+
+// On the wall clock the physics has its own thread: the haptic loop keeps its period while the physics
+// steps as long as its steps take, and the simulated physics time keeps up with the wall clock.
+TEST(MultiRate, InRealTimeThePhysicsRunsOnItsOwnThreadAndKeepsUp) {
+    const mesh::SurfaceMesh mesh = heart(9714);
+    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
+    collision::Bvh bvh;
+    bvh.build({mesh.positions, mesh.faces});
+    ReplayDevice device(scene::pressTrajectory(mesh, bvh));
+    LoopConfig config;
+    config.physicsRate = LoopConfig::PhysicsRate::Multi;
+    HapticLoop loop(organ, device, config);
+    double maxForce = 0;
+    RealTimeScheduler clock(loop);
+    ASSERT_FALSE(clock.start(1500, [&](const StepOutput& s) { maxForce = std::max(maxForce, s.hand().force_N.norm()); }));
+    while (clock.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    clock.stop();
+    const LoopStats& st = loop.stats();
+    EXPECT_EQ(st.steps, 1500);
+    EXPECT_GT(st.physicsSteps, 50);
+    EXPECT_GT(st.physicsTime_s, 0.7 * st.wallTime_s) << "the tissue keeps up with the wall clock";
+    EXPECT_LT(st.physicsTime_s, 1.05 * st.wallTime_s);
+    EXPECT_GT(maxForce, 0.1) << "the press pushes back";
+    EXPECT_GT(physics::maxDisplacement(organ.model()), 1e-4) << "the tissue moved on the haptic side's copy";
+}
+
+}  // namespace
+}  // namespace hapticut::haptics
