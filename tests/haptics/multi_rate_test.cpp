@@ -121,7 +121,8 @@ TEST(MultiRate, EditsReachThePhysicsCopy) {
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScaleStructuralStiffness, 10.0}));
     runSimulated(loop, 8);
     EXPECT_EQ(loop.scheme(), physics::Scheme::BackwardEuler);
-    EXPECT_DOUBLE_EQ(organ.model().springs.stiffness[0], 10 * physics::buildModel(mesh, physics::Material{}).springs.stiffness[0]);
+    EXPECT_DOUBLE_EQ(organ.model().springs.stiffness[0],
+                     10 * physics::buildModel(mesh, physics::Material{}).springs.stiffness[0]);
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::Pause, 0}));
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ResetModel, 0}));
     runSimulated(loop, 8);
@@ -141,7 +142,8 @@ TEST(MultiRate, InRealTimeThePhysicsRunsOnItsOwnThreadAndKeepsUp) {
     HapticLoop loop(organ, device, config);
     double maxForce = 0;
     RealTimeScheduler clock(loop);
-    ASSERT_FALSE(clock.start(1500, [&](const StepOutput& s) { maxForce = std::max(maxForce, s.hand().force_N.norm()); }));
+    ASSERT_FALSE(
+        clock.start(1500, [&](const StepOutput& s) { maxForce = std::max(maxForce, s.hand().force_N.norm()); }));
     while (clock.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     clock.stop();
     const LoopStats& st = loop.stats();
