@@ -12,11 +12,17 @@
 namespace hapticut::haptics {
 namespace {
 
-TEST(HapticLoop, SteadyStateStepsWithoutHeapAllocation) {
+class SteadyState : public ::testing::TestWithParam<LoopConfig::PhysicsRate> {};
+
+// Single-rate, and multi-rate with its physics stepped in simulated time: frames, tools, refits.
+TEST_P(SteadyState, StepsWithoutHeapAllocation) {
     const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
     cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
     VirtualDevice device;
-    HapticLoop loop(organ, device);
+    LoopConfig config;
+    config.physicsRate = GetParam();
+    HapticLoop loop(organ, device, config);
+    ASSERT_EQ(loop.multiRate(), GetParam() == LoopConfig::PhysicsRate::Multi);
     // Sweep the device in and out of the front of the heart: contact, sliding, release.
     auto at = [](int i) { return Vec3(0.01 * std::sin(i * 0.01), 0.0, 0.03 - 0.0004 * (i % 100)); };
     for (int i = 0; i < 200; ++i) {
@@ -31,7 +37,11 @@ TEST(HapticLoop, SteadyStateStepsWithoutHeapAllocation) {
     }
     EXPECT_EQ(test::allocationCount() - before, 0);
     EXPECT_GT(loop.stats().contactSteps, 500);
+    EXPECT_GT(loop.stats().physicsSteps, 700);
 }
+
+INSTANTIATE_TEST_SUITE_P(HapticLoop, SteadyState,
+                         ::testing::Values(LoopConfig::PhysicsRate::Single, LoopConfig::PhysicsRate::Multi));
 
 }  // namespace
 }  // namespace hapticut::haptics

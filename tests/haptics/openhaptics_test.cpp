@@ -185,7 +185,7 @@ TEST_F(OpenHaptics, TheServoLoopDrivesTheHapticLoopAtItsRateAndTheForceIsClamped
         const long ticks = emu.ticks() - ticks0;
         // One loop step per servo tick: the servo's clock is the loop's.
         EXPECT_NEAR(static_cast<double>(loop.stats().steps), static_cast<double>(ticks), 3);
-        EXPECT_GT(loop.stats().steps, 250);
+        EXPECT_GT(loop.stats().steps, 200);  // 400 ms at 1 kHz, on a machine that may be running other tests
         EXPECT_LT(loop.stats().steps, 450);
         // 8 mm through a 400 N/m coupling is 3.2 N: clamped to the device's 0.9 N.
         EXPECT_GT(emu.maxForceSent(), 0.8);

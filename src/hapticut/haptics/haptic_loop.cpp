@@ -323,6 +323,7 @@ void HapticLoop::advanceTissue(Frame& frame) noexcept {
     }
     if (paused_) return;
     const physics::StepResult result = stepper_.step(model_, 1 / config_.rate_hz);
+    snapshots_.nodesMoved(stepper_.movedNodes());
     ++stats_.physicsSteps;
     stats_.physicsTime_s += 1 / config_.rate_hz;
     if (stepper_.scheme() == physics::Scheme::BackwardEuler) stats_.solver.record(result.solve);
@@ -366,6 +367,7 @@ void HapticLoop::takeFrames(Frame& frame) noexcept {
             n.velocity[f->nodes[k]] = f->velocities[k];
         }
         // The faces round what moved, unless that is a quarter of the organ or would outgrow the lists.
+        snapshots_.nodesMoved(f->nodes);
         if (frameNodes_.size() + f->nodes.size() <= frameNodes_.capacity())
             frameNodes_.insert(frameNodes_.end(), f->nodes.begin(), f->nodes.end());
         whole = whole || 4 * f->nodes.size() > n.size();
@@ -401,6 +403,7 @@ void HapticLoop::syncWorker() noexcept {
             (void)applyModelEdit(model_, edit);
             worker_->edit(edit);
             if (edit.kind == ModelEdit::Kind::ResetModel) {
+                snapshots_.allNodesMoved();
                 bvh_.refit(surface());  // every node went back to rest
                 for (HandState& hand : hands_) hand.proxy.followSurface(surface(), bvh_);
             }
@@ -543,7 +546,11 @@ void HapticLoop::editModel(const ModelEdit& edit) noexcept {
 }
 
 void HapticLoop::applyEdit(const ModelEdit& edit) noexcept {
-    if (!applyModelEdit(model_, edit) || edit.kind == ModelEdit::Kind::ResetModel) return;
+    if (!applyModelEdit(model_, edit)) return;
+    if (edit.kind == ModelEdit::Kind::ResetModel) {
+        snapshots_.allNodesMoved();
+        return;
+    }
     try {
         // A stiffer or lighter model needs a smaller step: substeps follow, or Auto turns implicit.
         stepper_.setScheme(
@@ -574,6 +581,7 @@ void HapticLoop::afterTopologyChange() {
         hand.proxy.surfaceRemeshed(view, bvh_, hand.proxy.params().closedSurface && !cutter_.stats().opened);
     ++topologyVersion_;
     snapshots_.facesChanged(topologyVersion_, changes.faces);
+    snapshots_.nodesMoved(changes.nodes);
     organ_.clearChanges();
 }
 

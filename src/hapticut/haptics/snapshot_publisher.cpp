@@ -21,8 +21,30 @@ void SnapshotPublisher::prepare(std::span<const Vec3> positions, std::span<const
         s.handCount = handCount;
     }
     slotVersion_.fill(version);
+    for (std::size_t k = 0; k < 3; ++k) {
+        moved_[k].clear();
+        reserveTouched(moved_[k], positions.size() / 4 + 1);
+        reserveTouched(movedMark_[k], roomToGrow(positions.size()));
+        movedMark_[k].assign(positions.size(), 0);
+    }
+    wholeCopy_.fill(true);
     faceLog_.clear();
     faceLog_.reserve(4096);
+}
+
+void SnapshotPublisher::nodesMoved(std::span<const std::uint32_t> nodes) {
+    for (std::size_t k = 0; k < 3; ++k) {
+        if (wholeCopy_[k]) continue;
+        std::vector<std::uint32_t>& list = moved_[k];
+        std::vector<std::uint8_t>& mark = movedMark_[k];
+        for (std::uint32_t i : nodes) {
+            if (i >= mark.size() || list.size() == list.capacity()) {  // a new node, or too many: copy all
+                wholeCopy_[k] = true;
+                break;
+            }
+            if (!mark[i]) mark[i] = 1, list.push_back(i);
+        }
+    }
 }
 
 void SnapshotPublisher::facesChanged(long version, std::span<const std::uint32_t> faces) {
@@ -32,8 +54,18 @@ void SnapshotPublisher::facesChanged(long version, std::span<const std::uint32_t
 Snapshot& SnapshotPublisher::fill(std::span<const Vec3> positions, std::span<const mesh::Face> faces,
                                   std::span<const mesh::FaceUvs> uvs, long version) {
     Snapshot& s = buffer_.writeSlot();
-    // Sizes change only after a cut; the slots were reserved with room to grow.
-    s.positions.assign(positions.begin(), positions.end());
+    const auto slot = static_cast<std::size_t>(&s - buffer_.slots().data());
+    // Only what moved since this slot was last written; all of it after a cut added nodes (sizes change
+    // only then, and the slots were reserved with room to grow) or when too much moved.
+    if (wholeCopy_[slot] || s.positions.size() != positions.size()) {
+        s.positions.assign(positions.begin(), positions.end());
+    } else {
+        for (std::uint32_t i : moved_[slot]) s.positions[i] = positions[i];
+    }
+    for (std::uint32_t i : moved_[slot]) movedMark_[slot][i] = 0;
+    moved_[slot].clear();
+    if (movedMark_[slot].size() < positions.size()) movedMark_[slot].resize(positions.size(), 0);  // a cut grew it
+    wholeCopy_[slot] = false;
     if (s.topologyVersion != version) {
         // Catch up on the faces the cuts since this slot's version changed, not the whole mesh.
         s.faces.resize(faces.size());
@@ -44,7 +76,7 @@ Snapshot& SnapshotPublisher::fill(std::span<const Vec3> positions, std::span<con
             if (c.face < uvs.size()) s.uvs[c.face] = uvs[c.face];
         }
         s.topologyVersion = version;
-        slotVersion_[static_cast<std::size_t>(&s - buffer_.slots().data())] = version;
+        slotVersion_[slot] = version;
         // What every slot has is needed no more.
         const long everywhere = *std::min_element(slotVersion_.begin(), slotVersion_.end());
         faceLog_.erase(faceLog_.begin(), std::find_if(faceLog_.begin(), faceLog_.end(),

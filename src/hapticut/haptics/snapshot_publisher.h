@@ -1,5 +1,6 @@
 // Publishing snapshots from the loop to the renderer through a triple buffer, bringing each slot's
-// faces up to date from a log of what the cuts changed instead of copying the whole mesh.
+// positions and faces up to date from what moved and what the cuts changed since the slot was last
+// written, instead of copying the whole organ.
 #pragma once
 
 #include <array>
@@ -19,6 +20,11 @@ public:
                  long version, int handCount);
     /// The faces that topology version `version` rewrote or added; kept until every slot has them.
     void facesChanged(long version, std::span<const std::uint32_t> faces);
+    /// The nodes a step moved (repeats allowed); each slot copies them when next filled. Past a quarter
+    /// of the organ a slot copies everything instead.
+    void nodesMoved(std::span<const std::uint32_t> nodes);
+    /// Every node may have moved (a reset): each slot copies them all when next filled.
+    void allNodesMoved() { wholeCopy_.fill(true); }
     /// The slot to write, its positions copied and its faces and UVs caught up to `version`; the caller
     /// fills in the rest and calls publish(). Allocation-free while the organ stays within its room to grow.
     Snapshot& fill(std::span<const Vec3> positions, std::span<const mesh::Face> faces,
@@ -35,6 +41,10 @@ private:
     TripleBuffer<Snapshot> buffer_;
     std::vector<FaceChange> faceLog_;
     std::array<long, 3> slotVersion_{};  // the topology version each slot was last brought to
+    // Per slot: the nodes moved since it was last filled, marked so each is listed once, or a whole copy.
+    std::array<std::vector<std::uint32_t>, 3> moved_;
+    std::array<std::vector<std::uint8_t>, 3> movedMark_;
+    std::array<bool, 3> wholeCopy_{};
 };
 
 }  // namespace hapticut::haptics
