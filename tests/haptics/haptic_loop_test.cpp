@@ -196,6 +196,32 @@ TEST(HapticLoop, PeriodErrorStaysHonestWhenEveryStepIsLate) {
     EXPECT_GT(late.max, 25'000);
 }
 
+// Snapshots copy only what moved since each slot was last written: read now and then, as a renderer
+// does, so that slots fall several snapshots behind, every one still shows the tissue exactly.
+TEST(HapticLoop, SnapshotsShowTheTissueExactlyThoughTheyCopyOnlyWhatMoved) {
+    HeartScene h;
+    VirtualDevice device;
+    HapticLoop loop(h.organ, device);
+    int checked = 0;
+    double pressed = 0;
+    for (int i = 0; i < 1200; ++i) {
+        const double depth = 0.004 * std::sin(i * 0.004);  // in and out, so nodes move, rest and move again
+        device.setPosition(frontPoint(h) + Vec3(0.002 * std::sin(i * 0.01), 0, 0.001 - depth));
+        loop.step();
+        pressed = std::max(pressed, physics::maxDisplacement(h.model));
+        if (i % 8 == 0 && (i / 8) % 3 != 1) {  // just after a snapshot, reading two in three
+            const Snapshot& snap = loop.snapshots().readLatest();
+            ASSERT_EQ(snap.positions.size(), h.model.nodes.size());
+            for (std::size_t k = 0; k < snap.positions.size(); ++k)
+                ASSERT_EQ(snap.positions[k], h.model.nodes.position[k]) << "node " << k << " at step " << i;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 90);
+    EXPECT_GT(pressed, 1e-3);
+    EXPECT_GT(loop.stats().contactSteps, 200);
+}
+
 TEST(HapticLoop, CommandsReachTheLoop) {
     HeartScene h;
     VirtualDevice device;
