@@ -75,6 +75,7 @@ void RealTimeScheduler::stop() {
         running_.store(false, std::memory_order_release);
     }
     if (thread_.joinable()) thread_.join();
+    loop_.setRealtime(false);  // a multi-rate loop's physics thread ends with it
 }
 
 void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
