@@ -89,6 +89,8 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
         worker_ = std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
                                                   config_.maxPhysicsStep_s);
         reserveTouched(frameNodes_, roomToGrow(model_.nodes.size()));
+        reserveTouched(pendingNodes_, std::size_t{1} << 14);  // what cuts change between two physics steps
+        reserveTouched(pendingSprings_, std::size_t{1} << 14);
     }
     bvh_.build(surface());
     reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
@@ -366,10 +368,10 @@ void HapticLoop::takeFrames(Frame& frame) noexcept {
             n.position[f->nodes[k]] = f->positions[k];
             n.velocity[f->nodes[k]] = f->velocities[k];
         }
-        // The faces round what moved, unless that is a quarter of the organ or would outgrow the lists.
         snapshots_.nodesMoved(f->nodes);
         if (frameNodes_.size() + f->nodes.size() <= frameNodes_.capacity())
             frameNodes_.insert(frameNodes_.end(), f->nodes.begin(), f->nodes.end());
+        // The faces round what moved, unless that is a quarter of the organ or would outgrow the list.
         whole = whole || 4 * f->nodes.size() > n.size();
         for (std::size_t k = 0; k < f->nodes.size() && !whole; ++k) {
             const std::span<const std::uint32_t> faces = organ_.vertexFaces().of(f->nodes[k]);
@@ -593,9 +595,9 @@ void HapticLoop::publishSnapshot(const StepOutput& out) {
     s.stepTime_us = out.stepTime_us;
     s.maxStepTime_us = std::max(maxStepSinceSnapshot_us_, out.stepTime_us);
     maxStepSinceSnapshot_us_ = 0;
-    s.stableStep_s = stepper_.stableStep_s();
+    s.stableStep_s = (worker_ ? worker_->stepper() : stepper_).stableStep_s();
     s.substeps = substeps();
-    s.scheme = stepper_.scheme();
+    s.scheme = scheme();
     s.solverIterations = lastSolve_.iterations;
     s.multiRate = worker_ != nullptr;
     s.physicsRate_hz = worker_ && time_s() > 0 ? static_cast<double>(stats_.physicsSteps) / time_s() : config_.rate_hz;

@@ -119,7 +119,7 @@ void PhysicsWorker::threadMain() {
     while (!stop_.load(std::memory_order_relaxed)) {
         const bool frameFree = !ready_[static_cast<std::size_t>(writeFrame_)].load(std::memory_order_acquire);
         if (hold_.load(std::memory_order_acquire) && frameFree) {
-            // Every frame made so far is with the haptic side: it may edit both copies now.
+            // Every frame made so far is out, and the haptic side takes them in before it edits both copies.
             idle_.store(true, std::memory_order_release);
             while (hold_.load(std::memory_order_acquire) && !stop_.load(std::memory_order_relaxed)) pause();
             idle_.store(false, std::memory_order_release);
