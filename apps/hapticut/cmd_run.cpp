@@ -358,6 +358,7 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["cut_length_m"] = r.cut.length_m;
         j["opened"] = r.cut.opened;
         j["cut_event_us"] = r.cutEvents > 0 ? toJson(r.cutTime_us) : nlohmann::ordered_json(nullptr);
+        j["physics_sync_us"] = r.syncTime_us.count > 0 ? toJson(r.syncTime_us) : nlohmann::ordered_json(nullptr);
         j["invariants_ok"] = r.invariantProblems.empty();
         j["invariant_problems"] = r.invariantProblems;
         j["boundary_edges"] = after.boundaryEdges;

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <functional>
 
 #include "hapticut/common/assert.h"
 #include "hapticut/common/reserve.h"
@@ -86,8 +85,6 @@ void Bvh::build(const SurfaceView& s) {
     leafOf_.assign(n, kNone);
     addedNext_.assign(n, kNone);
     if (n > 0) buildNode(s, 0, n, centroids, 0);
-    stale_.clear();
-    stale_.reserve(nodes_.size());
     staleMark_.assign(nodes_.size(), 0);
     refitCall_ = 0;
     builtFaces_ = n;
@@ -151,19 +148,24 @@ void Bvh::refitFaces(const SurfaceView& s, std::span<const std::uint32_t> faces)
         std::fill(staleMark_.begin(), staleMark_.end(), 0);
         refitCall_ = 1;
     }
-    stale_.clear();
+    std::uint32_t highest = 0;
+    bool any = false;
     for (std::uint32_t f : faces) {
         if (f >= leafOf_.size()) continue;
-        // Up from the face's leaf until a node this call already listed: its ancestors are listed too.
+        // Up from the face's leaf until a node this call already marked: its ancestors are marked too.
         for (std::uint32_t node = leafOf_[f]; node != kNone && staleMark_[node] != refitCall_;
              node = nodes_[node].parent) {
             staleMark_[node] = refitCall_;
-            stale_.push_back(node);  // reserved for every node at the build
+            highest = std::max(highest, node);
+            any = true;
         }
     }
-    // Children before parents: preorder numbers a child after its parent.
-    std::sort(stale_.begin(), stale_.end(), std::greater<>());
-    for (std::uint32_t node : stale_) recomputeBox(s, node);
+    // Children before parents: preorder numbers a child after its parent, so a sweep down from the
+    // highest marked node (the root, 0, is marked whenever anything is) meets them in order. Checking a
+    // mark costs far less than sorting the marked nodes would.
+    if (!any) return;
+    for (std::uint32_t node = highest + 1; node-- > 0;)
+        if (staleMark_[node] == refitCall_) recomputeBox(s, node);
 }
 
 void Bvh::growToContain(std::uint32_t node, const geometry::Aabb& box) {

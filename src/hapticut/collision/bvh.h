@@ -94,8 +94,8 @@ private:
     std::vector<std::uint32_t> faceOrder_;
     std::vector<std::uint32_t> leafOf_;     // the leaf holding each face
     std::vector<std::uint32_t> addedNext_;  // the next added face in the same leaf's chain, per face
-    // refitFaces: the nodes to recompute, and per node the call that last listed it.
-    std::vector<std::uint32_t> stale_, staleMark_;
+    // refitFaces: per node, the call that last marked it for recomputing.
+    std::vector<std::uint32_t> staleMark_;
     std::uint32_t refitCall_ = 0;
     std::size_t builtFaces_ = 0, addedFaces_ = 0;
 };

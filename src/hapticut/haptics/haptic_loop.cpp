@@ -349,7 +349,9 @@ void HapticLoop::advanceMultiRate(Frame& frame) noexcept {
             worker_->requestHold();
         } else {
             takeFrames(frame);
+            const auto syncStart = Clock::now();
             syncWorker();
+            stats_.syncTime_us.record(std::chrono::duration<double, std::micro>(Clock::now() - syncStart).count());
             worker_->release();
         }
     }

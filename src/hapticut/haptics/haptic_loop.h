@@ -94,7 +94,8 @@ struct LoopStats {
     bool watchdogTripped = false;               // latched by a non-finite force or state: force stays zero
     long cutEvents = 0;                         // steps in which the scalpel changed the mesh
     LatencyHistogram cutTime_us{0.1, 100'000};  // the cut and the updates it needs (tree, stepper, proxy)
-    double maxForce_N = 0;                      // the largest force sent to any hand
+    LatencyHistogram syncTime_us{0.1, 100'000};  // multi-rate: cuts and edits copied into the physics' copy
+    double maxForce_N = 0;                       // the largest force sent to any hand
     double wallTime_s = 0;
     physics::SolverStats solver;  // the implicit scheme's solves; none for an explicit one
     long physicsSteps = 0;        // equal to steps in a single-rate loop

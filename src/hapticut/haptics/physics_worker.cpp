@@ -39,6 +39,16 @@ PhysicsWorker::PhysicsWorker(const physics::MassSpringModel& model, const physic
       requested_(requested),
       period_s_(period_s),
       maxStep_s_(std::max(maxStep_s, period_s)) {
+    // A copied vector has no room to spare: give the copy the organ's room to grow, so that the cuts
+    // copied into it (HapticLoop::syncWorker) rarely reallocate a whole array.
+    physics::Nodes& n = model_.nodes;
+    const std::size_t nodes = roomToGrow(n.size()), springs = roomToGrow(model_.springs.size());
+    for (auto* v : {&n.position, &n.velocity, &n.restPosition, &n.externalForce}) reserveTouched(*v, nodes);
+    for (auto* v : {&n.mass, &n.inverseMass, &n.anchorStiffness, &n.anchorDamping}) reserveTouched(*v, nodes);
+    reserveTouched(model_.springs.a, springs);
+    reserveTouched(model_.springs.b, springs);
+    for (auto* v : {&model_.springs.restLength, &model_.springs.stiffness, &model_.springs.damping})
+        reserveTouched(*v, springs);
     stepper_.prepare(model_);
     modelGrew();
 }

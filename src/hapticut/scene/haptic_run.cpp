@@ -93,6 +93,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.cut = loop.cutter().stats();
     r.cutEvents = st.cutEvents;
     r.cutTime_us = st.cutTime_us.summary();
+    r.syncTime_us = st.syncTime_us.summary();
     r.invariantProblems = cutting::checkInvariants(organ, mass_kg).problems;
     r.scheme = loop.scheme();
     r.substeps = loop.substeps();

@@ -57,6 +57,7 @@ struct HapticRunResult {
     cutting::CutStats cut;
     long cutEvents = 0;
     Summary cutTime_us;
+    Summary syncTime_us;  // multi-rate: cuts and edits copied into the physics' copy, a step after each
     std::vector<std::string> invariantProblems;  // empty: every cutting invariant holds at the end
     std::array<HandSummary, haptics::kMaxHands> hands{};
     int handCount = 1;
