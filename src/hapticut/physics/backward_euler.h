@@ -1,7 +1,8 @@
 // Linearised backward Euler (Baraff & Witkin 1998): one Newton step of the implicit update per time
-// step, solved by conjugate gradients with a block-Jacobi preconditioner, warm-started from the last
-// step's answer. Unconditionally stable on the springs and the tool coupling, so a step is one solve
-// at any mesh resolution, sliver or coupling stiffness, where the explicit schemes need substeps.
+// step (more where the springs turn or stretch too far in it), solved by conjugate gradients with a
+// block-Jacobi preconditioner, warm-started from the last step's answer. Unconditionally stable on the springs and the
+// tool coupling, so a step is one solve at any mesh resolution, sliver or coupling stiffness, where the explicit
+// schemes need substeps.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Assembly and products of the backward-Euler system.
+// Assembly of the backward-Euler system, and its rows laid out for the kernels (solver_kernels.h).
 #include "hapticut/physics/backward_euler_system.h"
 
 #include <Eigen/LU>
