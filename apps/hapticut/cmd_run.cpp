@@ -261,6 +261,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
               << physics::schemeName(r.scheme)
               << (r.substeps > 1 ? " in " + std::to_string(r.substeps) + " substeps" : std::string()) << "\n"
               << solverLine(r.scheme, r.solver);
+    if (r.multiRate && r.multiRateFrom_s > 0)
+        std::cout << "the physics took more than half the period: multi-rate from t = " << r.multiRateFrom_s << " s\n";
     std::cout << (r.multiRate ? "multi-rate" : "single-rate") << " physics: " << r.physicsRate_hz << " steps/s, "
               << r.physicsRealtimeFactor << " simulated s per wall s\n";
     if (o.realtime)
@@ -337,6 +339,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["wall_time_s"] = r.wallTime_s;
         j["haptic_rate_hz"] = r.hapticRate_hz;
         j["multi_rate"] = r.multiRate;
+        j["multi_rate_from_s"] =
+            r.multiRate ? nlohmann::ordered_json(r.multiRateFrom_s) : nlohmann::ordered_json(nullptr);
         j["physics_rate_hz"] = r.physicsRate_hz;
         j["physics_realtime_factor"] = r.physicsRealtimeFactor;
         j["step_us"] = toJson(r.stepTime_us);

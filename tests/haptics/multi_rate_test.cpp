@@ -179,5 +179,28 @@ TEST(MultiRate, InRealTimeCutsReachThePhysicsThread) {
     EXPECT_TRUE(problems.empty()) << problems.front();
 }
 
+// Auto on an organ below the size threshold, at a 10 kHz haptic rate and with the whole organ
+// integrated every step: its physics steps take several times the 100 µs period, so the loop turns
+// multi-rate within its first second and keeps its rate from then on.
+TEST(MultiRate, AutoTurnsMultiRateWhenThePhysicsDoesNotFitThePeriod) {
+    const mesh::SurfaceMesh mesh = heart(9714);
+    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
+    collision::Bvh bvh;
+    bvh.build({mesh.positions, mesh.faces});
+    ReplayDevice device(scene::pressTrajectory(mesh, bvh));
+    LoopConfig config;
+    config.rate_hz = 10'000;
+    config.activeRegion = false;
+    HapticLoop loop(organ, device, config);
+    ASSERT_FALSE(loop.multiRate()) << "4,860 nodes: single-rate to begin with";
+    RealTimeScheduler clock(loop);
+    ASSERT_FALSE(clock.start(4'000));
+    while (clock.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    clock.stop();
+    EXPECT_TRUE(loop.multiRate());
+    EXPECT_GE(loop.stats().multiRateFromStep, kSlowPhysicsSteps);
+    EXPECT_GT(loop.stats().physicsSteps, loop.stats().multiRateFromStep) << "the physics thread stepped on";
+}
+
 }  // namespace
 }  // namespace hapticut::haptics

@@ -83,15 +83,9 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
     stepper_.setSolverSettings(config_.solver);
     stepper_.setActiveRegion(config_.activeRegion);
     stepper_.prepare(model_);
-    const bool multi = config_.physicsRate == LoopConfig::PhysicsRate::Multi ||
-                       (config_.physicsRate == LoopConfig::PhysicsRate::Auto && model_.nodes.size() > kMultiRateNodes);
-    if (multi) {
-        worker_ = std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
-                                                  config_.maxPhysicsStep_s);
-        reserveTouched(frameNodes_, roomToGrow(model_.nodes.size()));
-        reserveTouched(pendingNodes_, std::size_t{1} << 14);  // what cuts change between two physics steps
-        reserveTouched(pendingSprings_, std::size_t{1} << 14);
-    }
+    if (config_.physicsRate == LoopConfig::PhysicsRate::Multi ||
+        (config_.physicsRate == LoopConfig::PhysicsRate::Auto && model_.nodes.size() > config_.multiRateAbove_nodes))
+        startMultiRate(0);
     bvh_.build(surface());
     reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
     for (HandState& hand : hands_) {
@@ -107,6 +101,31 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
 HapticLoop::~HapticLoop() {
     if (worker_) worker_->stop();
     zeroAllForces();  // a real device must never be left pushing
+}
+
+void HapticLoop::startMultiRate(long fromStep) {
+    worker_ = std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
+                                              config_.maxPhysicsStep_s);
+    reserveTouched(frameNodes_, roomToGrow(model_.nodes.size()));
+    reserveTouched(pendingNodes_, std::size_t{1} << 14);  // what cuts change between two physics steps
+    reserveTouched(pendingSprings_, std::size_t{1} << 14);
+    stats_.multiRateFromStep = fromStep;
+    if (realtime_) worker_->start();
+}
+
+void HapticLoop::watchPhysicsTime(double physics_us) noexcept {
+    if (!realtime_ || worker_ || config_.physicsRate != LoopConfig::PhysicsRate::Auto) return;
+    if (static_cast<double>(stepIndex_ - slowWindowStart_) >= config_.rate_hz) {
+        slowWindowStart_ = stepIndex_;
+        slowPhysicsSteps_ = 0;
+    }
+    if (physics_us <= 0.5e6 / config_.rate_hz || ++slowPhysicsSteps_ < kSlowPhysicsSteps) return;
+    try {
+        // Copying the organ for the physics takes this one step long: once, instead of overrunning on.
+        startMultiRate(stepIndex_ + 1);  // this step's physics is done: the thread takes the next
+    } catch (...) {
+        worker_.reset();  // out of memory: stay single-rate
+    }
 }
 
 void HapticLoop::setRealtime(bool on) {
@@ -324,7 +343,9 @@ void HapticLoop::advanceTissue(Frame& frame) noexcept {
         return;
     }
     if (paused_) return;
+    const auto physicsStart = Clock::now();
     const physics::StepResult result = stepper_.step(model_, 1 / config_.rate_hz);
+    watchPhysicsTime(std::chrono::duration<double, std::micro>(Clock::now() - physicsStart).count());
     snapshots_.nodesMoved(stepper_.movedNodes());
     ++stats_.physicsSteps;
     stats_.physicsTime_s += 1 / config_.rate_hz;

@@ -34,9 +34,11 @@ struct LoopConfig {
     physics::Scheme scheme = physics::Scheme::Auto;
     physics::SolverSettings solver{};  // the implicit scheme's linear solve
     /// Multi: the physics on its own thread at the rate it can hold (physics_worker.h) while this loop
-    /// keeps its period against the latest surface. Auto: multi-rate for organs of more than
-    /// kMultiRateNodes nodes, whose steps do not fit a period; single-rate below.
+    /// keeps its period against the latest surface. Auto: multi-rate from the start for organs of more
+    /// than multiRateAbove_nodes nodes; otherwise single-rate until, on the wall clock, the physics takes
+    /// more than half the period in kSlowPhysicsSteps steps within a second, and multi-rate from then on.
     enum class PhysicsRate { Single, Multi, Auto } physicsRate = PhysicsRate::Auto;
+    std::size_t multiRateAbove_nodes = 40'000;  // about 80,000 triangles
     double maxPhysicsStep_s = 0.02;          // multi-rate: a physics step is at most this long (then it falls behind)
     int simulatedPhysicsEvery = 4;           // multi-rate in simulated time: a physics step every this many periods
     double couplingStiffness_N_per_m = 400;  // k_h of the virtual spring between proxy and device; live changes up to
@@ -52,8 +54,9 @@ struct LoopConfig {
     cutting::CutterParams cutter{};
 };
 
-/// Auto's threshold for a multi-rate loop: about 80,000 triangles.
-inline constexpr std::size_t kMultiRateNodes = 40'000;
+/// How many physics steps within a second may take more than half the period before an Auto loop
+/// turns multi-rate.
+inline constexpr int kSlowPhysicsSteps = 20;
 
 /// The force a hand may gain per second unless its Hand says otherwise: 1.5 N in a millisecond is a
 /// jolt, a press that reaches the Touch's 3.3 N in 2 ms is not.
@@ -99,6 +102,7 @@ struct LoopStats {
     double wallTime_s = 0;
     physics::SolverStats solver;  // the implicit scheme's solves; none for an explicit one
     long physicsSteps = 0;        // equal to steps in a single-rate loop
+    long multiRateFromStep = -1;  // the step from which the physics ran on its own thread; -1: never
     double physicsTime_s = 0;     // simulated by them
 };
 
@@ -214,6 +218,11 @@ private:
     void takeFrames(Frame& frame) noexcept;
     /// Multi-rate, with the physics held: the edits and cuts made since it was last held, into its copy.
     void syncWorker() noexcept;
+    /// Starts the physics' own copy and, on the wall clock, its thread, for the steps from `fromStep`.
+    void startMultiRate(long fromStep);
+    /// Single-rate, Auto, on the wall clock: counts physics steps that took more than half the period,
+    /// and turns the loop multi-rate once there are kSlowPhysicsSteps of them within a second.
+    void watchPhysicsTime(double physics_us) noexcept;
     /// Multi-rate: the tool's force with its triangle carried `ahead_s` on at its nodes' velocities.
     Vec3 forceAhead(const physics::PointSpring& tool, double ahead_s) const;
     /// An edit to the model: now in a single-rate loop, and in a multi-rate one once the physics is held.
@@ -248,7 +257,9 @@ private:
     int pendingEditCount_ = 0;
     std::vector<std::uint32_t> pendingNodes_, pendingSprings_;  // multi-rate: what cuts changed since the last sync
     bool pendingSync_ = false;
-    long lastFrameStep_ = 0;  // multi-rate: the step whose present the latest frame's state is
+    long lastFrameStep_ = 0;    // multi-rate: the step whose present the latest frame's state is
+    int slowPhysicsSteps_ = 0;  // watchPhysicsTime's count in the current second
+    long slowWindowStart_ = 0;
     collision::Bvh bvh_;
     cutting::ProgressiveCutter cutter_;
     long topologyVersion_ = 0;
