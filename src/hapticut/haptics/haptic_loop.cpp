@@ -394,15 +394,7 @@ void HapticLoop::takeFrames(Frame& frame) noexcept {
         snapshots_.nodesMoved(f->nodes);
         if (frameNodes_.size() + f->nodes.size() <= frameNodes_.capacity())
             frameNodes_.insert(frameNodes_.end(), f->nodes.begin(), f->nodes.end());
-        // The faces round what moved, unless that is a quarter of the organ or would outgrow the list.
-        whole = whole || 4 * f->nodes.size() > n.size();
-        for (std::size_t k = 0; k < f->nodes.size() && !whole; ++k) {
-            const std::span<const std::uint32_t> faces = organ_.vertexFaces().of(f->nodes[k]);
-            if (movedFaces_.size() + faces.size() > movedFaces_.capacity())
-                whole = true;
-            else
-                movedFaces_.insert(movedFaces_.end(), faces.begin(), faces.end());
-        }
+        whole = whole || !gatherFacesRound(f->nodes);
         if (f->implicit) stats_.solver.record(f->solve);
         lastSolve_ = f->solve;
         ++stats_.physicsSteps;
@@ -475,15 +467,18 @@ void HapticLoop::syncWorker() noexcept {
 void HapticLoop::refitMovedFaces(const collision::SurfaceView& view) noexcept {
     // Only the faces round the nodes that moved: the rest of the organ sleeps exactly at rest. A region
     // of more than a quarter of the organ is cheaper to refit whole.
-    const std::span<const std::uint32_t> moved = stepper_.movedNodes();
-    if (4 * moved.size() > model_.nodes.size()) {
-        bvh_.refit(view);
-        return;
-    }
     movedFaces_.clear();
-    for (std::uint32_t i : moved)
-        for (std::uint32_t f : organ_.vertexFaces().of(i)) movedFaces_.push_back(f);  // reserved: 3 per face
-    bvh_.refitFaces(view, movedFaces_);
+    gatherFacesRound(stepper_.movedNodes()) ? bvh_.refitFaces(view, movedFaces_) : bvh_.refit(view);
+}
+
+bool HapticLoop::gatherFacesRound(std::span<const std::uint32_t> nodes) noexcept {
+    if (4 * nodes.size() > model_.nodes.size()) return false;
+    for (std::uint32_t i : nodes) {
+        const std::span<const std::uint32_t> faces = organ_.vertexFaces().of(i);
+        if (movedFaces_.size() + faces.size() > movedFaces_.capacity()) return false;  // never allocates
+        movedFaces_.insert(movedFaces_.end(), faces.begin(), faces.end());
+    }
+    return true;
 }
 
 void HapticLoop::sendForces(const Frame& frame, StepOutput& out) noexcept {
@@ -578,9 +573,7 @@ void HapticLoop::applyEdit(const ModelEdit& edit) noexcept {
     }
     try {
         // A stiffer or lighter model needs a smaller step: substeps follow, or Auto turns implicit.
-        stepper_.setScheme(
-            physics::resolveScheme(config_.scheme, model_, 1 / config_.rate_hz, stepper_.toolStiffness_N_per_m()));
-        stepper_.prepare(model_);
+        stepper_.constantsChanged(model_, config_.scheme, 1 / config_.rate_hz);
     } catch (...) {
         stats_.watchdogTripped = true;  // out of memory re-preparing: stop pushing rather than step unprepared
     }

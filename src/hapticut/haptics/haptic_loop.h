@@ -230,6 +230,9 @@ private:
     void applyEdit(const ModelEdit& edit) noexcept;
     /// The collision tree follows the tissue: the faces round the nodes the step moved.
     void refitMovedFaces(const collision::SurfaceView& view) noexcept;
+    /// Appends the faces round `nodes` to movedFaces_; false when the whole tree is better refitted (a
+    /// quarter of the organ moved, or the list would outgrow its room).
+    bool gatherFacesRound(std::span<const std::uint32_t> nodes) noexcept;
     void sendForces(const Frame& frame, StepOutput& out) noexcept;
     void finishStep(StepOutput& out, double elapsed_us) noexcept;
 

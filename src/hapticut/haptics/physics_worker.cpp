@@ -63,9 +63,8 @@ void PhysicsWorker::modelGrew() {
 }
 
 void PhysicsWorker::edit(const ModelEdit& edit) {
-    if (!applyModelEdit(model_, edit) || edit.kind == ModelEdit::Kind::ResetModel) return;
-    stepper_.setScheme(physics::resolveScheme(requested_, model_, period_s_, stepper_.toolStiffness_N_per_m()));
-    stepper_.prepare(model_);
+    if (applyModelEdit(model_, edit) && edit.kind != ModelEdit::Kind::ResetModel)
+        stepper_.constantsChanged(model_, requested_, period_s_);
 }
 
 void PhysicsWorker::start() {

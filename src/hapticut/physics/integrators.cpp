@@ -53,6 +53,11 @@ void Stepper::prepare(const MassSpringModel& model) {
     preparedSprings_ = ns;
 }
 
+void Stepper::constantsChanged(const MassSpringModel& model, Scheme requested, double dt_s) {
+    setScheme(resolveScheme(requested, model, dt_s, toolStiffness_));
+    prepare(model);
+}
+
 void Stepper::lowerStableStepAt(const MassSpringModel& model, std::uint32_t i) {
     double k = 0, d = 0;
     for (std::uint32_t s : springsAt_.of(i)) k += model.springs.stiffness[s], d += model.springs.damping[s];

@@ -40,6 +40,9 @@ public:
     /// edit stays safe. Wakes the listed nodes. Allocates only when the model outgrows its reserve.
     void topologyChanged(const MassSpringModel& model, std::span<const std::uint32_t> nodes,
                          std::span<const std::uint32_t> springs);
+    /// After the model's constants changed (a material edit): decides `requested` again for steps of
+    /// dt_s (Auto may turn implicit) and prepares. Allocates, like prepare().
+    void constantsChanged(const MassSpringModel& model, Scheme requested, double dt_s);
     /// Stiffness a tool may add to any node (the haptic coupling); counted in the stable step.
     void setToolStiffness(double stiffness_N_per_m);
     double toolStiffness_N_per_m() const { return toolStiffness_; }
