@@ -17,10 +17,27 @@
 namespace hapticut::haptics {
 namespace {
 
-mesh::SurfaceMesh heart(int triangles) {
-    mesh::procedural::HeartOptions options;
-    options.triangles = triangles;
-    return mesh::procedural::makeHeart(options);
+/// A heart and the path a device replays on it: the generated press, or a 12 mm scalpel stroke.
+struct HeartAndPath {
+    enum class Kind { Press, Stroke };
+    mesh::SurfaceMesh mesh;
+    Trajectory path;
+
+    HeartAndPath(int triangles, Kind kind) {
+        mesh::procedural::HeartOptions options;
+        options.triangles = triangles;
+        mesh = mesh::procedural::makeHeart(options);
+        collision::Bvh bvh;
+        bvh.build({mesh.positions, mesh.faces});
+        path = kind == Kind::Press ? scene::pressTrajectory(mesh, bvh) : scene::strokeTrajectory(mesh, bvh, 0.012);
+    }
+    cutting::CutModel organ() const { return {mesh, physics::buildModel(mesh, physics::Material{})}; }
+};
+
+LoopConfig withPhysicsRate(LoopConfig::PhysicsRate rate) {
+    LoopConfig config;
+    config.physicsRate = rate;
+    return config;
 }
 
 struct Trace {
@@ -28,29 +45,25 @@ struct Trace {
     long cutEvents = 0, physicsSteps = 0;
     double physicsTime_s = 0;
     std::vector<std::string> problems;
-    std::size_t physicsNodes = 0, organNodes = 0;
     bool multiRate = false;
 };
 
-/// The trajectory replayed in simulated time through a loop with `rate`.
-Trace replay(const mesh::SurfaceMesh& mesh, const Trajectory& path, LoopConfig::PhysicsRate rate,
-             double threshold_N = 1e9) {
-    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
+/// The path replayed in simulated time through a loop with `rate`.
+Trace replay(const HeartAndPath& h, LoopConfig::PhysicsRate rate, double threshold_N = 1e9) {
+    cutting::CutModel organ = h.organ();
     const double mass = physics::totalMass(organ.model());
-    ReplayDevice device(path);
-    LoopConfig config;
-    config.physicsRate = rate;
+    ReplayDevice device(h.path);
+    LoopConfig config = withPhysicsRate(rate);
     config.cutThreshold_N = threshold_N;
     HapticLoop loop(organ, device, config);
     Trace t;
     t.multiRate = loop.multiRate();
-    runSimulated(loop, std::lround(path.duration_s() * config.rate_hz) + 1,
+    runSimulated(loop, std::lround(h.path.duration_s() * config.rate_hz) + 1,
                  [&](const StepOutput& s) { t.force_N.push_back(s.hand().force_N.norm()); });
     t.cutEvents = loop.stats().cutEvents;
     t.physicsSteps = loop.stats().physicsSteps;
     t.physicsTime_s = loop.stats().physicsTime_s;
     t.problems = cutting::checkInvariants(organ, mass).problems;
-    t.organNodes = organ.model().nodes.size();
     return t;
 }
 
@@ -59,12 +72,9 @@ Trace replay(const mesh::SurfaceMesh& mesh, const Trajectory& path, LoopConfig::
 // more than 5% in under 1% of its steps (the transients where the device turns round or leaves, which
 // last less than a physics step); and never more than 30%.
 TEST(MultiRate, ThePressFeelsLikeTheSingleRateOneOnTheFinerHeart) {
-    const mesh::SurfaceMesh mesh = heart(9714);
-    collision::Bvh bvh;
-    bvh.build({mesh.positions, mesh.faces});
-    const Trajectory path = scene::pressTrajectory(mesh, bvh);
-    const Trace single = replay(mesh, path, LoopConfig::PhysicsRate::Single);
-    const Trace multi = replay(mesh, path, LoopConfig::PhysicsRate::Multi);
+    const HeartAndPath h(9714, HeartAndPath::Kind::Press);
+    const Trace single = replay(h, LoopConfig::PhysicsRate::Single);
+    const Trace multi = replay(h, LoopConfig::PhysicsRate::Multi);
     ASSERT_FALSE(single.multiRate);
     ASSERT_TRUE(multi.multiRate);
     ASSERT_EQ(single.force_N.size(), multi.force_N.size());
@@ -91,12 +101,9 @@ TEST(MultiRate, ThePressFeelsLikeTheSingleRateOneOnTheFinerHeart) {
 // A scalpel stroke while the physics runs apart: every cut reaches the physics' copy between its steps,
 // the organ stays sound, and the wound is the single-rate one's.
 TEST(MultiRate, CutsReachThePhysicsAndTheOrganStaysSound) {
-    const mesh::SurfaceMesh mesh = heart(1619);
-    collision::Bvh bvh;
-    bvh.build({mesh.positions, mesh.faces});
-    const Trajectory path = scene::strokeTrajectory(mesh, bvh, 0.012);
-    const Trace single = replay(mesh, path, LoopConfig::PhysicsRate::Single, mesh::procedural::kScalpelThreshold_N);
-    const Trace multi = replay(mesh, path, LoopConfig::PhysicsRate::Multi, mesh::procedural::kScalpelThreshold_N);
+    const HeartAndPath h(1619, HeartAndPath::Kind::Stroke);
+    const Trace single = replay(h, LoopConfig::PhysicsRate::Single, mesh::procedural::kScalpelThreshold_N);
+    const Trace multi = replay(h, LoopConfig::PhysicsRate::Multi, mesh::procedural::kScalpelThreshold_N);
     EXPECT_GT(multi.cutEvents, 5);
     EXPECT_TRUE(multi.problems.empty()) << multi.problems.front();
     const auto cuts = static_cast<double>(single.cutEvents);
@@ -107,22 +114,17 @@ TEST(MultiRate, CutsReachThePhysicsAndTheOrganStaysSound) {
 // Material edits and a reset reach the physics' copy once it is held: a heart made ten times stiffer is
 // stepped implicitly there, and after a reset the organ is back at rest.
 TEST(MultiRate, EditsReachThePhysicsCopy) {
-    const mesh::SurfaceMesh mesh = heart(1619);
-    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
-    collision::Bvh bvh;
-    bvh.build({mesh.positions, mesh.faces});
-    ReplayDevice device(scene::pressTrajectory(mesh, bvh));
-    LoopConfig config;
-    config.physicsRate = LoopConfig::PhysicsRate::Multi;
-    HapticLoop loop(organ, device, config);
+    const HeartAndPath h(1619, HeartAndPath::Kind::Press);
+    cutting::CutModel organ = h.organ();
+    ReplayDevice device(h.path);
+    HapticLoop loop(organ, device, withPhysicsRate(LoopConfig::PhysicsRate::Multi));
     runSimulated(loop, 1000);  // the press reaches the surface after about 0.8 s
     EXPECT_EQ(loop.scheme(), physics::Scheme::RungeKutta4);
     EXPECT_GT(physics::maxDisplacement(organ.model()), 1e-3) << "pressed";
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ScaleStructuralStiffness, 10.0}));
     runSimulated(loop, 8);
     EXPECT_EQ(loop.scheme(), physics::Scheme::BackwardEuler);
-    EXPECT_DOUBLE_EQ(organ.model().springs.stiffness[0],
-                     10 * physics::buildModel(mesh, physics::Material{}).springs.stiffness[0]);
+    EXPECT_DOUBLE_EQ(organ.model().springs.stiffness[0], 10 * h.organ().model().springs.stiffness[0]);
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::Pause, 0}));
     ASSERT_TRUE(loop.commands().push({LoopCommand::Kind::ResetModel, 0}));
     runSimulated(loop, 8);
@@ -132,14 +134,10 @@ TEST(MultiRate, EditsReachThePhysicsCopy) {
 // On the wall clock the physics has its own thread: the haptic loop keeps its period while the physics
 // steps as long as its steps take, and the simulated physics time keeps up with the wall clock.
 TEST(MultiRate, InRealTimeThePhysicsRunsOnItsOwnThreadAndKeepsUp) {
-    const mesh::SurfaceMesh mesh = heart(9714);
-    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
-    collision::Bvh bvh;
-    bvh.build({mesh.positions, mesh.faces});
-    ReplayDevice device(scene::pressTrajectory(mesh, bvh));
-    LoopConfig config;
-    config.physicsRate = LoopConfig::PhysicsRate::Multi;
-    HapticLoop loop(organ, device, config);
+    const HeartAndPath h(9714, HeartAndPath::Kind::Press);
+    cutting::CutModel organ = h.organ();
+    ReplayDevice device(h.path);
+    HapticLoop loop(organ, device, withPhysicsRate(LoopConfig::PhysicsRate::Multi));
     double maxForce = 0;
     RealTimeScheduler clock(loop);
     ASSERT_FALSE(
@@ -158,19 +156,15 @@ TEST(MultiRate, InRealTimeThePhysicsRunsOnItsOwnThreadAndKeepsUp) {
 // A scalpel stroke on the wall clock with the physics on its own thread: each cut waits for nothing,
 // reaches the physics' copy once it is held between steps, and the organ stays sound.
 TEST(MultiRate, InRealTimeCutsReachThePhysicsThread) {
-    const mesh::SurfaceMesh mesh = heart(1619);
-    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
+    const HeartAndPath h(1619, HeartAndPath::Kind::Stroke);
+    cutting::CutModel organ = h.organ();
     const double mass = physics::totalMass(organ.model());
-    collision::Bvh bvh;
-    bvh.build({mesh.positions, mesh.faces});
-    const Trajectory path = scene::strokeTrajectory(mesh, bvh, 0.012);
-    ReplayDevice device(path);
-    LoopConfig config;
-    config.physicsRate = LoopConfig::PhysicsRate::Multi;
+    ReplayDevice device(h.path);
+    LoopConfig config = withPhysicsRate(LoopConfig::PhysicsRate::Multi);
     config.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
     HapticLoop loop(organ, device, config);
     RealTimeScheduler clock(loop);
-    ASSERT_FALSE(clock.start(std::lround(path.duration_s() * config.rate_hz) + 1));
+    ASSERT_FALSE(clock.start(std::lround(h.path.duration_s() * config.rate_hz) + 1));
     while (clock.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     clock.stop();
     EXPECT_GT(loop.stats().cutEvents, 5);
@@ -183,12 +177,10 @@ TEST(MultiRate, InRealTimeCutsReachThePhysicsThread) {
 // integrated every step: its physics steps take several times the 100 µs period, so the loop turns
 // multi-rate within its first second and keeps its rate from then on.
 TEST(MultiRate, AutoTurnsMultiRateWhenThePhysicsDoesNotFitThePeriod) {
-    const mesh::SurfaceMesh mesh = heart(9714);
-    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
-    collision::Bvh bvh;
-    bvh.build({mesh.positions, mesh.faces});
-    ReplayDevice device(scene::pressTrajectory(mesh, bvh));
-    LoopConfig config;
+    const HeartAndPath h(9714, HeartAndPath::Kind::Press);
+    cutting::CutModel organ = h.organ();
+    ReplayDevice device(h.path);
+    LoopConfig config = withPhysicsRate(LoopConfig::PhysicsRate::Auto);
     config.rate_hz = 10'000;
     config.activeRegion = false;
     HapticLoop loop(organ, device, config);
