@@ -1,6 +1,7 @@
 // `hapticut run`: a headless simulation of a model, with an optional press, a JSON report and mesh export.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -269,7 +270,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         std::cout << "period error " << r.periodError_us.p50 << " us p50, " << r.periodError_us.p99 << " us p99, "
                   << r.periodError_us.max << " us max; overruns " << r.overruns << "\n";
     std::cout << "contact in " << r.contactSteps << " steps; max force " << r.maxForce_N << " N; max proxy penetration "
-              << r.maxProxyPenetration_m << " m; max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, "
+              << r.maxProxyPenetration_m << " m (measured in " << r.penetrationMeasuredSteps
+              << " steps); max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, "
               << r.finalMaxDisplacement_m * 1e3 << " mm at the end\n";
     if (r.handCount > 1)
         for (int h = 0; h < r.handCount; ++h)
@@ -283,7 +285,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     if (r.cut.cuts > 0)
         std::cout << "cut " << r.cut.cuts << " time(s): " << r.cut.cutPoints << " cut points, " << r.cut.length_m * 1e3
                   << " mm long, " << r.cut.verticesAdded << " vertices and " << r.cut.facesAdded << " faces added, "
-                  << (r.cut.opened ? "opened" : "not opened")
+                  << (r.cut.opened ? "opened " + std::to_string(r.cut.openings) + " point(s), " +
+                                         std::to_string(r.cut.wallsClosed) + " closed with walls"
+                                   : "not opened")
                   << (r.cut.joins > 0
                           ? ", " + std::to_string(r.cut.joins) + " join(s) with a boundary or an earlier wound"
                           : std::string())
@@ -349,6 +353,7 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["contact_steps"] = r.contactSteps;
         j["max_force_N"] = r.maxForce_N;
         j["max_proxy_penetration_m"] = r.maxProxyPenetration_m;
+        j["penetration_measured_steps"] = r.penetrationMeasuredSteps;
         j["max_displacement_m"] = r.maxDisplacement_m;
         j["final_max_displacement_m"] = r.finalMaxDisplacement_m;
         j["nan_events"] = r.nonFiniteEvents;
@@ -359,6 +364,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["vertices_added"] = r.cut.verticesAdded;
         j["faces_added"] = r.cut.facesAdded;
         j["joins"] = r.cut.joins;
+        j["openings"] = r.cut.openings;
+        j["walls_closed"] = r.cut.wallsClosed;
+        j["wall_faces"] = std::count(organ.wallFaces().begin(), organ.wallFaces().end(), std::uint8_t{1});
         j["cut_length_m"] = r.cut.length_m;
         j["opened"] = r.cut.opened;
         j["cut_event_us"] = r.cutEvents > 0 ? toJson(r.cutTime_us) : nlohmann::ordered_json(nullptr);

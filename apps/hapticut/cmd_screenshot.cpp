@@ -100,6 +100,7 @@ int screenshot(ScreenshotOptions& o) {
     frame.organPositions = organ.model().nodes.position;
     frame.faces = organ.mesh().faces;
     frame.uvs = organ.mesh().uvs;
+    frame.wallFaces = organ.wallFaces();
     frame.hands[0].tool = tool ? static_cast<int>(*tool) : -1;
     frame.maxForce_N = loaded->settings.maxForce_N;
 

@@ -38,7 +38,8 @@ int soak(SoakOptions& o) {
     std::cout << r.strokes << " strokes on " << r.organs << " organs in " << r.wallTime_s << " s: " << r.operations
               << " operations, " << r.meshChanges << " changed the mesh; " << r.cutPoints << " cut points, "
               << r.verticesAdded << " vertices and " << r.facesAdded << " faces added (largest organ " << r.largestFaces
-              << " faces), " << r.joins << " joins; " << r.invariantChecks
+              << " faces), " << r.wallsClosed << " openings closed with walls, " << r.joins << " joins"
+              << (r.closedOrgan ? ", the organ closed throughout" : "") << "; " << r.invariantChecks
               << " invariant checks: " << (r.ok() ? "all held" : r.problems.front()) << "\n";
     if (!o.report.empty()) {
         nlohmann::ordered_json j;
@@ -54,6 +55,8 @@ int soak(SoakOptions& o) {
         j["vertices_added"] = r.verticesAdded;
         j["faces_added"] = r.facesAdded;
         j["joins"] = r.joins;
+        j["walls_closed"] = r.wallsClosed;
+        j["closed_organ"] = r.closedOrgan;
         j["largest_faces"] = r.largestFaces;
         j["opened"] = r.opened;
         j["invariants_ok"] = r.ok();

@@ -183,7 +183,7 @@ TEST_F(Cli, ASceneReproducesAnExperimentAndTheCommandLineOverridesIt) {
         << bad.err;
 }
 
-TEST_F(Cli, AScalpelStrokeCutsTheExportedMeshOpenAndAProbeDoesNot) {
+TEST_F(Cli, AScalpelStrokeCutsTheHeartWithWallsThatTheExportedMeshKeepsAndAProbeDoesNot) {
     const std::string trajectory = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv";
     const CliResult r = run("run --trajectory " + trajectory + " --tool scalpel --report " + path("cut.json") +
                             " --export-mesh " + path("cut.obj"));
@@ -196,10 +196,17 @@ TEST_F(Cli, AScalpelStrokeCutsTheExportedMeshOpenAndAProbeDoesNot) {
     EXPECT_EQ(j["invariants_ok"], true) << j["invariant_problems"];
     EXPECT_GT(j["cut_length_m"].get<double>(), 0.02);
     EXPECT_GT(j["min_angle_deg"].get<double>(), 5.0);
+    // Walls close the wound: the exported heart is still closed, with the walls' faces in it, and the
+    // proxy's penetration was measured in every step, through the cut too.
+    EXPECT_GT(j["walls_closed"].get<int>(), 5);
+    EXPECT_EQ(j["walls_closed"], j["openings"]);
+    EXPECT_EQ(j["wall_faces"], 4 * j["walls_closed"].get<int>());
+    EXPECT_EQ(j["penetration_measured_steps"], j["steps"]);
+    EXPECT_LT(j["max_proxy_penetration_m"].get<double>(), 1e-4);
     const auto info = nlohmann::json::parse(run("info " + path("cut.obj") + " --json").out);
-    EXPECT_EQ(info["closed"], false);
-    EXPECT_EQ(info["boundary_edges"], j["boundary_edges"]);
-    EXPECT_GT(info["boundary_edges"].get<int>(), 10) << "the wound's lips are boundary edges";
+    EXPECT_EQ(info["closed"], true);
+    EXPECT_EQ(info["boundary_edges"], 0);
+    EXPECT_EQ(info["faces"], j["faces"]);
     EXPECT_EQ(info["manifold"], true);
 
     ASSERT_EQ(run("run --trajectory " + trajectory + " --tool probe --report " + path("probe.json")).exitCode, 0);

@@ -38,7 +38,7 @@ void stroke(CutModel& cut, ProgressiveCutter& cutter, const Vec3& from, const Ve
     cutter.endCut();
 }
 
-TEST(ProgressiveCutter, AStraightStrokeOpensAWoundAlongItsPath) {
+TEST(ProgressiveCutter, AStraightStrokeOpensAWoundAlongItsPathClosedByWallsBelowIt) {
     // 10 x 10 grid of 1 cm cells; the stroke runs left to right between the rows of vertices.
     CutModel cut = cuttable(mesh::procedural::makeGrid(10, 0.01));
     const double mass = physics::totalMass(cut.model());
@@ -53,10 +53,41 @@ TEST(ProgressiveCutter, AStraightStrokeOpensAWoundAlongItsPath) {
     const InvariantReport r = checkInvariants(cut, mass);
     ASSERT_TRUE(r.ok()) << r.problems.front();
     const mesh::MeshReport after = mesh::validateMesh(cut.mesh());
-    // Every cut edge but the two at the ends (the wound tapers shut there) appears twice as boundary.
-    EXPECT_GE(after.boundaryEdges, boundary0 + 2 * static_cast<std::size_t>(s.cutPoints - 3));
+    // Every opened point (all but the two at the ends) gapes, and walls close the gap: the surface has
+    // no new boundary, and under each opened point a floor vertex lies about one of the cut's edge
+    // lengths (3 to 7 mm here) deep, below the grid (whose outside is +z), midway between the lips.
+    EXPECT_EQ(s.wallsClosed, s.cutPoints - 2);
+    EXPECT_EQ(after.boundaryEdges, boundary0);
+    int floors = 0;
+    for (std::uint32_t v = 0; v < cut.mesh().positions.size(); ++v) {
+        const auto floor = cut.floorUnder(v);
+        if (!floor) continue;
+        ++floors;
+        const Vec3& q = cut.mesh().positions[*floor];
+        EXPECT_LT(q.z(), -0.002);
+        EXPECT_GT(q.z(), -0.012);
+        EXPECT_NEAR(q.y(), 0.0043, 0.0015);
+    }
+    EXPECT_EQ(floors, 2 * s.wallsClosed) << "both lips of an opening share its floor";
     // Every cut point lies on the stroke's line (rest shape): the cut follows the scalpel.
     for (std::uint32_t v : cutter.points()) EXPECT_NEAR(cut.mesh().positions[v].y(), 0.0043, 0.0015);
+    EXPECT_TRUE(after.manifold);
+    EXPECT_TRUE(after.oriented);
+}
+
+TEST(ProgressiveCutter, WithoutWallsTheWoundIsAnOpeningInTheSurface) {
+    CutModel cut = cuttable(mesh::procedural::makeGrid(10, 0.01));
+    const double mass = physics::totalMass(cut.model());
+    ProgressiveCutter cutter(cut, CutterParams{.walls = false});
+    const std::size_t boundary0 = mesh::validateMesh(cut.mesh()).boundaryEdges;
+    stroke(cut, cutter, Vec3(-0.032, 0.0043, 0), Vec3(0.028, 0.0043, 0), 120);
+    const CutStats& s = cutter.stats();
+    const InvariantReport r = checkInvariants(cut, mass);
+    ASSERT_TRUE(r.ok()) << r.problems.front();
+    const mesh::MeshReport after = mesh::validateMesh(cut.mesh());
+    // Every cut edge but the two at the ends (the wound tapers shut there) appears twice as boundary.
+    EXPECT_EQ(s.wallsClosed, 0);
+    EXPECT_GE(after.boundaryEdges, boundary0 + 2 * static_cast<std::size_t>(s.cutPoints - 3));
     EXPECT_TRUE(after.manifold);
     EXPECT_TRUE(after.oriented);
 }
@@ -70,9 +101,10 @@ TEST(ProgressiveCutter, AStrokeThroughVerticesSnapsInsteadOfMakingSlivers) {
     const InvariantReport r = checkInvariants(cut, physics::totalMass(cut.model()));
     ASSERT_TRUE(r.ok()) << r.problems.front();
     EXPECT_GE(cutter.stats().cutPoints, 6);
-    // Only the duplicates of opened points were added: no edge or face splits.
-    EXPECT_EQ(cut.mesh().positions.size() - vertices0, static_cast<std::size_t>(cutter.stats().cutPoints - 2));
-    EXPECT_GT(mesh::validateMesh(cut.mesh()).minAngleDeg, 20.0);
+    // Only the duplicates of opened points and their floors were added: no edge or face splits.
+    EXPECT_EQ(cutter.stats().wallsClosed, cutter.stats().cutPoints - 2);
+    EXPECT_EQ(cut.mesh().positions.size() - vertices0, static_cast<std::size_t>(2 * (cutter.stats().cutPoints - 2)));
+    EXPECT_GT(mesh::validateMesh(cut.mesh()).minAngleDeg, 15.0);
 }
 
 TEST(ProgressiveCutter, AFastStrokeCutsEveryFaceOnItsWayInOrder) {
@@ -170,10 +202,33 @@ TEST(ProgressiveCutter, ACutAcrossTheWholeGridJoinsBothRimsAndLeavesTwoPiecesTha
     }
 }
 
-TEST(ProgressiveCutter, AStrokeAcrossAnEarlierWoundJoinsItIntoOneOpening) {
+TEST(ProgressiveCutter, AStrokeAcrossAnEarlierWoundEndsAtItsLipAndGoesOnBeyondIt) {
     CutModel cut = cuttable(mesh::procedural::makeGrid(12, 0.01));
     const double mass = physics::totalMass(cut.model());
     ProgressiveCutter cutter(cut);
+    stroke(cut, cutter, Vec3(-0.035, 0.0043, 0), Vec3(0.035, 0.0043, 0), 140);  // the earlier wound
+    ASSERT_EQ(countGroups(cut.mesh(), true), 1) << "the grid's rim only: walls close the wound";
+    const long walls = cutter.stats().wallsClosed;
+    stroke(cut, cutter, Vec3(0.0031, -0.03, 0), Vec3(0.0031, 0.03, 0), 120);  // across it
+    const InvariantReport r = checkInvariants(cut, mass);
+    ASSERT_TRUE(r.ok()) << r.problems.front();
+    EXPECT_EQ(countGroups(cut.mesh(), true), 1) << "both wounds closed by their walls";
+    EXPECT_EQ(countGroups(cut.mesh(), false), 1) << "and the grid is still one piece";
+    EXPECT_GT(cutter.stats().wallsClosed, walls + 4);
+    // The second cut ended at the first wound's lip (it does not go down into the walls) and started
+    // again on the far side, opening points well past it.
+    double yMax = -1;
+    for (std::uint32_t v = 0; v < cut.mesh().positions.size(); ++v) {
+        const Vec3& p = cut.mesh().positions[v];
+        if (std::abs(p.x() - 0.0031) < 0.006 && cut.floorUnder(v)) yMax = std::max(yMax, p.y());
+    }
+    EXPECT_GT(yMax, 0.02) << "the lips of the crossing cut reach well past the first wound";
+}
+
+TEST(ProgressiveCutter, WithoutWallsAStrokeAcrossAnEarlierWoundJoinsItIntoOneOpening) {
+    CutModel cut = cuttable(mesh::procedural::makeGrid(12, 0.01));
+    const double mass = physics::totalMass(cut.model());
+    ProgressiveCutter cutter(cut, CutterParams{.walls = false});
     stroke(cut, cutter, Vec3(-0.035, 0.0043, 0), Vec3(0.035, 0.0043, 0), 140);  // the earlier wound
     ASSERT_EQ(countGroups(cut.mesh(), true), 2) << "the grid's rim and the wound";
     stroke(cut, cutter, Vec3(0.0031, -0.03, 0), Vec3(0.0031, 0.03, 0), 120);  // across it
@@ -182,18 +237,6 @@ TEST(ProgressiveCutter, AStrokeAcrossAnEarlierWoundJoinsItIntoOneOpening) {
     EXPECT_GE(cutter.stats().joins, 1);
     EXPECT_EQ(countGroups(cut.mesh(), true), 2) << "the two cuts are one opening, apart from the grid's rim";
     EXPECT_EQ(countGroups(cut.mesh(), false), 1) << "and the grid is still one piece";
-    // The second cut went on beyond the first wound.
-    double yMax = -1;
-    for (std::uint32_t v = 0; v < cut.mesh().positions.size(); ++v) {
-        const Vec3& p = cut.mesh().positions[v];
-        if (std::abs(p.x() - 0.0031) < 0.002 && cut.facesAround(v).size() > 0) {
-            bool lip = false;
-            for (std::uint32_t f : cut.facesAround(v))
-                for (std::uint32_t x : cut.mesh().faces[f]) lip = lip || (x != v && cut.facesOfEdge(v, x).size() == 1);
-            if (lip) yMax = std::max(yMax, p.y());
-        }
-    }
-    EXPECT_GT(yMax, 0.02) << "the lips of the crossing cut reach well past the first wound";
 }
 
 TEST(ProgressiveCutter, RandomStrokesOnTheHeartKeepEveryInvariant) {
@@ -208,10 +251,11 @@ TEST(ProgressiveCutter, RandomStrokesOnTheHeartKeepEveryInvariant) {
         const Vec3 dir = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
         const Vec3 end = touchPoint(cut, start + length(rng) * dir);
         stroke(cut, cutter, start, end, 1 + static_cast<int>(rng() % 30));
-        const InvariantReport r = checkInvariants(cut, mass);
+        const InvariantReport r = checkInvariants(cut, mass, /*closed=*/true);
         ASSERT_TRUE(r.ok()) << "after stroke " << i << ": " << r.problems.front();
     }
     EXPECT_GT(cutter.stats().cutPoints, 500);
+    EXPECT_GT(cutter.stats().wallsClosed, 300);
     EXPECT_TRUE(cutter.stats().opened);
     physics::Stepper stepper(physics::Scheme::RungeKutta4);
     stepper.setAutoSubstep(false);

@@ -2,6 +2,8 @@
 // wound opens; the probe on the same path cuts nothing; the renderer's snapshot follows the new faces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
@@ -36,7 +38,7 @@ struct StrokeResult {
     long cutEvents = 0;
     mesh::MeshReport after;
     std::vector<std::string> problems;
-    std::size_t snapshotFaces = 0, facesAfter = 0;
+    std::size_t snapshotFaces = 0, facesAfter = 0, wallFaces = 0;
     long snapshotsChecked = 0, snapshotMismatches = 0;
     std::vector<Vec3> cutPoints;
     double maxForce_N = 0;
@@ -69,7 +71,9 @@ StrokeResult stroke(double threshold_N, double depth_m) {
     r.cutEvents = loop.stats().cutEvents;
     r.maxForce_N = loop.stats().maxForce_N;
     r.after = mesh::validateMesh(organ.mesh());
-    r.problems = cutting::checkInvariants(organ, mass).problems;
+    r.problems = cutting::checkInvariants(organ, mass, organ.closedBeforeCuts()).problems;
+    r.wallFaces =
+        static_cast<std::size_t>(std::count(organ.wallFaces().begin(), organ.wallFaces().end(), std::uint8_t{1}));
     r.snapshotFaces = loop.snapshots().readLatest().faces.size();
     r.facesAfter = organ.mesh().faces.size();
     EXPECT_FALSE(loop.stats().watchdogTripped);
@@ -93,8 +97,12 @@ TEST(CuttingLoop, AScalpelPressedPastItsThresholdCutsAlongTheStrokeAndTheWoundOp
     EXPECT_GT(xMax - xMin, 0.02);
     EXPECT_LT(xMin, 0.0);
     EXPECT_GT(xMax, 0.015);
-    // The lips are boundary edges: two per opened cut point, and the organ is still one manifold piece.
-    EXPECT_GE(r.after.boundaryEdges, 2u * static_cast<std::size_t>(r.cut.cutPoints - 2));
+    // Every opened point's gap is closed with walls down to a floor: the heart stays closed, one
+    // manifold piece, four wall faces to each opening.
+    EXPECT_GE(r.cut.wallsClosed, r.cut.cutPoints - 3);
+    EXPECT_EQ(r.wallFaces, 4 * static_cast<std::size_t>(r.cut.wallsClosed));
+    EXPECT_EQ(r.after.boundaryEdges, 0u);
+    EXPECT_TRUE(r.after.closed);
     EXPECT_TRUE(r.after.manifold);
     EXPECT_TRUE(r.after.oriented);
     EXPECT_GT(r.after.minAngleDeg, 5.0);

@@ -271,7 +271,7 @@ void Renderer::draw(const SceneFrame& frame, const ViewSettings& view, int width
     if (frame.topologyVersion != m.topologyVersion || view.woundWalls != m.wallsShown) {
         m.surface.setWallsShown(view.woundWalls);
         m.wallsShown = view.woundWalls;
-        m.surface.setTopology(frame.faces, frame.uvs, frame.organPositions.size());
+        m.surface.setTopology(frame.faces, frame.uvs, frame.wallFaces, frame.organPositions.size());
         m.topologyVersion = frame.topologyVersion;
         m.surface.update(frame.organPositions);
         m.organMesh.upload(m.surface.vertices(), m.surface.indices());

@@ -23,6 +23,7 @@ struct SceneFrame {
     std::span<const Vec3> organPositions;  // deformed, one per vertex
     std::span<const mesh::Face> faces;     // read when topologyVersion differs from the last frame's
     std::span<const mesh::FaceUvs> uvs;
+    std::span<const std::uint8_t> wallFaces;  // per face: 1 for a wound's wall
     long topologyVersion = 0;
     /// Each hand's tool: drawn at its proxy, with the device's marker and the force arrow.
     struct Hand {
@@ -42,7 +43,7 @@ struct ViewSettings {
     double eyeSeparation_m = 0.012, focalLength_m = 0.35;
     bool wireframe = false;
     bool normalMapping = true;
-    bool woundWalls = true;            // walls hang from the lips of opened cuts into the organ
+    bool woundWalls = true;            // draw the walls of wounds (CutModel::wallFaces)
     bool quadBufferAvailable = false;  // the bound framebuffer has left and right back buffers
     double forceArrowLength_m_per_N = 0.01;
 

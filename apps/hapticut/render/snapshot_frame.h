@@ -16,6 +16,7 @@ inline SceneFrame frameOf(const haptics::Snapshot& s, std::span<const int> tools
     frame.organPositions = s.positions;
     frame.faces = s.faces;
     frame.uvs = s.uvs;
+    frame.wallFaces = s.wallFaces;
     frame.topologyVersion = s.topologyVersion;
     frame.handCount = std::min({s.handCount, static_cast<int>(frame.hands.size()), static_cast<int>(tools.size())});
     for (std::size_t h = 0; h < static_cast<std::size_t>(frame.handCount); ++h) {

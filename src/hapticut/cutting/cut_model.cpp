@@ -2,20 +2,31 @@
 #include "hapticut/cutting/cut_model.h"
 
 #include <algorithm>
+#include <array>
 
 #include "hapticut/common/assert.h"
 #include "hapticut/common/reserve.h"
 #include "hapticut/geometry/triangle.h"
+#include "hapticut/mesh/adjacency.h"
 
 namespace hapticut::cutting {
 
 using mesh::edgeKey;
+
+namespace {
+/// How far apart an opening's lips move in the rest shape, per local edge length (see openCut).
+constexpr double kRestGapPerEdge = 0.05;
+}  // namespace
 
 CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model)
     : mesh_(std::move(mesh)), model_(std::move(model)) {
     HAPTICUT_ASSERT(mesh_.positions.size() == model_.nodes.size());
     mesh::completeMesh(mesh_);
     facesAround_ = mesh::buildVertexFaces(mesh_.faces, mesh_.positions.size());
+    const mesh::MeshAdjacency adjacency = mesh::buildAdjacency(mesh_.faces);
+    closedBeforeCuts_ = !mesh_.faces.empty();
+    for (std::size_t e = 0; e < adjacency.edges.size() && closedBeforeCuts_; ++e)
+        closedBeforeCuts_ = adjacency.facesOfEdge(e).size() == 2;
     const physics::Springs& s = model_.springs;
     for (std::uint32_t k = 0; k < s.size(); ++k) springOfEdge_[edgeKey(s.a[k], s.b[k])] = k;
     // New springs and anchors follow the model's material: springs scale as 1/L (as the
@@ -46,6 +57,10 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model)
     reserveTouched(mesh_.faces, faces);
     reserveTouched(mesh_.uvs, faces);
     reserveTouched(mesh_.normals, faces);
+    reserveTouched(wall_, faces);
+    wall_.assign(mesh_.faces.size(), 0);
+    reserveTouched(floorUnder_, nodes);
+    floorUnder_.assign(mesh_.positions.size(), kNoFloor);
 }
 
 std::optional<std::uint32_t> CutModel::springOf(std::uint32_t a, std::uint32_t b) const {
@@ -75,6 +90,7 @@ std::uint32_t CutModel::addVertex(Vec3 rest, Vec3 position, Vec3 velocity, doubl
     n.anchorStiffness.push_back(anchorStiffnessPerKg_ * mass);
     n.anchorDamping.push_back(anchorDampingPerKg_ * mass);
     facesAround_.around.emplace_back();
+    floorUnder_.push_back(kNoFloor);
     changes_.nodes.push_back(v);
     return v;
 }
@@ -132,9 +148,10 @@ void CutModel::replaceFace(std::uint32_t face, const mesh::Face& corners, const 
     changes_.faces.push_back(face);
 }
 
-std::uint32_t CutModel::appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs) {
+std::uint32_t CutModel::appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs, bool wall) {
     const auto face = static_cast<std::uint32_t>(mesh_.faces.size());
     mesh_.faces.push_back(corners);
+    wall_.push_back(wall ? 1 : 0);
     mesh_.uvs.push_back(uvs);
     mesh_.normals.push_back(
         geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]));
@@ -162,8 +179,9 @@ std::uint32_t CutModel::splitFace(std::uint32_t face, const Vec3& bary) {
     const std::uint32_t k = addVertex(rest, position, velocity, faceMass / 4);
     const Vec2 uvk = bary.x() * uv[0] + bary.y() * uv[1] + bary.z() * uv[2];
     replaceFace(face, {f[0], f[1], k}, {uv[0], uv[1], uvk});
-    appendFace({f[1], f[2], k}, {uv[1], uv[2], uvk});
-    appendFace({f[2], f[0], k}, {uv[2], uv[0], uvk});
+    const bool wall = isWall(face);  // a split wall stays wall
+    appendFace({f[1], f[2], k}, {uv[1], uv[2], uvk}, wall);
+    appendFace({f[2], f[0], k}, {uv[2], uv[0], uvk}, wall);
     for (std::uint32_t v : f) addSpring(v, k);
     return k;
 }
@@ -202,7 +220,7 @@ std::uint32_t CutModel::splitEdge(std::uint32_t a, std::uint32_t b, double u) {
         const double t = x == a ? u : 1 - u;  // where p lies from x toward y
         const Vec2 up = (1 - t) * ux + t * uy;
         replaceFace(face, {x, p, c}, {ux, up, uc});
-        appendFace({p, y, c}, {up, uy, uc});
+        appendFace({p, y, c}, {up, uy, uc}, isWall(face));
         addSpring(p, c);
     }
     return p;
@@ -223,7 +241,9 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     if (!start) return std::nullopt;
 
     // Walk round v from the left face across the edges through v, away from next, until the edge to
-    // prev or a boundary: those faces are the left side.
+    // prev (or to prev's floor, past the wall that closed the cut's tip) or a boundary: those faces are
+    // the left side.
+    const std::uint32_t prevFloor = floorUnder_[prev];
     std::vector<std::uint32_t> left;
     std::uint32_t face = *start;
     for (std::size_t guard = 0; guard <= facesAround_.around[v].size(); ++guard) {
@@ -233,7 +253,7 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
         int k = 0;
         while (f[k] != v) ++k;
         const std::uint32_t y = f[(k + 2) % 3];
-        if (y == prev) break;
+        if (y == prev || y == prevFloor) break;
         std::optional<std::uint32_t> across;
         for (std::uint32_t g : facesAround_.around[v])
             if (g != face && runs(g, v, y)) across = g;
@@ -274,11 +294,16 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
         moveSpringEnd(*k, v, w);
     }
     // Pull the wound open: every spring at either copy a little shorter, except along the cut. After
-    // the opening the cut's edges at v and v' are exactly their boundary edges (the lips).
+    // the opening the cut's edges at v and v' are boundary edges (the lips) or, behind them, edges of
+    // the walls that closed the cut so far; neither is shortened.
+    auto alongCut = [&](std::uint32_t a, std::uint32_t b) {
+        const std::vector<std::uint32_t> faces = facesOfEdge(a, b);
+        return faces.size() < 2 || std::any_of(faces.begin(), faces.end(), [&](std::uint32_t f) { return isWall(f); });
+    };
     for (std::uint32_t copy : {v, w})
         for (std::uint32_t f : facesAround_.around[copy])
             for (std::uint32_t x : mesh_.faces[f]) {
-                if (x == copy || facesOfEdge(copy, x).size() < 2) continue;
+                if (x == copy || alongCut(copy, x)) continue;
                 if (const auto k = springOf(copy, x); k && shortened_.insert(*k).second) {
                     s.restLength[*k] *= 1 - shorten;
                     touchSpring(*k);
@@ -288,23 +313,112 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     if (retract > 0) {
         // The surface normal at v crossed with the cut's direction points across the cut, to the left lip.
         const Vec3 along = mesh_.positions[next] - mesh_.positions[prev];
-        Vec3 normal = Vec3::Zero();
-        for (std::uint32_t copy : {v, w})
-            for (std::uint32_t f : facesAround_.around[copy]) {
-                const mesh::Face& c = mesh_.faces[f];
-                normal += (mesh_.positions[c[1]] - mesh_.positions[c[0]])
-                              .cross(mesh_.positions[c[2]] - mesh_.positions[c[0]]);
-            }
-        const Vec3 side = normal.cross(along);
+        const Vec3 side = restNormalAround(v, {w}).cross(along);
         if (side.norm() > 0) {
             const double edge = 0.5 * ((mesh_.positions[v] - mesh_.positions[prev]).norm() +
                                        (mesh_.positions[next] - mesh_.positions[v]).norm());
             const Vec3 shift = side.normalized() * (retract * edge);
             n.restPosition[w] += shift;
             n.restPosition[v] -= shift;
+            // The rest shape gapes a little too, so walls that close the gap (closeOpening) form a narrow
+            // V instead of two walls folded onto each other, on which a later cut could join two points
+            // at one place by a spring of no length. A little: moving a lip further would crush the
+            // triangles beside it.
+            const Vec3 restShift = side.normalized() * (kRestGapPerEdge * edge);
+            mesh_.positions[w] += restShift;
+            mesh_.positions[v] -= restShift;
+            for (std::uint32_t copy : {v, w})
+                for (std::uint32_t f : facesAround_.around[copy]) {
+                    const mesh::Face& c = mesh_.faces[f];
+                    mesh_.normals[f] =
+                        geometry::unitNormal(mesh_.positions[c[0]], mesh_.positions[c[1]], mesh_.positions[c[2]]);
+                }
         }
     }
     return w;
+}
+
+std::optional<std::uint32_t> CutModel::floorUnder(std::uint32_t v) const {
+    return floorUnder_[v] == kNoFloor ? std::nullopt : std::optional<std::uint32_t>(floorUnder_[v]);
+}
+
+Vec3 CutModel::restNormalAround(std::uint32_t v, std::initializer_list<std::uint32_t> others) const {
+    Vec3 surface = Vec3::Zero(), all = Vec3::Zero();
+    auto add = [&](std::uint32_t x) {
+        for (std::uint32_t f : facesAround_.around[x]) {
+            const mesh::Face& c = mesh_.faces[f];
+            const Vec3 area =
+                (mesh_.positions[c[1]] - mesh_.positions[c[0]]).cross(mesh_.positions[c[2]] - mesh_.positions[c[0]]);
+            all += area;
+            if (!isWall(f)) surface += area;
+        }
+    };
+    add(v);
+    for (std::uint32_t x : others) add(x);
+    const Vec3 normal = surface.norm() > 0 ? surface : all;
+    return normal.norm() > 0 ? Vec3(normal.normalized()) : Vec3::Zero();
+}
+
+std::optional<std::uint32_t> CutModel::closeOpening(std::uint32_t v, std::uint32_t w, double depth_m) {
+    // The boundary edge leaving x in its face's winding, if there is exactly one (two: a pinch).
+    auto boundaryFrom = [&](std::uint32_t x) -> std::optional<std::uint32_t> {
+        std::optional<std::uint32_t> out;
+        for (std::uint32_t f : facesAround_.around[x]) {
+            const mesh::Face& face = mesh_.faces[f];
+            int k = 0;
+            while (face[k] != x) ++k;
+            const std::uint32_t y = face[(k + 1) % 3];
+            if (facesOfEdge(x, y).size() != 1) continue;
+            if (out) return std::nullopt;
+            out = y;
+        }
+        return out;
+    };
+    // The gap openCut left is the hole v -> a -> b -> c -> v through w (next and behind are a and c, or
+    // c and a): anything longer ran into an open rim or an unclosed wound, and stays open.
+    std::array<std::uint32_t, 4> hole{v, 0, 0, 0};
+    for (int i = 1; i <= 4; ++i) {
+        const auto to = boundaryFrom(hole[static_cast<std::size_t>(i - 1)]);
+        if (!to || (i < 4 && *to == v) || (i == 4 && *to != v)) return std::nullopt;
+        if (i < 4) hole[static_cast<std::size_t>(i)] = *to;
+    }
+    if (hole[2] != w || hole[1] == hole[3]) return std::nullopt;
+    const Vec3 normal = restNormalAround(v, {w});
+    // Lips that did not gape apart (openCut without retract) would fold the two walls onto each other.
+    if (normal.norm() == 0 || !(depth_m > 0) || (mesh_.positions[w] - mesh_.positions[v]).norm() < 1e-3 * depth_m)
+        return std::nullopt;
+
+    physics::Nodes& n = model_.nodes;
+    const double fromV = n.mass[v] / 3, fromW = n.mass[w] / 3;  // the floor's share (total conserved)
+    setMass(v, n.mass[v] - fromV);
+    setMass(w, n.mass[w] - fromW);
+    const Vec3 offset = -depth_m * normal;
+    const Vec3 middle = 0.5 * (mesh_.positions[v] + mesh_.positions[w]);
+    const std::uint32_t q = addVertex(middle + offset, 0.5 * (n.position[v] + n.position[w]) + offset,
+                                      0.5 * (n.velocity[v] + n.velocity[w]), fromV + fromW);
+    floorUnder_[v] = floorUnder_[w] = q;
+
+    // The walls' own UVs for their material: v from 0 at a lip to 1 at the floor, u along the cut in
+    // wall depths, so the shader darkens toward the floor and streaks along the cut.
+    const Vec3 along = (mesh_.positions[hole[1]] - mesh_.positions[hole[3]]).normalized();
+    auto onlyWalls = [&](std::uint32_t x) {
+        const auto& around = facesAround_.around[x];
+        return !around.empty() && std::all_of(around.begin(), around.end(), [&](std::uint32_t f) { return isWall(f); });
+    };
+    auto uvOf = [&](std::uint32_t x) {
+        const double u = mesh_.positions[x].dot(along) / depth_m;
+        return Vec2(u, x == q || onlyWalls(x) ? 1.0 : 0.0);
+    };
+    std::array<Vec2, 4> uv{};
+    for (std::size_t i = 0; i < 4; ++i) uv[i] = uvOf(hole[i]);
+    const Vec2 uvq = uvOf(q);
+    // Each hole edge x -> y runs so in its one face; the wall face on its other side runs y -> x.
+    for (std::size_t i = 0; i < 4; ++i) {
+        const std::size_t j = (i + 1) % 4;
+        appendFace({hole[j], hole[i], q}, {uv[j], uv[i], uvq}, true);
+    }
+    for (std::uint32_t x : hole) addSpring(q, x);
+    return q;
 }
 
 void CutModel::fansAround(std::uint32_t v, std::vector<std::uint32_t>& faces,

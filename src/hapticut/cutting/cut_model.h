@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -34,6 +35,8 @@ public:
 
     const mesh::SurfaceMesh& mesh() const { return mesh_; }
     const physics::MassSpringModel& model() const { return model_; }
+    /// Whether the organ was closed (every edge on two faces) before any cut; with walls it stays so.
+    bool closedBeforeCuts() const { return closedBeforeCuts_; }
     physics::MassSpringModel& model() { return model_; }
 
     const std::vector<std::uint32_t>& facesAround(std::uint32_t vertex) const { return facesAround_.around[vertex]; }
@@ -69,8 +72,24 @@ public:
     /// tissue under tension retracts. The walk round v stops at the edge to prev or at a
     /// boundary, so an already opened prev (a progressive cut) works the same. Returns v', or nothing
     /// when v has no face on the left of v -> next.
+    /// When prev opened with walls (closeOpening), the walk stops instead at prev's floor vertex, the
+    /// far side of the wall that closed the cut's tip, so the walls stay with their own side.
     std::optional<std::uint32_t> openCut(std::uint32_t prev, std::uint32_t v, std::uint32_t next, double shorten = 0.1,
                                          double retract = 0);
+
+    /// SPEC beyond (thesis 2.3): after openCut(prev, v, next) gave v its copy w, the gap between the lips
+    /// is closed with walls, so a closed organ stays closed and the tool meets tissue inside the wound.
+    /// The gap is a hole of four edges, v -> next -> w -> behind (behind: prev, or prev's floor vertex);
+    /// a floor vertex q goes `depth_m` under v into the organ, with mass (a share of v's and w's) and an
+    /// anchor, and four wall faces join q to the hole's edges, with springs from q to each corner. The
+    /// floor vertices of a cut form its floor curve, where its two walls meet. Returns q, or nothing when
+    /// the gap is not such a hole (it ran into the organ's open rim), which is then left open.
+    std::optional<std::uint32_t> closeOpening(std::uint32_t v, std::uint32_t w, double depth_m);
+    /// The floor vertex the walls under v's opening meet at, if v opened with walls.
+    std::optional<std::uint32_t> floorUnder(std::uint32_t v) const;
+    /// Per face: 1 for a wound's wall (closeOpening made it, or a cut split one), 0 for the organ's surface.
+    const std::vector<std::uint8_t>& wallFaces() const { return wall_; }
+    bool isWall(std::uint32_t face) const { return wall_[face] != 0; }
 
     /// Where a cut meets an open boundary or an earlier wound, or starts on one, the vertex there is left
     /// joining two fans of faces that touch only at it. This gives each fan beyond the first its own
@@ -101,16 +120,23 @@ private:
     void moveSpringEnd(std::uint32_t k, std::uint32_t from, std::uint32_t to);
     void touchSpring(std::uint32_t k);
     void replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs);
-    std::uint32_t appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs);
+    /// A new face; `wall`: a wound's wall.
+    std::uint32_t appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs, bool wall = false);
+    /// The unit normal of the rest surface round v and its copies `others`, over the organ's own faces
+    /// (walls would tilt it); over all faces when v has only walls; zero when they cancel out.
+    Vec3 restNormalAround(std::uint32_t v, std::initializer_list<std::uint32_t> others) const;
 
     mesh::SurfaceMesh mesh_;
     physics::MassSpringModel model_;
     mesh::VertexFaces facesAround_;
     std::unordered_map<std::uint64_t, std::uint32_t> springOfEdge_;
     TopologyChanges changes_;
-    std::unordered_set<std::uint64_t> shortened_;
-    std::vector<std::uint32_t> fanFaces_,
-        fanStart_;  // scratch for separateFans  // scratch for openCut: each spring shortened once
+    bool closedBeforeCuts_ = false;
+    std::vector<std::uint8_t> wall_;         // per face
+    std::vector<std::uint32_t> floorUnder_;  // per vertex: the floor vertex of its opening, or kNoFloor
+    static constexpr std::uint32_t kNoFloor = ~std::uint32_t{0};
+    std::unordered_set<std::uint64_t> shortened_;     // scratch for openCut: each spring shortened once
+    std::vector<std::uint32_t> fanFaces_, fanStart_;  // scratch for separateFans
     // Material of new springs and anchors: the means of the model's own, per unit length and mass.
     double stiffnessTimesLength_ = 0, dampingTimesLength_ = 0, anchorStiffnessPerKg_ = 0, anchorDampingPerKg_ = 0;
 };

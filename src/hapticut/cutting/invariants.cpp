@@ -10,7 +10,7 @@
 
 namespace hapticut::cutting {
 
-InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_kg) {
+InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_kg, const bool closed) {
     InvariantReport r;
     auto problem = [&](std::string s) {
         if (r.problems.size() < 20) r.problems.push_back(std::move(s));
@@ -27,6 +27,9 @@ InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_
     for (std::size_t e = 0; e < adj.edges.size(); ++e) {
         const auto faces = adj.facesOfEdge(e);
         const auto [a, b] = adj.edges[e];
+        if (closed && faces.size() == 1)
+            problem("edge (" + std::to_string(a) + ", " + std::to_string(b) +
+                    ") is open, but the organ was closed: a wound without its walls");
         if (faces.size() > 2)
             problem("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") has " + std::to_string(faces.size()) +
                     " faces");

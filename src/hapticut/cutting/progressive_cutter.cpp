@@ -18,10 +18,16 @@ Vec3 restPoint(const mesh::SurfaceMesh& m, std::uint32_t face, const Vec3& bary)
 }
 }  // namespace
 
+bool ProgressiveCutter::onRim(std::uint32_t a, std::uint32_t b) const {
+    const std::vector<std::uint32_t> faces = model_.facesOfEdge(a, b);
+    return faces.size() < 2 ||
+           std::any_of(faces.begin(), faces.end(), [&](std::uint32_t f) { return model_.isWall(f); });
+}
+
 bool ProgressiveCutter::onBoundary(std::uint32_t v) const {
     for (std::uint32_t f : model_.facesAround(v))
         for (std::uint32_t x : model_.mesh().faces[f])
-            if (x != v && model_.facesOfEdge(v, x).size() < 2) return true;
+            if (x != v && onRim(v, x)) return true;
     return false;
 }
 
@@ -34,12 +40,24 @@ void ProgressiveCutter::addPoint(std::uint32_t vertex) {
     // R17: from the third point on, each new point opens the one before it.
     if (points_.size() >= 3) {
         const std::size_t n = points_.size();
-        const std::size_t before = model_.mesh().positions.size();
-        if (const auto copy =
-                model_.openCut(points_[n - 3], points_[n - 2], points_[n - 1], params_.shorten, params_.retract)) {
+        const std::size_t before = model_.mesh().positions.size(), faces = model_.mesh().faces.size();
+        const std::uint32_t prev = points_[n - 3], v = points_[n - 2], next = points_[n - 1];
+        if (const auto copy = model_.openCut(prev, v, next, params_.shorten, params_.retract)) {
             stats_.opened = true;
+            ++stats_.openings;
             lipVertices_.push_back(*copy);
+            if (params_.walls) {
+                const auto& x = model_.mesh().positions;
+                // As deep as the blade, within limits of the cut's edges there: a deep wall over a short
+                // edge would be a sliver.
+                const double before = (x[v] - x[prev]).norm(), after = (x[next] - x[v]).norm();
+                const double deepest = params_.maxWallDepthPerEdge * std::min(before, after);
+                const double depth = std::clamp(
+                    bladeDepth_m_, std::min(params_.wallDepthPerEdge * 0.5 * (before + after), deepest), deepest);
+                if (model_.closeOpening(v, *copy, depth)) ++stats_.wallsClosed;
+            }
         }
+        stats_.facesAdded += static_cast<long>(model_.mesh().faces.size() - faces);
         // A cut that started on a boundary or a wound's lip now opens into it at its first point.
         if (n == 3) model_.separateFans(points_[0]);
         stats_.verticesAdded += static_cast<long>(model_.mesh().positions.size() - before);
@@ -94,6 +112,9 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
         if (den <= 1e-30 * aa * cc) continue;  // parallel
         const double t = (bb * ee - cc * dd) / den, u = (aa * ee - bb * dd) / den;
         if (t <= 0 || u < 0 || u > 1) continue;
+        // An edge through the last point itself: the other wall of a wound, folded onto this one in the
+        // rest shape (CutModel::closeOpening). Crossing there would join two points at one place.
+        if ((m.positions[a] + u * d2 - from).norm() < 1e-3 * d2.norm()) continue;
         crossings.push_back({((from + t * d1) - (m.positions[a] + u * d2)).norm(), a, b, u});
     }
     std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) { return x.gap < y.gap; });
@@ -101,7 +122,7 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
     for (const Crossing& c : crossings) {
         // A boundary edge is an open end of the organ or an earlier wound: the cut runs into it there
         // and joins it (on the edge, or at an end of it rather than make a sliver).
-        const bool boundaryEdge = model_.facesOfEdge(c.a, c.b).size() < 2;
+        const bool boundaryEdge = onRim(c.a, c.b);
         const std::uint32_t next = pointOnEdge(c.a, c.b, c.u);
         if (inCut(next)) {
             if (boundaryEdge) return false;  // along a lip of its own: nothing to join
@@ -153,7 +174,7 @@ bool ProgressiveCutter::reachBoundary(const Vec3& q) {
         int k = 0;
         while (face[k] != last) ++k;
         const std::uint32_t a = face[(k + 1) % 3], b = face[(k + 2) % 3];
-        if (model_.facesOfEdge(a, b).size() != 1 || (ownLip(a) && ownLip(b))) continue;
+        if (!onRim(a, b) || (ownLip(a) && ownLip(b))) continue;
         const Vec3 ab = m.positions[b] - m.positions[a];
         const double u = std::clamp(ab.dot(q - m.positions[a]) / ab.squaredNorm(), 0.0, 1.0);
         if ((m.positions[a] + u * ab - q).norm() >= params_.snapFraction * ab.norm()) continue;
@@ -182,9 +203,21 @@ std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlad
                     if (std::find(ring_.begin(), ring_.end(), v) == ring_.end()) ring_.push_back(v);
             }
     }
+    // A blade above the wound it has cut lands on a lip's faces, which would lead the cut back along
+    // the lip. Only the tip's own faces may touch this cut's recent lips.
+    const std::uint32_t tip = points_.back();
+    const std::size_t recent = std::min<std::size_t>(lipVertices_.size(), 16);
+    auto besideTheWound = [&](const mesh::Face& face) {
+        if (face[0] == tip || face[1] == tip || face[2] == tip) return false;
+        for (std::size_t i = lipVertices_.size() - recent; i < lipVertices_.size(); ++i)
+            if (face[0] == lipVertices_[i] || face[1] == lipVertices_[i] || face[2] == lipVertices_[i]) return true;
+        return false;
+    };
     std::optional<BladeProjection> best;
     double bestD2 = 1e300;
     for (std::uint32_t f : nearbyFaces_) {
+        // The blade is followed on the organ's surface, not on the walls.
+        if (model_.isWall(f) || besideTheWound(m.faces[f])) continue;
         const mesh::Face& face = m.faces[f];
         const Vec3 &a = m.positions[face[0]], &b = m.positions[face[1]], &c = m.positions[face[2]];
         const auto hit = geometry::closestPointOnTriangle(device_m, a, b, c);
@@ -200,11 +233,13 @@ std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlad
 ProgressiveCutter::ProgressiveCutter(CutModel& model, CutterParams params)
     : model_(model), params_(params), expectedMass_kg_(physics::totalMass(model.model())) {}
 
-bool ProgressiveCutter::cutAt(std::uint32_t face, const Vec3& bary) {
+bool ProgressiveCutter::cutAt(std::uint32_t face, const Vec3& bary, double depth_m) {
+    bladeDepth_m_ = std::isfinite(depth_m) ? std::max(depth_m, 0.0) : 0.0;
     const bool changed = cutAtUnchecked(face, bary);
 #if !defined(NDEBUG) || defined(HAPTICUT_ENABLE_ASSERTS)
     if (changed) {
-        const InvariantReport report = checkInvariants(model_, expectedMass_kg_);
+        const InvariantReport report =
+            checkInvariants(model_, expectedMass_kg_, model_.closedBeforeCuts() && params_.walls);
         if (!report.ok()) {
             std::fprintf(stderr, "hapticut: a cut broke the organ: %s\n", report.problems.front().c_str());
             HAPTICUT_ASSERT(report.ok());
@@ -218,6 +253,7 @@ bool ProgressiveCutter::cutAtUnchecked(std::uint32_t face, const Vec3& bary) {
     const mesh::SurfaceMesh& m = model_.mesh();
     const Vec3 q = restPoint(m, face, bary);
     if (points_.empty()) {
+        if (model_.isWall(face)) return false;  // cuts start on the organ's surface
         // R15: start at a corner if one is close, else in the face (one face becomes three).
         const mesh::Face& f = m.faces[face];
         double shortest = 1e300;

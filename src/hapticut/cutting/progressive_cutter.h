@@ -23,13 +23,23 @@ struct CutterParams {
     /// ...and the lips' anchors moved apart, each by this fraction of the local edge length, so the
     /// wound gapes against the stiff positioning springs (see CutModel::openCut).
     double retract = 0.3;
+    /// Each opened point's gap closed with walls down to a floor inside the organ (CutModel::closeOpening),
+    /// this many local edge lengths deep, so a closed organ stays closed and the tool meets the wound's
+    /// walls instead of falling through it. Without walls a wound is a hole in the surface.
+    /// A blade deeper than that (cutAt's depth) takes the floor down with it, up to maxWallDepthPerEdge
+    /// times the shorter of the cut's two edges there, which keeps the walls' triangles from slivers.
+    bool walls = true;
+    double wallDepthPerEdge = 1.0;
+    double maxWallDepthPerEdge = 3.0;
 };
 
 struct CutStats {
     long cutPoints = 0, verticesAdded = 0, facesAdded = 0, cuts = 0;
-    long joins = 0;       // cuts that ran into an open boundary or an earlier wound and joined it
-    double length_m = 0;  // along the cut, on the rest shape
-    bool opened = false;  // true once any cut point has opened
+    long joins = 0;        // cuts that ran into an open boundary or an earlier wound and joined it
+    double length_m = 0;   // along the cut, on the rest shape
+    long openings = 0;     // cut points opened (R17)
+    long wallsClosed = 0;  // openings closed with walls (CutterParams::walls)
+    bool opened = false;   // true once any cut point has opened
 };
 
 class ProgressiveCutter {
@@ -37,12 +47,14 @@ public:
     ProgressiveCutter(CutModel& model, CutterParams params = {});
 
     /// The scalpel presses past its threshold at `bary` on `face`: starts a cut there, or continues the
-    /// current one up to that point. Returns true when the mesh changed. Debug builds (and builds with
-    /// HAPTICUT_ASSERTS) check every cutting invariant after each change and stop at the first broken one.
-    bool cutAt(std::uint32_t face, const Vec3& bary);
+    /// current one up to that point. `depth_m`: how deep the blade is under the rest surface there, which
+    /// the walls of the points it opens reach down to. Returns true when the mesh changed. Debug builds
+    /// (and builds with HAPTICUT_ASSERTS) check every cutting invariant after each change and stop at the
+    /// first broken one.
+    bool cutAt(std::uint32_t face, const Vec3& bary, double depth_m = 0);
     /// Where the blade is, seen from the cut: the point of the rest surface nearest to `device_m` among
-    /// the faces a few rings round the last cut point, and how deep the device is under it (negative:
-    /// above the surface). Only while cutting.
+    /// the organ's own faces (not the walls) a few rings round the last cut point, and how deep the device is under it
+    /// (negative: above the surface). Only while cutting.
     struct BladeProjection {
         std::uint32_t face = 0;
         Vec3 bary = Vec3::Zero();
@@ -54,6 +66,8 @@ public:
     void endCut() { points_.clear(), lipVertices_.clear(); }
 
     bool cutting() const { return !points_.empty(); }
+    /// Whether every opening so far was closed with walls: then a closed organ is still closed.
+    bool woundsClosed() const { return stats_.wallsClosed == stats_.openings; }
     const std::vector<std::uint32_t>& points() const { return points_; }
     const CutStats& stats() const { return stats_; }
 
@@ -75,6 +89,9 @@ private:
     /// The cut reached `vertex` on an open boundary or an earlier wound's lip: it opens up to it, the
     /// wounds become one opening there (CutModel::separateFans), and this cut ends.
     void joinAt(std::uint32_t vertex);
+    /// Whether edge (a, b) is an open end of the organ or the lip of a wound (or inside its walls):
+    /// where a cut stops and joins what it ran into. A cut does not go down into a wound's walls.
+    bool onRim(std::uint32_t a, std::uint32_t b) const;
     /// On an open end of the organ or the lip of a wound.
     bool onBoundary(std::uint32_t vertex) const;
 
@@ -85,6 +102,7 @@ private:
     CutStats stats_;
     double expectedMass_kg_ = 0;                     // cutting conserves the organ's mass exactly
     std::vector<std::uint32_t> nearbyFaces_, ring_;  // scratch for projectBlade
+    double bladeDepth_m_ = 0;                        // the latest cutAt's
 };
 
 }  // namespace hapticut::cutting

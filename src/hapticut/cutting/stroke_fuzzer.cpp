@@ -69,7 +69,7 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
                 ++r.operations;
                 if ((config.checkEveryOperation && changed) || i == samples) {
                     ++r.invariantChecks;
-                    const InvariantReport report = checkInvariants(cut, mass);
+                    const InvariantReport report = checkInvariants(cut, mass, cut.closedBeforeCuts());
                     if (!report.ok()) {
                         fail(s, i, report.problems.front());
                         r.wallTime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -85,6 +85,8 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
         r.verticesAdded += st.verticesAdded;
         r.facesAdded += st.facesAdded;
         r.joins += st.joins;
+        r.wallsClosed += st.wallsClosed;
+        r.closedOrgan = cut.closedBeforeCuts();
         r.opened |= st.opened;
         r.largestFaces = std::max(r.largestFaces, static_cast<long>(cut.mesh().faces.size()));
         // The cut organ must still simulate: no NaN, at the stable step the cuts left it, the same with

@@ -43,9 +43,11 @@ struct StrokeFuzzConfig {
 struct StrokeFuzzResult {
     long strokes = 0, operations = 0, meshChanges = 0, organs = 0, invariantChecks = 0;
     long cutPoints = 0, verticesAdded = 0, facesAdded = 0;
-    long joins = 0;         // cuts that ran into an earlier wound or an open edge and joined it
-    long largestFaces = 0;  // the largest a cut organ grew
-    bool opened = false;    // some cut opened
+    long joins = 0;            // cuts that ran into an open edge (or an earlier wound left open) and joined it
+    long wallsClosed = 0;      // openings closed with walls
+    bool closedOrgan = false;  // the organ was closed, and every check also found it closed
+    long largestFaces = 0;     // the largest a cut organ grew
+    bool opened = false;       // some cut opened
     /// Empty when everything held. Otherwise the first failure: which organ, stroke and operation, and
     /// the seed that replays it.
     std::vector<std::string> problems;

@@ -95,7 +95,8 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
         hand.proxy.reset(start + Vec3(0, 0, 1.0));
         hand.proxy.update(start, surface(), bvh_);
     }
-    snapshots_.prepare(model_.nodes.position, faces_, organ_.mesh().uvs, topologyVersion_, handCount());
+    snapshots_.prepare(model_.nodes.position, faces_, organ_.mesh().uvs, organ_.wallFaces(), topologyVersion_,
+                       handCount());
 }
 
 HapticLoop::~HapticLoop() {
@@ -231,8 +232,9 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
     // last step's force). It then follows the blade: the device's position projected onto the
     // undeformed surface near the cut, so the blade slices through the dimple it presses instead of
     // dragging it along. It goes on while the tool presses past the threshold, or while the blade is
-    // down in its own wound with the proxy fallen in (no contact); it ends when the press eases or the
-    // blade lifts above the surface. One cut at a time: it belongs to the hand that started it.
+    // down in its own wound (under the rest surface, its proxy on the wound's walls); it ends when the
+    // press eases or the blade lifts above the surface. The walls reach as deep as the blade. One cut
+    // at a time: it belongs to the hand that started it.
     const auto cutStart = Clock::now();
     bool changed = false;
     for (std::size_t h = 0; h < hands_.size(); ++h) {
@@ -252,9 +254,9 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
             const auto blade = frame[h].deviceOk && !stats_.watchdogTripped
                                    ? cutter_.projectBlade(frame[h].sample.position_m)
                                    : std::nullopt;
-            const bool inWound = !touching(frame, h) && blade && blade->depth_m > 0;
+            const bool inWound = blade && blade->depth_m > 0;
             if (blade && (pressing || inWound))
-                changedHere = cutter_.cutAt(blade->face, blade->bary);
+                changedHere = cutter_.cutAt(blade->face, blade->bary, blade->depth_m);
             else
                 cutter_.endCut();
         }
@@ -594,9 +596,10 @@ void HapticLoop::afterTopologyChange() {
         pendingSprings_.insert(pendingSprings_.end(), changes.springs.begin(), changes.springs.end());
         pendingSync_ = true;
     }
-    // Once a cut has opened, the surface has lips: no longer closed, so no ray-parity check.
+    // A cut whose opening was left without walls (it ran into an open rim) leaves lips: the surface is
+    // no longer closed, so no ray-parity check.
     for (HandState& hand : hands_)
-        hand.proxy.surfaceRemeshed(view, bvh_, hand.proxy.params().closedSurface && !cutter_.stats().opened);
+        hand.proxy.surfaceRemeshed(view, bvh_, hand.proxy.params().closedSurface && cutter_.woundsClosed());
     ++topologyVersion_;
     snapshots_.facesChanged(topologyVersion_, changes.faces);
     snapshots_.nodesMoved(changes.nodes);
@@ -604,7 +607,8 @@ void HapticLoop::afterTopologyChange() {
 }
 
 void HapticLoop::publishSnapshot(const StepOutput& out) {
-    Snapshot& s = snapshots_.fill(model_.nodes.position, faces_, organ_.mesh().uvs, topologyVersion_);
+    Snapshot& s =
+        snapshots_.fill(model_.nodes.position, faces_, organ_.mesh().uvs, organ_.wallFaces(), topologyVersion_);
     s.hands = out.hands;
     s.handCount = out.handCount;
     s.step = stepIndex_;

@@ -26,6 +26,7 @@ struct Snapshot {
     std::vector<Vec3> positions;
     std::vector<mesh::Face> faces;  // brought up to date only when topologyVersion changes
     std::vector<mesh::FaceUvs> uvs;
+    std::vector<std::uint8_t> wallFaces;  // per face: 1 for a wound's wall (CutModel::wallFaces)
     long topologyVersion = -1;
     std::array<HandStep, kMaxHands> hands{};
     int handCount = 1;

@@ -8,7 +8,8 @@
 namespace hapticut::haptics {
 
 void SnapshotPublisher::prepare(std::span<const Vec3> positions, std::span<const mesh::Face> faces,
-                                std::span<const mesh::FaceUvs> uvs, long version, int handCount) {
+                                std::span<const mesh::FaceUvs> uvs, std::span<const std::uint8_t> walls, long version,
+                                int handCount) {
     // Room for what cuts add, as the organ's own arrays have (CutModel), so publishing rarely allocates.
     for (Snapshot& s : buffer_.slots()) {
         reserveTouched(s.positions, roomToGrow(positions.size()));
@@ -17,6 +18,8 @@ void SnapshotPublisher::prepare(std::span<const Vec3> positions, std::span<const
         s.faces.assign(faces.begin(), faces.end());
         reserveTouched(s.uvs, roomToGrow(faces.size()));
         s.uvs.assign(uvs.begin(), uvs.end());
+        reserveTouched(s.wallFaces, roomToGrow(faces.size()));
+        s.wallFaces.assign(walls.begin(), walls.end());
         s.topologyVersion = version;
         s.handCount = handCount;
     }
@@ -52,7 +55,8 @@ void SnapshotPublisher::facesChanged(long version, std::span<const std::uint32_t
 }
 
 Snapshot& SnapshotPublisher::fill(std::span<const Vec3> positions, std::span<const mesh::Face> faces,
-                                  std::span<const mesh::FaceUvs> uvs, long version) {
+                                  std::span<const mesh::FaceUvs> uvs, std::span<const std::uint8_t> walls,
+                                  long version) {
     Snapshot& s = buffer_.writeSlot();
     const auto slot = static_cast<std::size_t>(&s - buffer_.slots().data());
     // Only what moved since this slot was last written; all of it after a cut added nodes (sizes change
@@ -70,10 +74,12 @@ Snapshot& SnapshotPublisher::fill(std::span<const Vec3> positions, std::span<con
         // Catch up on the faces the cuts since this slot's version changed, not the whole mesh.
         s.faces.resize(faces.size());
         s.uvs.resize(uvs.size());
+        s.wallFaces.resize(walls.size());
         for (const FaceChange& c : faceLog_) {
             if (c.version <= s.topologyVersion) continue;
             s.faces[c.face] = faces[c.face];
             if (c.face < uvs.size()) s.uvs[c.face] = uvs[c.face];
+            if (c.face < walls.size()) s.wallFaces[c.face] = walls[c.face];
         }
         s.topologyVersion = version;
         slotVersion_[slot] = version;

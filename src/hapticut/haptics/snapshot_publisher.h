@@ -17,7 +17,7 @@ class SnapshotPublisher {
 public:
     /// Sizes every slot for the organ, with room to grow as cuts add to it, at topology version `version`.
     void prepare(std::span<const Vec3> positions, std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs,
-                 long version, int handCount);
+                 std::span<const std::uint8_t> walls, long version, int handCount);
     /// The faces that topology version `version` rewrote or added; kept until every slot has them.
     void facesChanged(long version, std::span<const std::uint32_t> faces);
     /// The nodes a step moved (repeats allowed); each slot copies them when next filled. Past a quarter
@@ -25,10 +25,11 @@ public:
     void nodesMoved(std::span<const std::uint32_t> nodes);
     /// Every node may have moved (a reset): each slot copies them all when next filled.
     void allNodesMoved() { wholeCopy_.fill(true); }
-    /// The slot to write, its positions copied and its faces and UVs caught up to `version`; the caller
-    /// fills in the rest and calls publish(). Allocation-free while the organ stays within its room to grow.
+    /// The slot to write, its positions copied and its faces, UVs and wall flags caught up to `version`;
+    /// the caller fills in the rest and calls publish(). Allocation-free while the organ stays within its
+    /// room to grow.
     Snapshot& fill(std::span<const Vec3> positions, std::span<const mesh::Face> faces,
-                   std::span<const mesh::FaceUvs> uvs, long version);
+                   std::span<const mesh::FaceUvs> uvs, std::span<const std::uint8_t> walls, long version);
     void publish() { buffer_.publish(); }
 
     TripleBuffer<Snapshot>& buffer() { return buffer_; }

@@ -43,6 +43,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     // runs the inside test, which allocates nothing.
     // How far the run is, for the progress line: the log belongs to the stepping thread while it runs.
     std::atomic<long> stepsDone{0};
+    const bool closedOrgan = organ.closedBeforeCuts();
     auto observe = [&](const haptics::StepOutput& s) {
         if (r.log.size() < r.log.capacity()) r.log.push_back(s);
         stepsDone.store(stepsDone.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
@@ -51,13 +52,15 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
             r.hands[k].maxForce_N = std::max(r.hands[k].maxForce_N, s.hands[k].force_N.norm());
             r.hands[k].contactSteps += s.hands[k].contact;
         }
-        // The ray-parity test needs a closed surface: an opened cut leaves the proxy free to enter the
-        // wound (a scalpel down in its own cut), which is no penetration.
-        if (!loop.cutter().stats().opened)
+        // The ray-parity test needs a closed surface: a closed organ stays closed while walls close
+        // every wound; an opening left without walls lets the proxy into the organ, no penetration.
+        if (closedOrgan && loop.cutter().woundsClosed()) {
+            ++r.penetrationMeasuredSteps;
             for (int h = 0; h < s.handCount; ++h)
                 r.maxProxyPenetration_m = std::max(
                     r.maxProxyPenetration_m, collision::penetrationDepth(loop.bvh(), loop.surface(),
                                                                          s.hands[static_cast<std::size_t>(h)].proxy_m));
+        }
         // Over the nodes the step moved, so that a measurement on a large organ costs the region, not the organ.
         r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model, loop.movedNodes()));
     };
@@ -94,7 +97,8 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.cutEvents = st.cutEvents;
     r.cutTime_us = st.cutTime_us.summary();
     r.syncTime_us = st.syncTime_us.summary();
-    r.invariantProblems = cutting::checkInvariants(organ, mass_kg).problems;
+    r.invariantProblems =
+        cutting::checkInvariants(organ, mass_kg, organ.closedBeforeCuts() && config.loop.cutter.walls).problems;
     r.scheme = loop.scheme();
     r.substeps = loop.substeps();
     r.solver = st.solver;

@@ -45,7 +45,8 @@ struct HapticRunResult {
     long overruns = 0, contactSteps = 0, nonFiniteEvents = 0;
     bool watchdogTripped = false;
     double maxForce_N = 0;
-    double maxProxyPenetration_m = 0;  // by the ray-parity test on the current surface, every step until a cut opens it
+    double maxProxyPenetration_m = 0;   // by the ray-parity test on the current surface, in every step it is closed
+    long penetrationMeasuredSteps = 0;  // the steps in which it was (all, on a closed organ whose wounds have walls)
     double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
     physics::Scheme scheme = physics::Scheme::RungeKutta4;  // the one used (Auto resolved)
     int substeps = 1;
