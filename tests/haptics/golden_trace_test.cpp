@@ -1,15 +1,18 @@
-// Golden force traces: the shipped trajectories replayed on the 1,619-triangle heart must give the
-// checked-in force traces, so force feedback can never change silently. After an intended change,
+// Golden force traces: the shipped trajectories replayed on the 1,619-triangle heart (pressed and
+// stroked with the probe, cut with the scalpel) must give the checked-in force traces, so force
+// feedback, the feel of cutting included, can never change silently. After an intended change,
 // regenerate with HAPTICUT_UPDATE_GOLDEN=1 and review the diff like code.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "hapticut/common/line_reader.h"
 #include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/physics/material.h"
 #include "hapticut/scene/haptic_run.h"
 
@@ -19,13 +22,16 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int kEvery = 10;  // keep every 10th step: 10 ms resolution is plenty to see a change
 
-std::string traceOf(const std::string& trajectory_name) {
+/// `cutThreshold_N`: the tool's; infinite for the probe, the scalpel's for a cut.
+std::string traceOf(const std::string& trajectory_name, double cutThreshold_N) {
     const auto trajectory =
         haptics::readTrajectory(fs::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories" / trajectory_name);
     EXPECT_TRUE(trajectory.has_value());
     const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
     cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
-    const auto run = runHaptic(organ, *trajectory, {});
+    HapticRunConfig config;
+    config.loop.cutThreshold_N = cutThreshold_N;
+    const auto run = runHaptic(organ, *trajectory, config);
     EXPECT_TRUE(run.has_value());
     if (!run) return {};
     const HapticRunResult& r = *run;
@@ -40,10 +46,11 @@ std::string traceOf(const std::string& trajectory_name) {
     return out;
 }
 
-void expectMatchesGolden(const std::string& trajectory_name) {
+void expectMatchesGolden(const std::string& trajectory_name,
+                         double cutThreshold_N = std::numeric_limits<double>::infinity()) {
     const fs::path golden = fs::path(HAPTICUT_SOURCE_DIR) / "tests/data/golden" /
                             (fs::path(trajectory_name).stem().string() + ".forces.csv");
-    const std::string actual = traceOf(trajectory_name);
+    const std::string actual = traceOf(trajectory_name, cutThreshold_N);
     if (std::getenv("HAPTICUT_UPDATE_GOLDEN")) {
         std::ofstream(golden) << actual;
         GTEST_SKIP() << "rewrote " << golden;
@@ -82,6 +89,10 @@ void expectMatchesGolden(const std::string& trajectory_name) {
 
 TEST(GoldenTraces, PressOnTheFrontOfTheHeart) { expectMatchesGolden("press-front.csv"); }
 TEST(GoldenTraces, StrokeAcrossTheFrontOfTheHeart) { expectMatchesGolden("stroke-front.csv"); }
+// The scalpel's 4 cm cut across the front: the rupture, the blade's resistance while it cuts, the walls.
+TEST(GoldenTraces, ScalpelCutAcrossTheFrontOfTheHeart) {
+    expectMatchesGolden("cut-front.csv", mesh::procedural::kScalpelThreshold_N);
+}
 
 }  // namespace
 }  // namespace hapticut::scene

@@ -50,10 +50,11 @@ void ProgressiveCutter::addPoint(std::uint32_t vertex) {
                 const auto& x = model_.mesh().positions;
                 // As deep as the blade, within limits of the cut's edges there: a deep wall over a short
                 // edge would be a sliver.
-                const double before = (x[v] - x[prev]).norm(), after = (x[next] - x[v]).norm();
-                const double deepest = params_.maxWallDepthPerEdge * std::min(before, after);
-                const double depth = std::clamp(
-                    bladeDepth_m_, std::min(params_.wallDepthPerEdge * 0.5 * (before + after), deepest), deepest);
+                const double edgeBefore = (x[v] - x[prev]).norm(), edgeAfter = (x[next] - x[v]).norm();
+                const double deepest = params_.maxWallDepthPerEdge * std::min(edgeBefore, edgeAfter);
+                const double depth =
+                    std::clamp(bladeDepth_m_,
+                               std::min(params_.wallDepthPerEdge * 0.5 * (edgeBefore + edgeAfter), deepest), deepest);
                 if (model_.closeOpening(v, *copy, depth)) ++stats_.wallsClosed;
             }
         }

@@ -229,19 +229,21 @@ void HapticLoop::moveProxies(Frame& frame) noexcept {
 void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
     // The scalpel cuts (R14) before this step's forces are spread: a cut may replace the faces they
     // would go to. A cut starts at the contact when the tool presses harder than its threshold (the
-    // last step's force). It then follows the blade: the device's position projected onto the
-    // undeformed surface near the cut, so the blade slices through the dimple it presses instead of
-    // dragging it along. It goes on while the tool presses past the threshold, or while the blade is
-    // down in its own wound (under the rest surface, its proxy on the wound's walls); it ends when the
-    // press eases or the blade lifts above the surface. The walls reach as deep as the blade. One cut
-    // at a time: it belongs to the hand that started it.
+    // last step's force): the surface ruptures. It then runs as the blade pays for it (Mahvash &
+    // Hayward, cutting/fracture.h): to the crack tip, projected onto the undeformed surface near the
+    // cut, so the blade slices through the dimple it presses instead of dragging it along. It goes on
+    // while the tool presses past the threshold, or while the blade is down in the tissue (under the
+    // rest surface near the cut); it ends when the press eases or the blade lifts above the surface.
+    // The walls reach as deep as the blade. One cut at a time: it belongs to the hand that started it.
     const auto cutStart = Clock::now();
     bool changed = false;
     for (std::size_t h = 0; h < hands_.size(); ++h) {
         HandState& hand = hands_[h];
         if (letGo(frame, h)) {
-            if (cutter_.cutting() && cuttingHand_ == static_cast<int>(h))
+            if (cutter_.cutting() && cuttingHand_ == static_cast<int>(h)) {
                 cutter_.endCut();  // the hand let go of the blade
+                endCrack(hand);
+            }
             continue;
         }
         const bool pressing =
@@ -249,26 +251,73 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
         bool changedHere = false;
         if (!cutter_.cutting()) {
             if (pressing) changedHere = cutter_.cutAt(hand.proxy.contact().face, hand.proxy.contact().bary);
-            if (cutter_.cutting()) cuttingHand_ = static_cast<int>(h);
+            if (cutter_.cutting()) {
+                cuttingHand_ = static_cast<int>(h);
+                hand.cracking = true;  // the surface ruptured under the blade: the crack starts there
+                hand.crackTip_m = frame[h].sample.position_m;
+                hand.crackDirection = Vec3::Zero();
+                hand.fractureForce_N = Vec3::Zero();
+            }
         } else if (cuttingHand_ == static_cast<int>(h)) {
-            const auto blade = frame[h].deviceOk && !stats_.watchdogTripped
-                                   ? cutter_.projectBlade(frame[h].sample.position_m)
-                                   : std::nullopt;
-            const bool inWound = blade && blade->depth_m > 0;
-            if (blade && (pressing || inWound))
-                changedHere = cutter_.cutAt(blade->face, blade->bary, blade->depth_m);
-            else
+            const Vec3& device = frame[h].sample.position_m;
+            const auto blade =
+                frame[h].deviceOk && !stats_.watchdogTripped ? cutter_.projectBlade(device) : std::nullopt;
+            const bool inTissue = blade && blade->depth_m > 0;
+            if (blade && (pressing || inTissue)) {
+                const Vec3 normal = faceNormal(surface(), blade->face);
+                if (const auto tip = resistBlade(hand, h, device, normal, blade->depth_m))
+                    if (const auto at = cutter_.projectBlade(*tip))
+                        changedHere = cutter_.cutAt(at->face, at->bary, blade->depth_m);
+            } else {
                 cutter_.endCut();
+                endCrack(hand);
+            }
         }
         if (changedHere) afterTopologyChange();  // before the next hand reads the faces
         changed = changed || changedHere;
     }
-    if (!cutter_.cutting()) cuttingHand_ = -1;
+    if (!cutter_.cutting()) {
+        cuttingHand_ = -1;
+        for (HandState& hand : hands_) endCrack(hand);  // the cut ended (it ran into a wound or a rim)
+    }
     if (changed) {
         out.cut = true;
         ++stats_.cutEvents;
         stats_.cutTime_us.record(std::chrono::duration<double, std::micro>(Clock::now() - cutStart).count());
     }
+}
+
+std::optional<Vec3> HapticLoop::resistBlade(HandState& hand, std::size_t h, const Vec3& blade_m, const Vec3& normal,
+                                            double depth_m) noexcept {
+    cutting::FractureParams fracture;
+    fracture.toughness_J_per_m2 =
+        hand.setup.toughness_J_per_m2.value_or(cutting::toughnessFromThreshold(hand.setup.cutThreshold_N));
+    const double k = couplingStiffness_N_per_m(static_cast<int>(h));
+    hand.crackNormal = normal;
+    // The crack tip is held as a proxy along the surface: the blade ahead of it stretches the tissue
+    // (force k x stretch) until that pays for new cut, J x depth; behind it, in its own cut, the blade
+    // meets nothing along the surface.
+    const Vec3 stretch = blade_m - hand.crackTip_m;
+    const Vec3 along = stretch - stretch.dot(normal) * normal;
+    const bool ahead = hand.crackDirection.isZero() || along.dot(hand.crackDirection) > 0;
+    std::optional<Vec3> advanced;
+    if (ahead)
+        if (const auto tip = cutting::advancedCrackTip(blade_m, hand.crackTip_m, normal, depth_m, k, fracture)) {
+            const Vec3 step = *tip - hand.crackTip_m;
+            const Vec3 stepAlong = step - step.dot(normal) * normal;
+            if (stepAlong.norm() > 0) hand.crackDirection = stepAlong.normalized();
+            hand.crackTip_m = *tip;
+            advanced = tip;
+        }
+    const Vec3 held = blade_m - hand.crackTip_m;
+    const Vec3 heldAlong = held - held.dot(normal) * normal;
+    hand.fractureForce_N = ahead ? Vec3(-k * heldAlong) : Vec3::Zero();
+    return advanced;
+}
+
+void HapticLoop::endCrack(HandState& hand) noexcept {
+    hand.cracking = false;
+    hand.fractureForce_N = Vec3::Zero();
 }
 
 void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
@@ -319,6 +368,19 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         f.force_N = ahead > 0 ? forceAhead(tool, ahead) : tool.forceOnTool(model_.nodes.position);
         tool.active = true;
         if (!f.force_N.allFinite()) tripWatchdog();
+    }
+    // A blade that cuts feels, along the surface, the tissue's resistance to fracture instead of the
+    // coupling's pull: its proxy, held on the surface or the wound's walls, cannot pass through tissue
+    // the blade is about to open. Across the surface the proxy still supports it.
+    for (std::size_t h = 0; h < hands_.size(); ++h) {
+        HandState& hand = hands_[h];
+        if (!hand.cracking || stats_.watchdogTripped) continue;
+        const Vec3& n = hand.crackNormal;
+        Vec3 force = frame[h].force_N.dot(n) * n + ramp * hand.fractureForce_N;
+        const double limit = std::min(hand.setup.device->maxForce_N(), hand.setup.maxForce_N) * maxForceScale_;
+        if (force.norm() > limit) force *= limit / force.norm();
+        frame[h].force_N = force;
+        if (!force.allFinite()) tripWatchdog();
     }
     if (stats_.watchdogTripped)
         for (std::size_t h = 0; h < hands_.size(); ++h) {

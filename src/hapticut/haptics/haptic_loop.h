@@ -17,6 +17,7 @@
 #include "hapticut/common/latency_histogram.h"
 #include "hapticut/common/result.h"
 #include "hapticut/common/spsc_queue.h"
+#include "hapticut/cutting/fracture.h"
 #include "hapticut/cutting/progressive_cutter.h"
 #include "hapticut/haptics/device.h"
 #include "hapticut/haptics/physics_worker.h"
@@ -66,8 +67,11 @@ inline constexpr double kDefaultMaxForceRate_N_per_s = 1500;
 struct Hand {
     Device* device = nullptr;
     double cutThreshold_N = std::numeric_limits<double>::infinity();  // the tool's (R14); infinite: it never cuts
-    double maxForce_N = std::numeric_limits<double>::infinity();      // below the device's own maximum, if lower
-    double maxForceRate_N_per_s = kDefaultMaxForceRate_N_per_s;       // how fast the force sent may grow
+    /// The tissue's fracture toughness for this tool's blade (cutting/fracture.h); empty: from the
+    /// threshold (toughnessFromThreshold), so a tool file without it keeps its feel.
+    std::optional<double> toughness_J_per_m2{};
+    double maxForce_N = std::numeric_limits<double>::infinity();  // below the device's own maximum, if lower
+    double maxForceRate_N_per_s = kDefaultMaxForceRate_N_per_s;   // how fast the force sent may grow
     /// This hand's coupling k_h and b_h (a scene's [[devices]] entry); empty: the loop's, which the
     /// panel changes live.
     std::optional<double> couplingStiffness_N_per_m{}, couplingDamping_Ns_per_m{};
@@ -191,7 +195,13 @@ private:
         Hand setup;
         GodObjectProxy proxy;
         double stiffnessCap_N_per_m = std::numeric_limits<double>::infinity();
-        double lastForce_N = 0;             // the force of the previous step, which decides whether to cut
+        double lastForce_N = 0;  // the force of the previous step, which decides whether to cut
+        // The crack this hand's blade is opening (Mahvash & Hayward): its tip, the way it last ran, and
+        // the force the tissue ahead resists with along the surface, which replaces the coupling's
+        // component along the surface while the blade cuts (across it the proxy still supports it).
+        bool cracking = false;
+        Vec3 crackTip_m = Vec3::Zero(), crackDirection = Vec3::Zero(), crackNormal = Vec3::Zero();
+        Vec3 fractureForce_N = Vec3::Zero();
         Vec3 sentForce_N = Vec3::Zero();    // what the device was last told, for the force-rate limit
         long lastContactStep = -1'000'000;  // the last step in which it touched
     };
@@ -210,6 +220,11 @@ private:
     void readDevices(Frame& frame, StepOutput& out) noexcept;
     void moveProxies(Frame& frame) noexcept;
     void cut(const Frame& frame, StepOutput& out) noexcept;
+    /// The cutting hand's blade at `blade`: its crack advanced by the fracture rule and the resistance
+    /// it feels; the crack tip the cut must now reach, if it moved.
+    std::optional<Vec3> resistBlade(HandState& hand, std::size_t h, const Vec3& blade_m, const Vec3& normal,
+                                    double depth_m) noexcept;
+    void endCrack(HandState& hand) noexcept;
     void coupleTools(Frame& frame, double t_s) noexcept;
     void advanceTissue(Frame& frame) noexcept;
     /// Multi-rate: hands the tools to the physics, steps it in simulated time, and takes in its frames.

@@ -1,0 +1,105 @@
+// Cutting you can feel: on a flat sheet the blade meets toughness x depth while it cuts, holds it when it
+// stops and meets nothing back in its own cut; across the heart the hand feels the blade all the way
+// through the cut, and the proxy never sinks into the organ, whose walls keep it closed.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "hapticut/haptics/loop_scheduler.h"
+#include "hapticut/haptics/replay_device.h"
+#include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/mesh/procedural/primitives.h"
+#include "hapticut/mesh/procedural/tools.h"
+#include "hapticut/physics/material.h"
+#include "hapticut/scene/haptic_run.h"
+
+namespace hapticut::haptics {
+namespace {
+
+Trajectory path(std::initializer_list<std::pair<double, Vec3>> points) {
+    Trajectory t;
+    for (const auto& [time, p] : points) {
+        TrajectoryPoint point;
+        point.t_s = time;
+        point.sample.position_m = p;
+        t.points.push_back(point);
+    }
+    return t;
+}
+
+double mean(const std::vector<double>& v) {
+    double s = 0;
+    for (double x : v) s += x;
+    return v.empty() ? 0 : s / static_cast<double>(v.size());
+}
+
+TEST(CuttingFeel, OnAFlatSheetTheBladeMeetsToughnessTimesDepthHoldsItWhenStoppedAndNothingBackInItsCut) {
+    // A 10 cm sheet of 5 mm cells facing +z; the blade goes 5 mm under it, cuts 4 cm along x at 2 cm/s,
+    // stops, and draws back 5 mm along its own cut.
+    const mesh::SurfaceMesh sheet = mesh::procedural::makeGrid(20, 0.005);
+    cutting::CutModel organ(sheet, physics::buildModel(sheet, physics::Material{}));
+    const double depth = 0.005, toughness = 200;
+    const double y = 0.0013;  // between rows of vertices
+    ReplayDevice device(path({{0.0, Vec3(-0.03, y, 0.01)},
+                              {0.3, Vec3(-0.03, y, -depth)},
+                              {0.5, Vec3(-0.03, y, -depth)},
+                              {2.5, Vec3(0.01, y, -depth)},
+                              {2.8, Vec3(0.01, y, -depth)},
+                              {3.0, Vec3(0.005, y, -depth)}}));
+    Hand hand{&device, 0.5};  // a sharp blade: the sheet gives way under half a newton
+    hand.toughness_J_per_m2 = toughness;
+    auto made = HapticLoop::create(organ, std::span<const Hand>(&hand, 1), LoopConfig{.rampTime_s = 0.05});
+    ASSERT_TRUE(made) << made.error().message;
+    HapticLoop& loop = **made;
+    std::vector<double> cutting, stopped, back;
+    runSimulated(loop, 3000, [&](const StepOutput& s) {
+        const double along = -s.hand().force_N.x();  // against the blade's way
+        if (s.t_s > 1.5 && s.t_s < 2.5) cutting.push_back(along);
+        if (s.t_s > 2.55 && s.t_s < 2.8) stopped.push_back(along);
+        // Drawn back past the 2.5 mm the tissue ahead was stretched by (J x depth / k at 400 N/m).
+        if (s.t_s > 2.92 && s.t_s < 3.0) back.push_back(std::abs(s.hand().force_N.x()));
+    });
+    ASSERT_FALSE(loop.stats().watchdogTripped);
+    EXPECT_GT(loop.stats().cutEvents, 5);
+    EXPECT_GT(loop.cutter().stats().length_m, 0.02) << "the cut ran with the blade";
+    const double expected = toughness * depth;  // 1 N
+    EXPECT_NEAR(mean(cutting), expected, 0.1 * expected) << "while it cuts";
+    for (double f : stopped) EXPECT_GT(f, 0.8 * expected) << "stopped in the tissue, the blade is still held";
+    ASSERT_FALSE(back.empty());
+    for (double f : back) EXPECT_LT(f, 0.1 * expected) << "back in its own cut nothing resists along it";
+}
+
+TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyStaysOutside) {
+    for (const int triangles : {1619, 9714}) {
+        SCOPED_TRACE(triangles);
+        const auto trajectory =
+            readTrajectory(std::filesystem::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories/cut-front.csv");
+        ASSERT_TRUE(trajectory);
+        const mesh::SurfaceMesh heart = mesh::procedural::makeHeart({.triangles = triangles});
+        cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
+        scene::HapticRunConfig config;
+        config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
+        const auto run = scene::runHaptic(organ, *trajectory, config);
+        ASSERT_TRUE(run) << run.error().message;
+        const scene::HapticRunResult& r = *run;
+        long first = -1, last = -1;
+        for (std::size_t i = 0; i < r.log.size(); ++i)
+            if (r.log[i].cut) {
+                if (first < 0) first = static_cast<long>(i);
+                last = static_cast<long>(i);
+            }
+        ASSERT_GE(first, 0) << "the scalpel cut";
+        long felt = 0;
+        for (long i = first; i <= last; ++i) felt += r.log[static_cast<std::size_t>(i)].hand().force_N.norm() >= 0.3;
+        EXPECT_GE(static_cast<double>(felt), 0.95 * static_cast<double>(last - first + 1))
+            << "from the first cut event to the last, " << felt << " of " << last - first + 1 << " steps";
+        EXPECT_GT(r.cut.length_m, 0.02);
+        // The walls keep the heart closed, so the proxy's penetration is measured in every step.
+        EXPECT_EQ(r.penetrationMeasuredSteps, r.steps);
+        EXPECT_LT(r.maxProxyPenetration_m, 1e-4);
+        EXPECT_TRUE(r.invariantProblems.empty()) << r.invariantProblems.front();
+    }
+}
+
+}  // namespace
+}  // namespace hapticut::haptics
