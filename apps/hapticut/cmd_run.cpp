@@ -292,7 +292,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
                           ? ", " + std::to_string(r.cut.joins) + " join(s) with a boundary or an earlier wound"
                           : std::string())
                   << "; " << after.boundaryEdges << " boundary edges now; cut event " << r.cutTime_us.p50 << " us p50, "
-                  << r.cutTime_us.max << " us max\n";
+                  << r.cutTime_us.max << " us max\n"
+                  << "the blade felt " << r.cuttingForce_N.p50 << " N p50, " << r.minCuttingForce_N << " N min, "
+                  << r.cuttingForce_N.max << " N max over the " << r.cuttingSteps << " steps it was cutting\n";
     else if (std::isfinite(config.loop.cutThreshold_N))
         std::cout << "no cut: the " << firstTool << " never pressed harder than its " << config.loop.cutThreshold_N
                   << " N threshold\n";
@@ -370,6 +372,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["cut_length_m"] = r.cut.length_m;
         j["opened"] = r.cut.opened;
         j["cut_event_us"] = r.cutEvents > 0 ? toJson(r.cutTime_us) : nlohmann::ordered_json(nullptr);
+        j["cutting_steps"] = r.cuttingSteps;
+        j["cutting_force_N"] = r.cuttingSteps > 0 ? toJson(r.cuttingForce_N) : nlohmann::ordered_json(nullptr);
+        j["cutting_force_min_N"] = r.cuttingSteps > 0 ? nlohmann::ordered_json(r.minCuttingForce_N) : nullptr;
         j["physics_sync_us"] = r.syncTime_us.count > 0 ? toJson(r.syncTime_us) : nlohmann::ordered_json(nullptr);
         j["invariants_ok"] = r.invariantProblems.empty();
         j["invariant_problems"] = r.invariantProblems;

@@ -202,6 +202,10 @@ TEST_F(Cli, AScalpelStrokeCutsTheHeartWithWallsThatTheExportedMeshKeepsAndAProbe
     EXPECT_EQ(j["walls_closed"], j["openings"]);
     EXPECT_EQ(j["wall_faces"], 4 * j["walls_closed"].get<int>());
     EXPECT_EQ(j["penetration_measured_steps"], j["steps"]);
+    // The blade felt the tissue all through the cut: toughness x depth, and never nothing.
+    EXPECT_GT(j["cutting_steps"].get<int>(), 200);
+    EXPECT_NEAR(j["cutting_force_N"]["p50"].get<double>(), 2.0, 0.5);
+    EXPECT_GT(j["cutting_force_min_N"].get<double>(), 0.1);
     EXPECT_LT(j["max_proxy_penetration_m"].get<double>(), 1e-4);
     const auto info = nlohmann::json::parse(run("info " + path("cut.obj") + " --json").out);
     EXPECT_EQ(info["closed"], true);

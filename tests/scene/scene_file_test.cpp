@@ -65,6 +65,16 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     expectError("[simulation\n", 1, "expected ']'");
     expectError("[material]\nmass_kg = nan\n", 2, "material.mass_kg: nan is out of range");
     expectError("[material]\nmass_kg = -1\n", 2, "out of range");
+    expectError("[material]\ntoughness_J_per_m2 = 0\n", 2, "material.toughness_J_per_m2: 0 is out of range");
+}
+
+TEST(SceneFile, TheTissuesToughnessGoesToEveryBladeAndIsOtherwiseTheToolsOwn) {
+    const auto given = parseScene("[material]\ntoughness_J_per_m2 = 350\n", "x.toml", "/data");
+    ASSERT_TRUE(given.has_value()) << given.error().toString();
+    EXPECT_EQ(given->toughness_J_per_m2, 350.0);
+    const auto none = parseScene("[material]\nmass_kg = 0.2\n", "x.toml", "/data");
+    ASSERT_TRUE(none.has_value());
+    EXPECT_FALSE(none->toughness_J_per_m2.has_value()) << "from each tool's threshold";
 }
 
 TEST(SceneFile, PlacementScalesThenRotatesThenTranslates) {

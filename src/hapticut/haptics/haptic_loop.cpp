@@ -253,10 +253,15 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
             if (pressing) changedHere = cutter_.cutAt(hand.proxy.contact().face, hand.proxy.contact().bary);
             if (cutter_.cutting()) {
                 cuttingHand_ = static_cast<int>(h);
-                hand.cracking = true;  // the surface ruptured under the blade: the crack starts there
-                hand.crackTip_m = frame[h].sample.position_m;
+                // The surface ruptured under the blade: the crack starts where the proxy held it, so the
+                // pull along the surface the hand felt goes on without a jump.
+                hand.cracking = true;
+                hand.crackTip_m = hand.proxy.position();
                 hand.crackDirection = Vec3::Zero();
-                hand.fractureForce_N = Vec3::Zero();
+                hand.crackNormal = faceNormal(surface(), hand.proxy.contact().face);
+                const Vec3 pull = frame[h].sample.position_m - hand.crackTip_m;
+                hand.fractureForce_N = -couplingStiffness_N_per_m(static_cast<int>(h)) *
+                                       (pull - pull.dot(hand.crackNormal) * hand.crackNormal);
             }
         } else if (cuttingHand_ == static_cast<int>(h)) {
             const Vec3& device = frame[h].sample.position_m;
@@ -290,8 +295,8 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
 std::optional<Vec3> HapticLoop::resistBlade(HandState& hand, std::size_t h, const Vec3& blade_m, const Vec3& normal,
                                             double depth_m) noexcept {
     cutting::FractureParams fracture;
-    fracture.toughness_J_per_m2 =
-        hand.setup.toughness_J_per_m2.value_or(cutting::toughnessFromThreshold(hand.setup.cutThreshold_N));
+    fracture.toughness_J_per_m2 = hand.setup.toughness_J_per_m2.value_or(
+        config_.toughness_J_per_m2.value_or(cutting::toughnessFromThreshold(hand.setup.cutThreshold_N)));
     const double k = couplingStiffness_N_per_m(static_cast<int>(h));
     hand.crackNormal = normal;
     // The crack tip is held as a proxy along the surface: the blade ahead of it stretches the tissue
@@ -559,6 +564,7 @@ void HapticLoop::sendForces(const Frame& frame, StepOutput& out) noexcept {
         o.force_N = sent;
         o.proxy_m = hand.proxy.position();
         o.contact = frame[h].touching;
+        o.cutting = hand.cracking;
         o.face = hand.proxy.contact().face;
         stats_.maxForce_N = std::max(stats_.maxForce_N, sent.norm());
     }

@@ -53,6 +53,9 @@ struct LoopConfig {
     double cutThreshold_N = std::numeric_limits<double>::infinity();
     ProxyParams proxy{};
     cutting::CutterParams cutter{};
+    /// The tissue's fracture toughness (cutting/fracture.h) for blades whose Hand gives none; empty:
+    /// each blade's from its tool's threshold (toughnessFromThreshold).
+    std::optional<double> toughness_J_per_m2{};
 };
 
 /// How many physics steps within a second may take more than half the period before an Auto loop

@@ -17,6 +17,7 @@ inline constexpr int kMaxHands = physics::kMaxTools;
 struct HandStep {
     Vec3 device_m = Vec3::Zero(), proxy_m = Vec3::Zero(), force_N = Vec3::Zero();
     bool contact = false;
+    bool cutting = false;  // its blade is in a cut it is making (it feels the tissue's resistance)
     std::uint32_t face = 0;
     std::uint32_t buttons = 0;
 };

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <thread>
 
 #include "hapticut/collision/point_inside.h"
@@ -44,6 +45,8 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     // How far the run is, for the progress line: the log belongs to the stepping thread while it runs.
     std::atomic<long> stepsDone{0};
     const bool closedOrgan = organ.closedBeforeCuts();
+    LatencyHistogram cuttingForce_mN(1, 20'000);  // any values, here forces in mN: never allocates
+    double minCuttingForce_N = std::numeric_limits<double>::infinity();
     auto observe = [&](const haptics::StepOutput& s) {
         if (r.log.size() < r.log.capacity()) r.log.push_back(s);
         stepsDone.store(stepsDone.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
@@ -51,6 +54,11 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
             const auto k = static_cast<std::size_t>(h);
             r.hands[k].maxForce_N = std::max(r.hands[k].maxForce_N, s.hands[k].force_N.norm());
             r.hands[k].contactSteps += s.hands[k].contact;
+            if (s.hands[k].cutting) {
+                ++r.cuttingSteps;
+                cuttingForce_mN.record(1e3 * s.hands[k].force_N.norm());
+                minCuttingForce_N = std::min(minCuttingForce_N, s.hands[k].force_N.norm());
+            }
         }
         // The ray-parity test needs a closed surface: a closed organ stays closed while walls close
         // every wound; an opening left without walls lets the proxy into the organ, no penetration.
@@ -96,6 +104,9 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.cut = loop.cutter().stats();
     r.cutEvents = st.cutEvents;
     r.cutTime_us = st.cutTime_us.summary();
+    const Summary cutting = cuttingForce_mN.summary();
+    r.cuttingForce_N = {cutting.mean / 1e3, cutting.p50 / 1e3, cutting.p99 / 1e3, cutting.max / 1e3, 0, cutting.count};
+    r.minCuttingForce_N = r.cuttingSteps > 0 ? minCuttingForce_N : 0;
     r.syncTime_us = st.syncTime_us.summary();
     r.invariantProblems =
         cutting::checkInvariants(organ, mass_kg, organ.closedBeforeCuts() && config.loop.cutter.walls).problems;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "hapticut/common/error.h"
+#include "hapticut/common/latency_histogram.h"
 #include "hapticut/common/result.h"
 #include "hapticut/common/stats.h"
 #include "hapticut/cutting/cut_model.h"
@@ -59,6 +60,10 @@ struct HapticRunResult {
     cutting::CutStats cut;
     long cutEvents = 0;
     Summary cutTime_us;
+    // The force on the blade while it was in a cut it was making (HandStep::cutting), N.
+    long cuttingSteps = 0;
+    Summary cuttingForce_N;
+    double minCuttingForce_N = 0;
     Summary syncTime_us;  // multi-rate: cuts and edits copied into the physics' copy, a step after each
     std::vector<std::string> invariantProblems;  // empty: every cutting invariant holds at the end
     std::array<HandSummary, haptics::kMaxHands> hands{};

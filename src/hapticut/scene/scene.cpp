@@ -23,6 +23,7 @@ haptics::LoopConfig Scene::loopConfig() const {
     config.activeRegion = settings.activeRegion;
     config.proxy.staticFriction = settings.staticFriction;
     config.proxy.dynamicFriction = settings.dynamicFriction;
+    config.toughness_J_per_m2 = settings.toughness_J_per_m2;
     return config;
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,6 +46,9 @@ struct SceneFile {
     // [material]: resolution-independent; applied to thesis files too when given
     physics::Material material;
     bool materialGiven = false;
+    /// [material] toughness_J_per_m2: the tissue's fracture toughness (cutting/fracture.h); empty: each
+    /// blade's from its tool's threshold.
+    std::optional<double> toughness_J_per_m2;
     // [[tools]]
     std::vector<SceneTool> tools;
     // [device]
