@@ -40,7 +40,9 @@ int soak(SoakOptions& o) {
               << r.verticesAdded << " vertices and " << r.facesAdded << " faces added (largest organ " << r.largestFaces
               << " faces), " << r.wallsClosed << " openings closed with walls, " << r.joins << " joins"
               << (r.closedOrgan ? ", the organ closed throughout" : "") << "; " << r.invariantChecks
-              << " invariant checks: " << (r.ok() ? "all held" : r.problems.front()) << "\n";
+              << " invariant checks: " << (r.ok() ? "all held" : r.problems.front()) << "\n"
+              << "cuts that changed the mesh took " << r.cutAt_us.p50 << " us p50, " << r.cutAt_us.p99 << " us p99, "
+              << r.cutAt_us.max << " us max\n";
     if (!o.report.empty()) {
         nlohmann::ordered_json j;
         j["model"] = source->name;
@@ -56,6 +58,7 @@ int soak(SoakOptions& o) {
         j["faces_added"] = r.facesAdded;
         j["joins"] = r.joins;
         j["walls_closed"] = r.wallsClosed;
+        j["cut_us"] = toJson(r.cutAt_us);
         j["closed_organ"] = r.closedOrgan;
         j["largest_faces"] = r.largestFaces;
         j["opened"] = r.opened;

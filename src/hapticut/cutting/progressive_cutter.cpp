@@ -19,9 +19,15 @@ Vec3 restPoint(const mesh::SurfaceMesh& m, std::uint32_t face, const Vec3& bary)
 }  // namespace
 
 bool ProgressiveCutter::onRim(std::uint32_t a, std::uint32_t b) const {
-    const std::vector<std::uint32_t> faces = model_.facesOfEdge(a, b);
-    return faces.size() < 2 ||
-           std::any_of(faces.begin(), faces.end(), [&](std::uint32_t f) { return model_.isWall(f); });
+    // Called for every edge round every vertex the cut looks at: counted in place, without a list.
+    int faces = 0;
+    for (std::uint32_t f : model_.facesAround(a)) {
+        const mesh::Face& face = model_.mesh().faces[f];
+        if (face[0] != b && face[1] != b && face[2] != b) continue;
+        if (model_.isWall(f)) return true;
+        ++faces;
+    }
+    return faces < 2;
 }
 
 bool ProgressiveCutter::onBoundary(std::uint32_t v) const {

@@ -30,6 +30,7 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
                              const std::function<void(long, long)>& progress) {
     const auto start = std::chrono::steady_clock::now();
     StrokeFuzzResult r;
+    LatencyHistogram cutAt_us(0.1, 100'000);
     std::mt19937_64 rng(config.seed);
     std::uniform_real_distribution<double> unit(-1, 1), length(0.005, 0.04);
     const geometry::Aabb box = geometry::boundsOf(organ.positions);
@@ -60,7 +61,11 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
             const int samples = 1 + static_cast<int>(rng() % 40);
             for (int i = 0; i <= samples; ++i) {
                 const RestTouch t = touchRestSurface(cut, from + (to - from) * (static_cast<double>(i) / samples));
+                const auto before = std::chrono::steady_clock::now();
                 const bool changed = cutter.cutAt(t.face, t.bary);
+                if (changed)
+                    cutAt_us.record(
+                        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - before).count());
                 live.topologyChanged(cut.model(), cut.changes().nodes, cut.changes().springs);
                 // The log lists every changed spring's ends among its nodes, so these are all `live` woke.
                 woken.insert(woken.end(), cut.changes().nodes.begin(), cut.changes().nodes.end());
@@ -116,6 +121,7 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
         if (!r.problems.empty()) break;
     }
     r.wallTime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.cutAt_us = cutAt_us.summary();
     return r;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "hapticut/common/latency_histogram.h"
 #include "hapticut/mesh/surface_mesh.h"
 
 namespace hapticut::cutting {
@@ -52,6 +53,9 @@ struct StrokeFuzzResult {
     /// the seed that replays it.
     std::vector<std::string> problems;
     double wallTime_s = 0;
+    /// How long each cutAt that changed the mesh took, walls included (the haptic loop's cut event adds
+    /// the tree, stepper and snapshot updates).
+    Summary cutAt_us;
     bool ok() const { return problems.empty(); }
 };
 
