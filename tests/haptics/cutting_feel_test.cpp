@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <tuple>
+
+#include <Eigen/Geometry>
 
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
@@ -67,6 +70,70 @@ TEST(CuttingFeel, OnAFlatSheetTheBladeMeetsToughnessTimesDepthHoldsItWhenStopped
     for (double f : stopped) EXPECT_GT(f, 0.8 * expected) << "stopped in the tissue, the blade is still held";
     ASSERT_FALSE(back.empty());
     for (double f : back) EXPECT_LT(f, 0.1 * expected) << "back in its own cut nothing resists along it";
+}
+
+/// A blade on the 10 cm sheet along a path of (time, position, the way its edge faces about +z in
+/// degrees from +x): what it cut and the largest force against its motion along x.
+struct SheetCut {
+    double length_m = 0, maxAlongX_N = 0;
+    Vec3 lastPoint = Vec3::Zero();
+    long cutEvents = 0;
+};
+SheetCut cutSheet(std::initializer_list<std::tuple<double, Vec3, double>> points) {
+    const mesh::SurfaceMesh sheet = mesh::procedural::makeGrid(20, 0.005);
+    cutting::CutModel organ(sheet, physics::buildModel(sheet, physics::Material{}));
+    Trajectory t;
+    for (const auto& [time, p, edge_deg] : points) {
+        TrajectoryPoint point;
+        point.t_s = time;
+        point.sample.position_m = p;
+        point.sample.orientation = Eigen::AngleAxisd(edge_deg * 3.14159265358979 / 180, Vec3::UnitZ());
+        point.sample.oriented = true;
+        t.points.push_back(point);
+    }
+    ReplayDevice device(t);
+    Hand hand{&device, 0.5};
+    hand.toughness_J_per_m2 = 200;
+    auto made = HapticLoop::create(organ, std::span<const Hand>(&hand, 1), LoopConfig{.rampTime_s = 0.05});
+    EXPECT_TRUE(made);
+    SheetCut r;
+    if (!made) return r;
+    HapticLoop& loop = **made;
+    runSimulated(loop, static_cast<long>(1000 * t.points.back().t_s), [&](const StepOutput& s) {
+        r.maxAlongX_N = std::max(r.maxAlongX_N, std::abs(s.hand().force_N.x()));
+        if (loop.cutter().cutting() && !loop.cutter().points().empty())
+            r.lastPoint = organ.mesh().positions[loop.cutter().points().back()];
+    });
+    r.length_m = loop.cutter().stats().length_m;
+    r.cutEvents = loop.stats().cutEvents;
+    return r;
+}
+
+TEST(CuttingFeel, TheBladeCutsTheWayItsEdgeFacesAndDraggedSidewaysItCutsNothing) {
+    const double y = 0.0013, z = -0.005;
+    // Edge forward along the stroke: it cuts, as a blade without orientation does.
+    const SheetCut forward = cutSheet({{0.0, Vec3(-0.03, y, 0.01), 0},
+                                       {0.3, Vec3(-0.03, y, z), 0},
+                                       {0.5, Vec3(-0.03, y, z), 0},
+                                       {1.5, Vec3(-0.01, y, z), 0}});
+    EXPECT_GT(forward.length_m, 0.01);
+    // The same stroke with the edge turned across it (facing +y): the flat of the blade is dragged
+    // through the tissue, which pushes back hard, and nothing is cut beyond where it went in.
+    const SheetCut sideways = cutSheet({{0.0, Vec3(-0.03, y, 0.01), 90},
+                                        {0.3, Vec3(-0.03, y, z), 90},
+                                        {0.5, Vec3(-0.03, y, z), 90},
+                                        {1.5, Vec3(-0.01, y, z), 90}});
+    EXPECT_LT(sideways.length_m, 0.004) << "dragged sideways, a blade does not cut";
+    EXPECT_GT(sideways.maxAlongX_N, 2.0) << "and the tissue resists the drag";
+    // Turning the blade turns the cut: 1.5 cm along +x, then the edge turned to +y and the blade with it.
+    const SheetCut turned = cutSheet({{0.0, Vec3(-0.03, y, 0.01), 0},
+                                      {0.3, Vec3(-0.03, y, z), 0},
+                                      {0.5, Vec3(-0.03, y, z), 0},
+                                      {1.25, Vec3(-0.015, y, z), 0},
+                                      {1.35, Vec3(-0.015, y, z), 90},
+                                      {2.35, Vec3(-0.015, y + 0.02, z), 90}});
+    EXPECT_GT(turned.lastPoint.y(), y + 0.01) << "the cut followed the turned edge";
+    EXPECT_NEAR(turned.lastPoint.x(), -0.015, 0.006);
 }
 
 TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyStaysOutside) {

@@ -10,15 +10,34 @@
 namespace hapticut::haptics {
 namespace {
 
-TEST(Trajectory, RoundTripsWithOrientation) {
+TEST(Trajectory, RoundTripsWithoutOrientationAsOneWithout) {
     const auto t = parseTrajectory("t,x,y,z,button\n0,0,0,0.1,0\n0.5,0.01,0,0.05,1\n1.0,0.02,0,0.0,1\n", "path.csv");
     ASSERT_TRUE(t.has_value()) << t.error().toString();
-    const auto again = parseTrajectory(formatTrajectory(*t), "again.csv");
+    EXPECT_FALSE(t->points[0].sample.oriented);
+    const std::string text = formatTrajectory(*t);
+    EXPECT_EQ(text.substr(0, text.find('\n')), "t,x,y,z,button") << "no orientation columns to turn a blade";
+    const auto again = parseTrajectory(text, "again.csv");
     ASSERT_TRUE(again.has_value()) << again.error().toString();
     ASSERT_EQ(again->points.size(), 3u);
     EXPECT_EQ(again->points[1].sample.position_m, Vec3(0.01, 0, 0.05));
     EXPECT_EQ(again->points[2].sample.buttons, 1u);
+    EXPECT_FALSE(again->points[2].sample.oriented);
     EXPECT_DOUBLE_EQ(again->duration_s(), 1.0);
+}
+
+TEST(Trajectory, RoundTripsWithOrientation) {
+    const auto t =
+        parseTrajectory("t,x,y,z,button,qw,qx,qy,qz\n0,0,0,0.1,0,1,0,0,0\n1,0.02,0,0,1,0,0,0,1\n", "path.csv");
+    ASSERT_TRUE(t.has_value()) << t.error().toString();
+    const auto again = parseTrajectory(formatTrajectory(*t), "again.csv");
+    ASSERT_TRUE(again.has_value()) << again.error().toString();
+    for (const TrajectoryPoint& p : again->points) EXPECT_TRUE(p.sample.oriented);
+    EXPECT_TRUE(again->points[1].sample.orientation.isApprox(Eigen::Quaterniond(0, 0, 0, 1)));
+    // Replayed halfway, the stylus has turned halfway about z, and says it reports an orientation.
+    ReplayDevice device(*again);
+    const DeviceSample half = device.read(0.5);
+    EXPECT_TRUE(half.oriented);
+    EXPECT_NEAR(half.orientation.angularDistance(Eigen::Quaterniond::Identity()), 3.14159265358979 / 2, 1e-9);
 }
 
 TEST(Trajectory, ARecordingReplaysAsATrajectory) {

@@ -15,6 +15,10 @@ Vec3 OrbitCamera::right() const { return forward().cross(Vec3::UnitY()).normaliz
 
 Vec3 OrbitCamera::up() const { return right().cross(forward()); }
 
+Vec3 toolHandleDirection(const OrbitCamera& camera) {
+    return (0.8 * camera.up() - 0.6 * camera.forward()).normalized();
+}
+
 Vec3 OrbitCamera::eye() const { return target - distance_m * forward(); }
 
 Eigen::Matrix4d OrbitCamera::view() const {

@@ -37,6 +37,10 @@ struct Ray {
 /// for an image of the given aspect (width / height).
 Ray rayThrough(const OrbitCamera& camera, double ndcX, double ndcY, double aspect);
 
+/// The way a hand-held tool's handle points as this camera sees it: up and toward the viewer, as a hand
+/// holds a pen. Tools of devices without an orientation are drawn so.
+Vec3 toolHandleDirection(const OrbitCamera& camera);
+
 /// Where the ray meets the plane through `point` facing the camera; the point itself if parallel.
 Vec3 onPlaneFacingCamera(const OrbitCamera& camera, const Ray& ray, const Vec3& point);
 

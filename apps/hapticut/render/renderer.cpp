@@ -151,16 +151,18 @@ struct Renderer::Impl {
         }
         if (!frame.showDevice) return;
 
-        // Each tool stands on its proxy, its handle up and towards the viewer, as a hand would hold it.
-        const Vec3 handle = (0.8 * camera.up() - 0.6 * camera.forward()).normalized();
-        const Eigen::Quaterniond toolRotation = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), handle);
+        // Each tool stands on its proxy, turned as its device's stylus is, or else with its handle up and
+        // towards the viewer, as a hand would hold it.
+        const Eigen::Quaterniond upright =
+            Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), toolHandleDirection(camera));
         const double r = std::max(camera.distance_m * 0.004, 2e-4);
         const int handCount = std::clamp(frame.handCount, 0, static_cast<int>(frame.hands.size()));
         for (int i = 0; i < handCount; ++i) {
             const SceneFrame::Hand& hand = frame.hands[static_cast<std::size_t>(i)];
             if (hand.tool >= 0 && hand.tool < static_cast<int>(tools.size())) {
                 metal.use();
-                metal.set("uModel", toFloat(placement(hand.proxy_m, toolRotation, Vec3::Ones())));
+                metal.set("uModel",
+                          toFloat(placement(hand.proxy_m, hand.oriented ? hand.orientation : upright, Vec3::Ones())));
                 metal.set("uCameraPosition", toFloat(Vec3(camera.eye())));
                 glActiveTexture(GL_TEXTURE2);
                 glBindTexture(GL_TEXTURE_CUBE_MAP, environment);

@@ -30,6 +30,10 @@ struct SceneFrame {
         int tool = 0;  // index into the tools given to the renderer; -1: none
         Vec3 proxy_m = Vec3::Zero(), device_m = Vec3::Zero(), force_N = Vec3::Zero();
         bool contact = false;
+        /// The device's stylus, when it reports one (DeviceSample::oriented): the tool is drawn turned
+        /// so, its blade facing the way it cuts; otherwise its handle points up toward the viewer.
+        Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+        bool oriented = false;
     };
     std::array<Hand, 2> hands{};
     int handCount = 1;

@@ -26,6 +26,8 @@ inline SceneFrame frameOf(const haptics::Snapshot& s, std::span<const int> tools
         hand.device_m = s.hands[h].device_m;
         hand.force_N = s.hands[h].force_N;
         hand.contact = s.hands[h].contact;
+        hand.orientation = s.hands[h].orientation;
+        hand.oriented = s.hands[h].oriented;
     }
     frame.maxForce_N = maxForce_N;
     return frame;

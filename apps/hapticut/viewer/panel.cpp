@@ -14,6 +14,7 @@ namespace hapticut::viewer {
 
 const std::vector<KeyHelp> kKeyHelp = {
     {"1 / 2", "hold the probe / the scalpel"},
+    {"[ / ]", "turn the scalpel's blade 15 degrees about its handle: it cuts the way its edge faces"},
     {"left drag", "engage the device at the surface and move it (press, stroke, cut)"},
     {"wheel (engaged)", "push the device in / pull it out, 1 mm a click"},
     {"right drag", "orbit the camera"},

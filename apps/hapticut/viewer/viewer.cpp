@@ -70,6 +70,8 @@ private:
     ForcePlot plot_;
     PanelState panel_;
     bool showPanel_ = true, showHelp_ = false, paused_ = false;
+    double bladeTurn_deg_ = 0;  // the mouse's blade, about its handle ([ and ])
+    bool bladeTurned_ = false;
     bool orbiting_ = false, panning_ = false;
     std::string framedModel_;
     long drawnResets_ = -1;
@@ -109,6 +111,13 @@ void Viewer::onKey(int key, int mods) {
                 mouse_.release();
                 session_.setActiveHand(1 - session_.activeHand());
             }
+            break;
+        case GLFW_KEY_LEFT_BRACKET:
+        case GLFW_KEY_RIGHT_BRACKET:
+            // From the first turn on, the mouse reports an orientation and the blade cuts the way its edge
+            // faces; before it, the blade cuts the way the mouse moves it.
+            bladeTurn_deg_ += key == GLFW_KEY_LEFT_BRACKET ? -15 : 15;
+            bladeTurned_ = true;
             break;
         case GLFW_KEY_1: session_.setTool(0); break;
         case GLFW_KEY_2: session_.setTool(1); break;
@@ -197,6 +206,10 @@ void Viewer::updateDevice(const haptics::Snapshot& snapshot) {
         position = mouse_.drag(view_.camera, ray);
     else
         position = mouse_.hover(view_.camera, ray, pickSurface(ray, snapshot.positions, snapshot.faces));
+    if (bladeTurned_)
+        session_.mouseDevice().setOrientation(
+            Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), render::toolHandleDirection(view_.camera)) *
+            Eigen::AngleAxisd(bladeTurn_deg_ * 3.14159265358979323846 / 180, Vec3::UnitZ()));
     session_.mouseDevice().setPosition(position, mouse_.engaged() ? 1u : 0u);
 }
 

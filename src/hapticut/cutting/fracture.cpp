@@ -16,4 +16,13 @@ std::optional<Vec3> advancedCrackTip(const Vec3& blade_m, const Vec3& proxy_m, c
     return blade_m - along * (hold_m / length);
 }
 
+std::optional<Vec3> advancedCrackTipAlongEdge(const Vec3& blade_m, const Vec3& tip_m, const Vec3& edge, double depth_m,
+                                              double stiffness_N_per_m, const FractureParams& params) {
+    if (!(stiffness_N_per_m > 0)) return std::nullopt;
+    const double forward = (blade_m - tip_m).dot(edge);
+    const double hold_m = cuttingForce_N(depth_m, params) / stiffness_N_per_m;
+    if (!(forward > hold_m)) return std::nullopt;
+    return tip_m + (forward - hold_m) * edge;
+}
+
 }  // namespace hapticut::cutting

@@ -4,6 +4,8 @@
 
 #include <optional>
 
+#include <Eigen/Geometry>
+
 #include "hapticut/geometry/vec.h"
 
 namespace hapticut::cutting {
@@ -32,6 +34,15 @@ inline double toughnessFromThreshold(double threshold_N) { return threshold_N / 
 /// cut must run. Nothing while the pull is below it (or the blade is not pulling at all).
 std::optional<Vec3> advancedCrackTip(const Vec3& blade_m, const Vec3& proxy_m, const Vec3& normal, double depth_m,
                                      double stiffness_N_per_m, const FractureParams& params);
+
+/// A blade whose cutting edge faces `edge` (along the surface, unit): only its stretch along the edge opens
+/// tissue, so the crack runs that way alone; across it the blade's flat pushes tissue aside uncut.
+std::optional<Vec3> advancedCrackTipAlongEdge(const Vec3& blade_m, const Vec3& tip_m, const Vec3& edge, double depth_m,
+                                              double stiffness_N_per_m, const FractureParams& params);
+
+/// The scalpel's edge faces +x of its own frame (procedural::makeScalpel: the blade in the x-z plane, its
+/// handle along +z): a device's orientation turns it into the way the blade cuts.
+inline Vec3 bladeEdge(const Eigen::Quaterniond& orientation) { return orientation * Vec3::UnitX(); }
 
 /// The force J x depth the blade needs to cut at `depth_m` (within its edge).
 inline double cuttingForce_N(double depth_m, const FractureParams& params) {

@@ -18,6 +18,9 @@ struct DeviceSample {
     Vec3 position_m = Vec3::Zero();
     Vec3 velocity_m_per_s = Vec3::Zero();
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+    /// Whether the device reports its stylus's orientation (a Phantom, a trajectory with quaternions, the
+    /// mouse once its blade is turned); without it a blade cuts the way it moves.
+    bool oriented = false;
     std::uint32_t buttons = 0;  // bit 0: the main stylus button
 };
 

@@ -209,6 +209,8 @@ void HapticLoop::readDevices(Frame& frame, StepOutput& out) noexcept {
         hand.sample = hands_[h].setup.device->read(out.t_s);
         out.hands[h].device_m = hand.sample.position_m;
         out.hands[h].buttons = hand.sample.buttons;
+        out.hands[h].orientation = hand.sample.orientation;
+        out.hands[h].oriented = hand.sample.oriented;
         hand.deviceOk = hand.sample.position_m.allFinite() && hand.sample.velocity_m_per_s.allFinite();
         if (!hand.deviceOk) tripWatchdog();
     }
@@ -256,6 +258,7 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
                 // The surface ruptured under the blade: the crack starts where the proxy held it, so the
                 // pull along the surface the hand felt goes on without a jump.
                 hand.cracking = true;
+                hand.bladeAhead = true;
                 hand.crackTip_m = hand.proxy.position();
                 hand.crackDirection = Vec3::Zero();
                 hand.crackNormal = faceNormal(surface(), hand.proxy.contact().face);
@@ -270,7 +273,7 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
             const bool inTissue = blade && blade->depth_m > 0;
             if (blade && (pressing || inTissue)) {
                 const Vec3 normal = faceNormal(surface(), blade->face);
-                if (const auto tip = resistBlade(hand, h, device, normal, blade->depth_m))
+                if (const auto tip = resistBlade(hand, h, frame[h].sample, normal, blade->depth_m))
                     if (const auto at = cutter_.projectBlade(*tip))
                         changedHere = cutter_.cutAt(at->face, at->bary, blade->depth_m);
             } else {
@@ -292,8 +295,9 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
     }
 }
 
-std::optional<Vec3> HapticLoop::resistBlade(HandState& hand, std::size_t h, const Vec3& blade_m, const Vec3& normal,
-                                            double depth_m) noexcept {
+std::optional<Vec3> HapticLoop::resistBlade(HandState& hand, std::size_t h, const DeviceSample& blade,
+                                            const Vec3& normal, double depth_m) noexcept {
+    const Vec3& blade_m = blade.position_m;
     cutting::FractureParams fracture;
     fracture.toughness_J_per_m2 = hand.setup.toughness_J_per_m2.value_or(
         config_.toughness_J_per_m2.value_or(cutting::toughnessFromThreshold(hand.setup.cutThreshold_N)));
@@ -304,19 +308,39 @@ std::optional<Vec3> HapticLoop::resistBlade(HandState& hand, std::size_t h, cons
     // meets nothing along the surface.
     const Vec3 stretch = blade_m - hand.crackTip_m;
     const Vec3 along = stretch - stretch.dot(normal) * normal;
-    const bool ahead = hand.crackDirection.isZero() || along.dot(hand.crackDirection) > 0;
+    // A device that reports its stylus's orientation turns the blade: the crack runs the way its edge
+    // faces along the surface, and dragged across that the blade's flat pushes tissue aside uncut.
+    // Without one, the blade cuts the way it moves.
+    Vec3 edge = Vec3::Zero();
+    if (blade.oriented) {
+        edge = cutting::bladeEdge(blade.orientation);
+        edge -= edge.dot(normal) * normal;
+        edge = edge.norm() > 1e-6 ? Vec3(edge.normalized()) : Vec3::Zero();
+    }
     std::optional<Vec3> advanced;
-    if (ahead)
-        if (const auto tip = cutting::advancedCrackTip(blade_m, hand.crackTip_m, normal, depth_m, k, fracture)) {
-            const Vec3 step = *tip - hand.crackTip_m;
-            const Vec3 stepAlong = step - step.dot(normal) * normal;
-            if (stepAlong.norm() > 0) hand.crackDirection = stepAlong.normalized();
-            hand.crackTip_m = *tip;
-            advanced = tip;
-        }
+    bool ahead = false;
+    if (!edge.isZero()) {
+        hand.crackDirection = edge;
+        ahead = along.dot(edge) > 0;
+        if (ahead)
+            if (const auto tip =
+                    cutting::advancedCrackTipAlongEdge(blade_m, hand.crackTip_m, edge, depth_m, k, fracture))
+                hand.crackTip_m = *tip, advanced = tip;
+    } else {
+        ahead = hand.crackDirection.isZero() || along.dot(hand.crackDirection) > 0;
+        if (ahead)
+            if (const auto tip = cutting::advancedCrackTip(blade_m, hand.crackTip_m, normal, depth_m, k, fracture)) {
+                const Vec3 step = *tip - hand.crackTip_m;
+                const Vec3 stepAlong = step - step.dot(normal) * normal;
+                if (stepAlong.norm() > 0) hand.crackDirection = stepAlong.normalized();
+                hand.crackTip_m = *tip;
+                advanced = tip;
+            }
+    }
     const Vec3 held = blade_m - hand.crackTip_m;
     const Vec3 heldAlong = held - held.dot(normal) * normal;
     hand.fractureForce_N = ahead ? Vec3(-k * heldAlong) : Vec3::Zero();
+    hand.bladeAhead = ahead;
     return advanced;
 }
 
@@ -564,7 +588,7 @@ void HapticLoop::sendForces(const Frame& frame, StepOutput& out) noexcept {
         o.force_N = sent;
         o.proxy_m = hand.proxy.position();
         o.contact = frame[h].touching;
-        o.cutting = hand.cracking;
+        o.cutting = hand.cracking && hand.bladeAhead;
         o.face = hand.proxy.contact().face;
         stats_.maxForce_N = std::max(stats_.maxForce_N, sent.norm());
     }

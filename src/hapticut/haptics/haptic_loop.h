@@ -203,6 +203,7 @@ private:
         // the force the tissue ahead resists with along the surface, which replaces the coupling's
         // component along the surface while the blade cuts (across it the proxy still supports it).
         bool cracking = false;
+        bool bladeAhead = false;  // the blade presses on into uncut tissue (not back in its own cut)
         Vec3 crackTip_m = Vec3::Zero(), crackDirection = Vec3::Zero(), crackNormal = Vec3::Zero();
         Vec3 fractureForce_N = Vec3::Zero();
         Vec3 sentForce_N = Vec3::Zero();    // what the device was last told, for the force-rate limit
@@ -225,7 +226,7 @@ private:
     void cut(const Frame& frame, StepOutput& out) noexcept;
     /// The cutting hand's blade at `blade`: its crack advanced by the fracture rule and the resistance
     /// it feels; the crack tip the cut must now reach, if it moved.
-    std::optional<Vec3> resistBlade(HandState& hand, std::size_t h, const Vec3& blade_m, const Vec3& normal,
+    std::optional<Vec3> resistBlade(HandState& hand, std::size_t h, const DeviceSample& blade, const Vec3& normal,
                                     double depth_m) noexcept;
     void endCrack(HandState& hand) noexcept;
     void coupleTools(Frame& frame, double t_s) noexcept;

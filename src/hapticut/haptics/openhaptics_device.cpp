@@ -254,6 +254,7 @@ hd::HDCallbackCode OpenHapticsDevice::servoCallback(void* self) {
         Eigen::Matrix3d r;
         r << m[0], m[4], m[8], m[1], m[5], m[9], m[2], m[6], m[10];  // column-major, as OpenGL
         d.sample_.orientation = w.rotation * Eigen::Quaterniond(r).normalized();
+        d.sample_.oriented = true;
         d.sample_.buttons = static_cast<std::uint32_t>(buttons);
     }
     const bool more = d.tick_ && !d.stopping_.load(std::memory_order_relaxed) && d.tick_();

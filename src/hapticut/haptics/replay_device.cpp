@@ -16,6 +16,7 @@ DeviceSample ReplayDevice::read(double time_s) {
     s.position_m = (1 - u) * a.sample.position_m + u * b.sample.position_m;
     s.velocity_m_per_s = (b.sample.position_m - a.sample.position_m) / (b.t_s - a.t_s);
     s.orientation = a.sample.orientation.slerp(u, b.sample.orientation);
+    s.oriented = a.sample.oriented;
     s.buttons = u < 0.5 ? a.sample.buttons : b.sample.buttons;
     return s;
 }

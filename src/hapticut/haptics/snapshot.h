@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "hapticut/mesh/surface_mesh.h"
 #include "hapticut/physics/point_spring.h"
 #include "hapticut/physics/scheme.h"
@@ -16,8 +18,10 @@ inline constexpr int kMaxHands = physics::kMaxTools;
 /// What one hand did in one step.
 struct HandStep {
     Vec3 device_m = Vec3::Zero(), proxy_m = Vec3::Zero(), force_N = Vec3::Zero();
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // the stylus's, when `oriented`
+    bool oriented = false;
     bool contact = false;
-    bool cutting = false;  // its blade is in a cut it is making (it feels the tissue's resistance)
+    bool cutting = false;  // its blade presses into uncut tissue at the end of its cut: it feels the resistance
     std::uint32_t face = 0;
     std::uint32_t buttons = 0;
 };

@@ -69,6 +69,7 @@ Result<Trajectory, Error> parseTrajectory(std::string_view text, const std::file
                 const Eigen::Quaterniond q(v[5], v[6], v[7], v[8]);
                 if (q.norm() < 1e-9) r.fail("orientation quaternion has zero length");
                 p.sample.orientation = q.normalized();
+                p.sample.oriented = true;
             }
             out.points.push_back(p);
         }
@@ -86,13 +87,19 @@ Result<Trajectory, Error> readTrajectory(const std::filesystem::path& file) {
 }
 
 std::string formatTrajectory(const Trajectory& trajectory) {
-    std::string out = "t,x,y,z,button,qw,qx,qy,qz\n";
+    // The orientation columns only for a device that reported one: read back, they turn a blade.
+    const bool oriented = std::any_of(trajectory.points.begin(), trajectory.points.end(),
+                                      [](const TrajectoryPoint& p) { return p.sample.oriented; });
+    std::string out = oriented ? "t,x,y,z,button,qw,qx,qy,qz\n" : "t,x,y,z,button\n";
     for (const TrajectoryPoint& p : trajectory.points) {
         const Vec3& x = p.sample.position_m;
         const Eigen::Quaterniond& q = p.sample.orientation;
         out += formatDouble(p.t_s) + "," + formatDouble(x.x()) + "," + formatDouble(x.y()) + "," + formatDouble(x.z()) +
-               "," + std::to_string(p.sample.buttons) + "," + formatDouble(q.w()) + "," + formatDouble(q.x()) + "," +
-               formatDouble(q.y()) + "," + formatDouble(q.z()) + "\n";
+               "," + std::to_string(p.sample.buttons);
+        if (oriented)
+            out += "," + formatDouble(q.w()) + "," + formatDouble(q.x()) + "," + formatDouble(q.y()) + "," +
+                   formatDouble(q.z());
+        out += "\n";
     }
     return out;
 }

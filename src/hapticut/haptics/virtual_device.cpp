@@ -6,7 +6,16 @@
 namespace hapticut::haptics {
 
 void VirtualDevice::setPosition(const Vec3& position, std::uint32_t buttons) {
-    input_.writeSlot() = {position, buttons};
+    latest_.position = position;
+    latest_.buttons = buttons;
+    input_.writeSlot() = latest_;
+    input_.publish();
+}
+
+void VirtualDevice::setOrientation(const Eigen::Quaterniond& orientation) {
+    latest_.orientation = orientation.normalized();
+    latest_.oriented = true;
+    input_.writeSlot() = latest_;
     input_.publish();
 }
 
@@ -25,6 +34,8 @@ DeviceSample VirtualDevice::read(double time_s) {
         s.position_m =
             lastPosition_ + (s.position_m - lastPosition_) * std::min(1.0, (time_s - lastTime_) / followTime_s_);
     s.buttons = in.buttons;
+    s.orientation = workspace_.rotation * in.orientation;
+    s.oriented = in.oriented;
     // Velocity by finite difference over the haptic step; the first sample has none.
     if (lastTime_ >= 0 && time_s > lastTime_)
         s.velocity_m_per_s = (s.position_m - lastPosition_) / (time_s - lastTime_);

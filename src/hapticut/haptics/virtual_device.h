@@ -16,6 +16,8 @@ public:
 
     /// From any one thread (the UI): where the device is now, in device units.
     void setPosition(const Vec3& position, std::uint32_t buttons = 0);
+    /// From the same thread: the stylus's orientation from now on (the viewer turns the mouse's blade).
+    void setOrientation(const Eigen::Quaterniond& orientation);
     /// The last force commanded, for display; safe from any thread.
     Vec3 lastForce() const;
     /// Follow new positions with a first-order lag of this time constant (0, the default: jump to them).
@@ -33,10 +35,13 @@ private:
     struct Input {
         Vec3 position = Vec3::Zero();
         std::uint32_t buttons = 0;
+        Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+        bool oriented = false;
     };
     double maxForce_;
     WorkspaceTransform workspace_;
     TripleBuffer<Input> input_;
+    Input latest_;  // what the writing thread last set
     std::atomic<double> fx_{0}, fy_{0}, fz_{0};
     Vec3 lastPosition_ = Vec3::Zero();
     double lastTime_ = -1;
