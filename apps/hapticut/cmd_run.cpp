@@ -272,7 +272,11 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     std::cout << "contact in " << r.contactSteps << " steps; max force " << r.maxForce_N << " N; max proxy penetration "
               << r.maxProxyPenetration_m << " m (measured in " << r.penetrationMeasuredSteps
               << " steps); max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, "
-              << r.finalMaxDisplacement_m * 1e3 << " mm at the end\n";
+              << r.finalMaxDisplacement_m * 1e3 << " mm at the end\n"
+              << "volume " << (r.volumeKept ? "kept by a pressure" : "free") << ": "
+              << (r.volumeMeasurements > 0 ? std::to_string(r.volumeChangeMax_pct) + "% largest change"
+                                           : std::string("not measured (the surface is open)"))
+              << "; largest spring strain " << r.maxStrain * 100 << "%\n";
     if (r.handCount > 1)
         for (int h = 0; h < r.handCount; ++h)
             std::cout << "hand " << h + 1 << " (" << specs[static_cast<std::size_t>(h)].toString() << ", "
@@ -358,6 +362,10 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["penetration_measured_steps"] = r.penetrationMeasuredSteps;
         j["max_displacement_m"] = r.maxDisplacement_m;
         j["final_max_displacement_m"] = r.finalMaxDisplacement_m;
+        j["volume_kept"] = r.volumeKept;
+        j["volume_change_max_pct"] =
+            r.volumeMeasurements > 0 ? nlohmann::ordered_json(r.volumeChangeMax_pct) : nlohmann::ordered_json(nullptr);
+        j["max_strain"] = r.maxStrain;
         j["nan_events"] = r.nonFiniteEvents;
         j["watchdog_tripped"] = r.watchdogTripped;
         j["cut_points"] = r.cut.cutPoints;

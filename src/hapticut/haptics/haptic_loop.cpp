@@ -9,6 +9,7 @@
 #include "hapticut/common/reserve.h"
 #include "hapticut/haptics/force_safety.h"
 #include "hapticut/mesh/adjacency.h"
+#include "hapticut/physics/volume_pressure.h"
 
 namespace hapticut::haptics {
 
@@ -81,7 +82,11 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
     stepper_.setToolStiffness(allHands_N_per_m);
     stepper_.setScheme(physics::resolveScheme(config_.scheme, model_, 1 / config_.rate_hz, allHands_N_per_m));
     stepper_.setSolverSettings(config_.solver);
-    stepper_.setActiveRegion(config_.activeRegion);
+    // A pressure acts on every node of the organ, so with volume on the whole organ is integrated.
+    volumeOn_ = config_.bulkModulus_Pa > 0 && organ_.closedBeforeCuts();
+    if (volumeOn_) restVolume_m3_ = physics::enclosedVolume(model_.nodes.restPosition, faces_);
+    stats_.volumeKept = volumeOn_;
+    stepper_.setActiveRegion(config_.activeRegion && !volumeOn_);
     stepper_.prepare(model_);
     if (config_.physicsRate == LoopConfig::PhysicsRate::Multi ||
         (config_.physicsRate == LoopConfig::PhysicsRate::Auto && model_.nodes.size() > config_.multiRateAbove_nodes))
@@ -105,6 +110,10 @@ HapticLoop::~HapticLoop() {
 }
 
 void HapticLoop::startMultiRate(long fromStep) {
+    if (volumeOn_) {  // the physics' own copy has no faces to take a volume of: volume goes off
+        volumeOn_ = stats_.volumeKept = false;
+        std::fill(model_.nodes.externalForce.begin(), model_.nodes.externalForce.end(), Vec3::Zero());
+    }
     worker_ = std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
                                               config_.maxPhysicsStep_s);
     reserveTouched(frameNodes_, roomToGrow(model_.nodes.size()));
@@ -437,6 +446,7 @@ void HapticLoop::advanceTissue(Frame& frame) noexcept {
     }
     if (paused_) return;
     const auto physicsStart = Clock::now();
+    pressVolume();
     const physics::StepResult result = stepper_.step(model_, 1 / config_.rate_hz);
     watchPhysicsTime(std::chrono::duration<double, std::micro>(Clock::now() - physicsStart).count());
     snapshots_.nodesMoved(stepper_.movedNodes());
@@ -452,6 +462,15 @@ void HapticLoop::advanceTissue(Frame& frame) noexcept {
     refitMovedFaces(view);
     for (std::size_t h = 0; h < hands_.size(); ++h)
         if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
+}
+
+void HapticLoop::pressVolume() noexcept {
+    if (!volumeOn_) return;
+    std::span<Vec3> f = model_.nodes.externalForce;
+    std::fill(f.begin(), f.end(), Vec3::Zero());
+    // A wound left without walls opens the surface: no volume to keep until the model is reset.
+    if (!cutter_.woundsClosed()) return;
+    physics::addPressureForces(model_.nodes.position, faces_, config_.bulkModulus_Pa, restVolume_m3_, f);
 }
 
 void HapticLoop::advanceMultiRate(Frame& frame) noexcept {
@@ -683,6 +702,7 @@ void HapticLoop::afterTopologyChange() {
     bvh_.facesChanged(view, changes.faces);
     if (3 * faces_.size() > movedFaces_.capacity()) reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
     stepper_.topologyChanged(model_, changes.nodes, changes.springs);
+    if (volumeOn_) restVolume_m3_ = physics::enclosedVolume(model_.nodes.restPosition, faces_);
     if (worker_) {  // the physics' copy follows once it is held (advanceMultiRate)
         pendingNodes_.insert(pendingNodes_.end(), changes.nodes.begin(), changes.nodes.end());
         pendingSprings_.insert(pendingSprings_.end(), changes.springs.begin(), changes.springs.end());

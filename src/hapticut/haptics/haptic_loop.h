@@ -56,6 +56,10 @@ struct LoopConfig {
     /// The tissue's fracture toughness (cutting/fracture.h) for blades whose Hand gives none; empty:
     /// each blade's from its tool's threshold (toughnessFromThreshold).
     std::optional<double> toughness_J_per_m2{};
+    /// Volume (physics/volume_pressure.h): the closed organ's enclosed volume kept by a pressure of this
+    /// bulk modulus; 0: off. Single-rate only, over the whole organ (a pressure acts everywhere, so the
+    /// active region is off): a cost of the organ's size each step.
+    double bulkModulus_Pa = 0;
 };
 
 /// How many physics steps within a second may take more than half the period before an Auto loop
@@ -111,6 +115,7 @@ struct LoopStats {
     long physicsSteps = 0;        // equal to steps in a single-rate loop
     long multiRateFromStep = -1;  // the step from which the physics ran on its own thread; -1: never
     double physicsTime_s = 0;     // simulated by them
+    bool volumeKept = false;      // LoopConfig::bulkModulus_Pa took effect (a closed organ, single-rate)
 };
 
 struct LoopCommand {
@@ -178,6 +183,8 @@ public:
     }
     /// Substeps per period of the scheme on the current organ (1 for the implicit one).
     int substeps() const;
+    /// The volume the closed organ's anchors enclose, which the pressure keeps (0 with volume off).
+    double restVolume_m3() const { return restVolume_m3_; }
     /// Whether the physics runs apart from this loop (LoopConfig::physicsRate).
     bool multiRate() const { return worker_ != nullptr; }
 
@@ -233,6 +240,8 @@ private:
     void advanceTissue(Frame& frame) noexcept;
     /// Multi-rate: hands the tools to the physics, steps it in simulated time, and takes in its frames.
     void advanceMultiRate(Frame& frame) noexcept;
+    /// Volume: the pressure of the enclosed volume into the nodes' external forces (zero when off).
+    void pressVolume() noexcept;
     /// Multi-rate: every frame the physics made so far, into the model, the tree and the proxies.
     void takeFrames(Frame& frame) noexcept;
     /// Multi-rate, with the physics held: the edits and cuts made since it was last held, into its copy.
@@ -295,6 +304,8 @@ private:
     bool realtime_ = false;
     double maxStepSinceSnapshot_us_ = 0;
     double preparedCouplingStiffness_ = 0;  // the stable step allows for a coupling up to this stiff
+    bool volumeOn_ = false;                 // LoopConfig::bulkModulus_Pa on a closed organ, single-rate
+    double restVolume_m3_ = 0;              // enclosed by the anchors (the organ unloaded), after the latest cut
 };
 
 }  // namespace hapticut::haptics

@@ -57,4 +57,14 @@ bool allFinite(const MassSpringModel& model) {
     return true;
 }
 
+double maxStrain(const MassSpringModel& model) {
+    const Springs& s = model.springs;
+    const std::vector<Vec3>& x = model.nodes.position;
+    double worst = 0;
+    for (std::size_t k = 0; k < s.size(); ++k)
+        if (s.restLength[k] > 0)
+            worst = std::max(worst, std::abs((x[s.b[k]] - x[s.a[k]]).norm() / s.restLength[k] - 1));
+    return worst;
+}
+
 }  // namespace hapticut::physics

@@ -12,6 +12,7 @@
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
+#include "hapticut/physics/volume_pressure.h"
 
 namespace hapticut::scene {
 
@@ -45,6 +46,10 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     // How far the run is, for the progress line: the log belongs to the stepping thread while it runs.
     std::atomic<long> stepsDone{0};
     const bool closedOrgan = organ.closedBeforeCuts();
+    // Volume and strain, for the report: a pass over the whole organ, so every few steps.
+    const long measureEvery = std::max<long>(10, static_cast<long>(organ.mesh().faces.size() / 10'000));
+    double restVolume_m3 = closedOrgan ? physics::enclosedVolume(model.nodes.restPosition, organ.mesh().faces) : 0;
+    long volumeVersion = loop.topologyVersion();
     LatencyHistogram cuttingForce_mN(1, 20'000);  // any values, here forces in mN: never allocates
     double minCuttingForce_N = std::numeric_limits<double>::infinity();
     auto observe = [&](const haptics::StepOutput& s) {
@@ -68,6 +73,19 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
                 r.maxProxyPenetration_m = std::max(
                     r.maxProxyPenetration_m, collision::penetrationDepth(loop.bvh(), loop.surface(),
                                                                          s.hands[static_cast<std::size_t>(h)].proxy_m));
+        }
+        if (stepsDone.load(std::memory_order_relaxed) % measureEvery == 0) {
+            if (closedOrgan && loop.cutter().woundsClosed()) {
+                if (loop.topologyVersion() != volumeVersion) {  // a cut: walls changed what the anchors enclose
+                    restVolume_m3 = physics::enclosedVolume(model.nodes.restPosition, loop.surface().faces);
+                    volumeVersion = loop.topologyVersion();
+                }
+                const double volume = physics::enclosedVolume(model.nodes.position, loop.surface().faces);
+                r.volumeChangeMax_pct =
+                    std::max(r.volumeChangeMax_pct, 100 * std::abs(volume - restVolume_m3) / restVolume_m3);
+                ++r.volumeMeasurements;
+            }
+            r.maxStrain = std::max(r.maxStrain, physics::maxStrain(model));
         }
         // Over the nodes the step moved, so that a measurement on a large organ costs the region, not the organ.
         r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model, loop.movedNodes()));
@@ -114,6 +132,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.substeps = loop.substeps();
     r.solver = st.solver;
     r.multiRate = loop.multiRate();
+    r.volumeKept = st.volumeKept;
     r.multiRateFrom_s =
         st.multiRateFromStep >= 0 ? static_cast<double>(st.multiRateFromStep) / config.loop.rate_hz : -1;
     r.physicsRate_hz = st.wallTime_s > 0 ? static_cast<double>(st.physicsSteps) / st.wallTime_s : 0;

@@ -49,6 +49,11 @@ struct HapticRunResult {
     double maxProxyPenetration_m = 0;   // by the ray-parity test on the current surface, in every step it is closed
     long penetrationMeasuredSteps = 0;  // the steps in which it was (all, on a closed organ whose wounds have walls)
     double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
+    // Every few steps (a pass over the organ): the enclosed volume's change from what the anchors
+    // enclose (closed organs whose wounds have walls) and the largest spring strain.
+    double volumeChangeMax_pct = 0, maxStrain = 0;
+    long volumeMeasurements = 0;
+    bool volumeKept = false;  // the loop kept the volume by a pressure (LoopConfig::bulkModulus_Pa)
     physics::Scheme scheme = physics::Scheme::RungeKutta4;  // the one used (Auto resolved)
     int substeps = 1;
     physics::SolverStats solver;       // the implicit scheme's solves

@@ -24,6 +24,7 @@ haptics::LoopConfig Scene::loopConfig() const {
     config.proxy.staticFriction = settings.staticFriction;
     config.proxy.dynamicFriction = settings.dynamicFriction;
     config.toughness_J_per_m2 = settings.toughness_J_per_m2;
+    config.bulkModulus_Pa = settings.bulkModulus_Pa;
     return config;
 }
 

@@ -218,7 +218,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
         if (const toml::table* m = subTable(root, "material")) {
             allowOnly(*m, "material",
                       {"mass_kg", "structural_stiffness_N", "structural_damping_Ns", "positioning_stiffness_N_per_m3",
-                       "positioning_damping_Ns_per_m3", "toughness_J_per_m2"});
+                       "positioning_damping_Ns_per_m3", "toughness_J_per_m2", "bulk_modulus_Pa"});
             physics::Material& mat = s.material;
             mat.totalMass_kg = number(*m, "material", "mass_kg", mat.totalMass_kg, 1e-9, 1e6);
             mat.structuralStiffness_N =
@@ -231,6 +231,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
                 number(*m, "material", "positioning_damping_Ns_per_m3", mat.positioningDamping_Ns_per_m3, 0, 1e15);
             if (m->contains("toughness_J_per_m2"))
                 s.toughness_J_per_m2 = number(*m, "material", "toughness_J_per_m2", 0, 1e-3, 1e7);
+            s.bulkModulus_Pa = number(*m, "material", "bulk_modulus_Pa", s.bulkModulus_Pa, 0, 1e9);
             s.materialGiven = true;
         }
         if (const toml::node* tools = root.get("tools")) {

@@ -49,6 +49,8 @@ struct SceneFile {
     /// [material] toughness_J_per_m2: the tissue's fracture toughness (cutting/fracture.h); empty: each
     /// blade's from its tool's threshold.
     std::optional<double> toughness_J_per_m2;
+    /// [material] bulk_modulus_Pa: a closed organ keeps its volume by a pressure of this modulus; 0: off.
+    double bulkModulus_Pa = 0;
     // [[tools]]
     std::vector<SceneTool> tools;
     // [device]
