@@ -54,10 +54,13 @@ void ProgressiveCutter::addPoint(std::uint32_t vertex) {
             lipVertices_.push_back(*copy);
             if (params_.walls) {
                 const auto& x = model_.mesh().positions;
-                // As deep as the blade, within limits of the cut's edges there: a deep wall over a short
-                // edge would be a sliver.
+                // As deep as the blade, within limits set by the cut's two edges there (S the shorter, L
+                // the longer): a wall face spans an edge and the depth, so a depth far from either edge
+                // makes a sliver. Up to 3 S keeps both faces above 18 degrees; where L > 9 S no depth
+                // does, and sqrt(S L) keeps the worst of them best.
                 const double edgeBefore = (x[v] - x[prev]).norm(), edgeAfter = (x[next] - x[v]).norm();
-                const double deepest = params_.maxWallDepthPerEdge * std::min(edgeBefore, edgeAfter);
+                const double shorter = std::min(edgeBefore, edgeAfter), longer = std::max(edgeBefore, edgeAfter);
+                const double deepest = std::max(params_.maxWallDepthPerEdge * shorter, std::sqrt(shorter * longer));
                 const double depth =
                     std::clamp(bladeDepth_m_,
                                std::min(params_.wallDepthPerEdge * 0.5 * (edgeBefore + edgeAfter), deepest), deepest);

@@ -27,7 +27,8 @@ struct CutterParams {
     /// this many local edge lengths deep, so a closed organ stays closed and the tool meets the wound's
     /// walls instead of falling through it. Without walls a wound is a hole in the surface.
     /// A blade deeper than that (cutAt's depth) takes the floor down with it, up to maxWallDepthPerEdge
-    /// times the shorter of the cut's two edges there, which keeps the walls' triangles from slivers.
+    /// times the shorter of the cut's two edges there (or their geometric mean, if more), which keeps
+    /// the walls' triangles from slivers.
     bool walls = true;
     double wallDepthPerEdge = 1.0;
     double maxWallDepthPerEdge = 3.0;
