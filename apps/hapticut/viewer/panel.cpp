@@ -111,7 +111,9 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
         const haptics::HandStep& hand = s.hands[static_cast<std::size_t>(h)];
         ImGui::Text("%s|F| %.2f N  (%.2f, %.2f, %.2f)  %s", s.handCount > 1 ? (h == 0 ? "right  " : "left   ") : "",
                     hand.force_N.norm(), hand.force_N.x(), hand.force_N.y(), hand.force_N.z(),
-                    hand.contact ? "contact" : "free");
+                    hand.cutting   ? "cutting"
+                    : hand.contact ? "contact"
+                                   : "free");
     }
     plot.draw(session.scene().settings.maxForce_N, ImGui::GetContentRegionAvail().x, 110);
 
