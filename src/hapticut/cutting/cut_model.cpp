@@ -77,6 +77,17 @@ std::vector<std::uint32_t> CutModel::facesOfEdge(std::uint32_t a, std::uint32_t 
     return out;
 }
 
+bool CutModel::onRim(std::uint32_t a, std::uint32_t b) const {
+    int faces = 0;
+    for (std::uint32_t f : facesAround_.around[a]) {
+        const mesh::Face& face = mesh_.faces[f];
+        if (face[0] != b && face[1] != b && face[2] != b) continue;
+        if (isWall(f)) return true;
+        ++faces;
+    }
+    return faces < 2;
+}
+
 std::uint32_t CutModel::addVertex(Vec3 rest, Vec3 position, Vec3 velocity, double mass) {
     const auto v = static_cast<std::uint32_t>(mesh_.positions.size());
     mesh_.positions.push_back(rest);
@@ -296,14 +307,10 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     // Pull the wound open: every spring at either copy a little shorter, except along the cut. After
     // the opening the cut's edges at v and v' are boundary edges (the lips) or, behind them, edges of
     // the walls that closed the cut so far; neither is shortened.
-    auto alongCut = [&](std::uint32_t a, std::uint32_t b) {
-        const std::vector<std::uint32_t> faces = facesOfEdge(a, b);
-        return faces.size() < 2 || std::any_of(faces.begin(), faces.end(), [&](std::uint32_t f) { return isWall(f); });
-    };
     for (std::uint32_t copy : {v, w})
         for (std::uint32_t f : facesAround_.around[copy])
             for (std::uint32_t x : mesh_.faces[f]) {
-                if (x == copy || alongCut(copy, x)) continue;
+                if (x == copy || onRim(copy, x)) continue;
                 if (const auto k = springOf(copy, x); k && shortened_.insert(*k).second) {
                     s.restLength[*k] *= 1 - shorten;
                     touchSpring(*k);

@@ -50,6 +50,9 @@ public:
     std::optional<std::uint32_t> springOf(std::uint32_t a, std::uint32_t b) const;
     /// The faces that have edge (a, b), in any orientation (two on a manifold interior edge).
     std::vector<std::uint32_t> facesOfEdge(std::uint32_t a, std::uint32_t b) const;
+    /// Whether edge (a, b) is an open end of the organ, a wound's lip or inside its walls: on fewer than
+    /// two faces, or on a wall. Cuts stop there and openings do not shorten its spring. Allocates nothing.
+    bool onRim(std::uint32_t a, std::uint32_t b) const;
 
     /// R15: a new vertex inside `face` at barycentric `bary` of the face's rest triangle, which becomes
     /// three faces. The rest position lies on the undeformed face, so the new springs get correct rest

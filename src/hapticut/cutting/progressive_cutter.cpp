@@ -18,22 +18,10 @@ Vec3 restPoint(const mesh::SurfaceMesh& m, std::uint32_t face, const Vec3& bary)
 }
 }  // namespace
 
-bool ProgressiveCutter::onRim(std::uint32_t a, std::uint32_t b) const {
-    // Called for every edge round every vertex the cut looks at: counted in place, without a list.
-    int faces = 0;
-    for (std::uint32_t f : model_.facesAround(a)) {
-        const mesh::Face& face = model_.mesh().faces[f];
-        if (face[0] != b && face[1] != b && face[2] != b) continue;
-        if (model_.isWall(f)) return true;
-        ++faces;
-    }
-    return faces < 2;
-}
-
 bool ProgressiveCutter::onBoundary(std::uint32_t v) const {
     for (std::uint32_t f : model_.facesAround(v))
         for (std::uint32_t x : model_.mesh().faces[f])
-            if (x != v && onRim(v, x)) return true;
+            if (x != v && model_.onRim(v, x)) return true;
     return false;
 }
 
@@ -132,7 +120,7 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
     for (const Crossing& c : crossings) {
         // A boundary edge is an open end of the organ or an earlier wound: the cut runs into it there
         // and joins it (on the edge, or at an end of it rather than make a sliver).
-        const bool boundaryEdge = onRim(c.a, c.b);
+        const bool boundaryEdge = model_.onRim(c.a, c.b);
         const std::uint32_t next = pointOnEdge(c.a, c.b, c.u);
         if (inCut(next)) {
             if (boundaryEdge) return false;  // along a lip of its own: nothing to join
@@ -184,7 +172,7 @@ bool ProgressiveCutter::reachBoundary(const Vec3& q) {
         int k = 0;
         while (face[k] != last) ++k;
         const std::uint32_t a = face[(k + 1) % 3], b = face[(k + 2) % 3];
-        if (!onRim(a, b) || (ownLip(a) && ownLip(b))) continue;
+        if (!model_.onRim(a, b) || (ownLip(a) && ownLip(b))) continue;
         const Vec3 ab = m.positions[b] - m.positions[a];
         const double u = std::clamp(ab.dot(q - m.positions[a]) / ab.squaredNorm(), 0.0, 1.0);
         if ((m.positions[a] + u * ab - q).norm() >= params_.snapFraction * ab.norm()) continue;

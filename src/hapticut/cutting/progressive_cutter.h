@@ -90,10 +90,8 @@ private:
     /// The cut reached `vertex` on an open boundary or an earlier wound's lip: it opens up to it, the
     /// wounds become one opening there (CutModel::separateFans), and this cut ends.
     void joinAt(std::uint32_t vertex);
-    /// Whether edge (a, b) is an open end of the organ or the lip of a wound (or inside its walls):
-    /// where a cut stops and joins what it ran into. A cut does not go down into a wound's walls.
-    bool onRim(std::uint32_t a, std::uint32_t b) const;
-    /// On an open end of the organ or the lip of a wound.
+    /// On an open end of the organ or the lip of a wound (CutModel::onRim): a cut stops there and joins
+    /// what it ran into; it does not go down into a wound's walls.
     bool onBoundary(std::uint32_t vertex) const;
 
     CutModel& model_;
