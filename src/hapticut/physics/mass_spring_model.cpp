@@ -57,11 +57,11 @@ bool allFinite(const MassSpringModel& model) {
     return true;
 }
 
-double maxStrain(const MassSpringModel& model) {
+double maxStrain(const MassSpringModel& model, std::size_t first, std::size_t last) {
     const Springs& s = model.springs;
     const std::vector<Vec3>& x = model.nodes.position;
     double worst = 0;
-    for (std::size_t k = 0; k < s.size(); ++k)
+    for (std::size_t k = first; k < last; ++k)
         if (s.restLength[k] > 0)
             worst = std::max(worst, std::abs((x[s.b[k]] - x[s.a[k]]).norm() / s.restLength[k] - 1));
     return worst;

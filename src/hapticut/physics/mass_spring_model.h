@@ -52,9 +52,9 @@ Vec3 linearMomentum(const MassSpringModel& model);     // kg·m/s
 double maxDisplacement(const MassSpringModel& model);  // m, largest |x - rest|
 /// The same over `nodes` only (the ones a step moved: the rest sleep exactly at rest).
 double maxDisplacement(const MassSpringModel& model, std::span<const std::uint32_t> nodes);
-/// The largest |length / rest length - 1| over the structural springs: how far the tissue is stretched
-/// or squeezed (Provot's 10% is a common limit for cloth and membranes).
-double maxStrain(const MassSpringModel& model);
+/// The largest |length / rest length - 1| over structural springs [first, last): how far the tissue is
+/// stretched or squeezed (Provot's 10% is a common limit for cloth and membranes).
+double maxStrain(const MassSpringModel& model, std::size_t first, std::size_t last);
 bool allFinite(const MassSpringModel& model);
 
 }  // namespace hapticut::physics

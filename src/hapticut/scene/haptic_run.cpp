@@ -46,10 +46,14 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     // How far the run is, for the progress line: the log belongs to the stepping thread while it runs.
     std::atomic<long> stepsDone{0};
     const bool closedOrgan = organ.closedBeforeCuts();
-    // Volume and strain, for the report: a pass over the whole organ, so every few steps.
-    const long measureEvery = std::max<long>(10, static_cast<long>(organ.mesh().faces.size() / 10'000));
-    double restVolume_m3 = closedOrgan ? physics::enclosedVolume(model.nodes.restPosition, organ.mesh().faces) : 0;
-    long volumeVersion = loop.topologyVersion();
+    // Volume and strain, for the report: passes over the whole organ, taken a slice a step so that no
+    // step of a large organ pays for all of it (the observer runs on the loop's thread in real time).
+    // A volume sums its slices, current and rest shape alike; a cut during a pass spoils it.
+    constexpr std::size_t kFacesPerStep = 2'000, kSpringsPerStep = 3'000;
+    std::size_t faceCursor = 0, springCursor = 0;
+    double volume_m3 = 0, restVolume_m3 = 0;
+    long passVersion = loop.topologyVersion();
+    bool passSound = true;
     LatencyHistogram cuttingForce_mN(1, 20'000);  // any values, here forces in mN: never allocates
     double minCuttingForce_N = std::numeric_limits<double>::infinity();
     auto observe = [&](const haptics::StepOutput& s) {
@@ -74,19 +78,27 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
                     r.maxProxyPenetration_m, collision::penetrationDepth(loop.bvh(), loop.surface(),
                                                                          s.hands[static_cast<std::size_t>(h)].proxy_m));
         }
-        if (stepsDone.load(std::memory_order_relaxed) % measureEvery == 0) {
-            if (closedOrgan && loop.cutter().woundsClosed()) {
-                if (loop.topologyVersion() != volumeVersion) {  // a cut: walls changed what the anchors enclose
-                    restVolume_m3 = physics::enclosedVolume(model.nodes.restPosition, loop.surface().faces);
-                    volumeVersion = loop.topologyVersion();
+        if (closedOrgan) {
+            const std::span<const mesh::Face> faces = loop.surface().faces;
+            const std::size_t end = std::min(faces.size(), faceCursor + kFacesPerStep);
+            const std::span<const mesh::Face> slice = faces.subspan(faceCursor, end - faceCursor);
+            volume_m3 += physics::enclosedVolume(model.nodes.position, slice);
+            restVolume_m3 += physics::enclosedVolume(model.nodes.restPosition, slice);
+            passSound = passSound && loop.topologyVersion() == passVersion && loop.cutter().woundsClosed();
+            faceCursor = end;
+            if (faceCursor == faces.size()) {
+                if (passSound && restVolume_m3 > 0) {
+                    r.volumeChangeMax_pct =
+                        std::max(r.volumeChangeMax_pct, 100 * std::abs(volume_m3 - restVolume_m3) / restVolume_m3);
+                    ++r.volumeMeasurements;
                 }
-                const double volume = physics::enclosedVolume(model.nodes.position, loop.surface().faces);
-                r.volumeChangeMax_pct =
-                    std::max(r.volumeChangeMax_pct, 100 * std::abs(volume - restVolume_m3) / restVolume_m3);
-                ++r.volumeMeasurements;
+                faceCursor = 0, volume_m3 = restVolume_m3 = 0;
+                passVersion = loop.topologyVersion(), passSound = true;
             }
-            r.maxStrain = std::max(r.maxStrain, physics::maxStrain(model));
         }
+        const std::size_t springEnd = std::min(model.springs.size(), springCursor + kSpringsPerStep);
+        r.maxStrain = std::max(r.maxStrain, physics::maxStrain(model, springCursor, springEnd));
+        springCursor = springEnd == model.springs.size() ? 0 : springEnd;
         // Over the nodes the step moved, so that a measurement on a large organ costs the region, not the organ.
         r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model, loop.movedNodes()));
     };

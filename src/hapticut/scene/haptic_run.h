@@ -49,7 +49,7 @@ struct HapticRunResult {
     double maxProxyPenetration_m = 0;   // by the ray-parity test on the current surface, in every step it is closed
     long penetrationMeasuredSteps = 0;  // the steps in which it was (all, on a closed organ whose wounds have walls)
     double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
-    // Every few steps (a pass over the organ): the enclosed volume's change from what the anchors
+    // In passes over the organ, a slice a step: the enclosed volume's change from what the anchors
     // enclose (closed organs whose wounds have walls) and the largest spring strain.
     double volumeChangeMax_pct = 0, maxStrain = 0;
     long volumeMeasurements = 0;
