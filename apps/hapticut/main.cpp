@@ -6,9 +6,12 @@
 #include <vector>
 
 #include "commands.h"
+#include "hapticut/common/temp_files.h"
 
 int main(int argc, char** argv) {
     // No setlocale(LC_ALL, ""): output stays in the "C" locale, so numbers always print with a decimal point.
+    // A signal that ends a command removes the temporary file it was writing; the target stays as it was.
+    hapticut::removeTempFilesOnSignals();
     CLI::App app{"Hapticut: haptic soft-tissue simulator (mass-spring organ models, proxy haptics, cutting)",
                  "hapticut"};
     app.require_subcommand(1);

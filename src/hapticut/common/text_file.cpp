@@ -6,6 +6,9 @@
 #include <cstring>
 #include <fstream>
 #include <system_error>
+#include <utility>
+
+#include "hapticut/common/temp_files.h"
 
 namespace hapticut {
 
@@ -28,26 +31,74 @@ Result<std::string, Error> readTextFile(const std::filesystem::path& file, std::
 }
 
 WriteStatus writeTextFileAtomically(const std::filesystem::path& file, const std::string& text) {
+    auto out = AtomicFile::create(file);
+    if (!out) return out.error();
+    out->write(text);
+    return out->commit();
+}
+
+AtomicFile::AtomicFile(std::filesystem::path file, std::filesystem::path tmp, std::FILE* out, int signalSlot)
+    : file_(std::move(file)), tmp_(std::move(tmp)), out_(out), signalSlot_(signalSlot) {}
+
+AtomicFile::AtomicFile(AtomicFile&& other) noexcept
+    : file_(std::move(other.file_)),
+      tmp_(std::move(other.tmp_)),
+      out_(std::exchange(other.out_, nullptr)),
+      signalSlot_(std::exchange(other.signalSlot_, -1)),
+      pending_(std::exchange(other.pending_, false)),
+      error_(other.error_) {}
+
+AtomicFile::~AtomicFile() { abandon(); }
+
+Result<AtomicFile, Error> AtomicFile::create(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec)) return unexpected(Error{file, 0, "is a folder, expected a file"});
     std::filesystem::path tmp = file;
     tmp += ".tmp-hapticut";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) return Error{file, 0, std::string("cannot write: ") + std::strerror(errno)};
-        out.write(text.data(), static_cast<std::streamsize>(text.size()));
-        out.flush();
-        if (!out) {
-            std::error_code ignored;
-            std::filesystem::remove(tmp, ignored);
-            return Error{file, 0, "write failed (disk full?)"};
-        }
+    // Registered before it exists, so that no signal can come between its creation and its registration.
+    const int slot = registerTempFile(tmp);
+    std::FILE* out = std::fopen(tmp.c_str(), "wb");
+    if (!out) {
+        const int error = errno;
+        releaseTempFile(slot);
+        return unexpected(Error{file, 0, std::string("cannot write: ") + std::strerror(error)});
+    }
+    return AtomicFile(file, std::move(tmp), out, slot);
+}
+
+bool AtomicFile::write(std::string_view bytes) {
+    if (!out_ || error_ != 0) return false;
+    if (std::fwrite(bytes.data(), 1, bytes.size(), out_) != bytes.size()) error_ = errno != 0 ? errno : EIO;
+    return error_ == 0;
+}
+
+WriteStatus AtomicFile::commit() {
+    if (!out_) return Error{file_, 0, "already written or abandoned"};
+    if (error_ == 0 && std::fflush(out_) != 0) error_ = errno != 0 ? errno : EIO;
+    if (std::fclose(std::exchange(out_, nullptr)) != 0 && error_ == 0) error_ = errno != 0 ? errno : EIO;
+    if (error_ != 0) {
+        abandon();
+        return Error{file_, 0, std::string("write failed: ") + std::strerror(error_)};
     }
     std::error_code ec;
-    std::filesystem::rename(tmp, file, ec);
+    std::filesystem::rename(tmp_, file_, ec);
     if (ec) {
-        std::filesystem::remove(tmp, ec);
-        return Error{file, 0, "cannot replace the file: " + ec.message()};
+        const std::string reason = ec.message();
+        abandon();
+        return Error{file_, 0, "cannot replace the file: " + reason};
     }
+    pending_ = false;
+    releaseTempFile(std::exchange(signalSlot_, -1));
     return std::nullopt;
+}
+
+void AtomicFile::abandon() noexcept {
+    if (out_) std::fclose(std::exchange(out_, nullptr));
+    if (std::exchange(pending_, false)) {
+        std::error_code ignored;
+        std::filesystem::remove(tmp_, ignored);
+    }
+    releaseTempFile(std::exchange(signalSlot_, -1));
 }
 
 }  // namespace hapticut
