@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "hapticut/common/line_reader.h"
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/mesh/mesh_report.h"
@@ -53,6 +54,14 @@ int convert(const ConvertOptions& o) {
     if (o.kp) source->physics.positioningStiffness = *o.kp;
     if (o.kdp) source->physics.positioningDamping = *o.kdp;
 
+    if (m.faces.empty()) {
+        std::cerr << "hapticut convert: nothing left to write: "
+                  << (o.weld ? "a weld of " + formatDouble(*o.weld) +
+                                   " m joined the model's vertices until no face was left"
+                             : std::string("cleaning removed every face"))
+                  << "; " << o.out << " was not written\n";
+        return 1;
+    }
     const mesh::MeshReport report = mesh::validateMesh(m);
     std::cout << "  " << report.vertices << " vertices, " << report.faces << " faces, " << report.edges << " edges; "
               << (report.closed ? "closed"

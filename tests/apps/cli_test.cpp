@@ -221,6 +221,32 @@ TEST_F(Cli, AScalpelStrokeCutsTheHeartWithWallsThatTheExportedMeshKeepsAndAProbe
     EXPECT_EQ(run("run --trajectory " + trajectory + " --tool chisel").exitCode, 2);
 }
 
+// An empty result is an error, not a file: a weld as large as the model, coordinates so large that the
+// default weld tolerance once overflowed and joined every vertex, a model without faces.
+TEST_F(Cli, EmptyResultsAreErrorsAndModelsWithoutFacesAreRefused) {
+    const CliResult welded = run("convert heart " + path("x.txt") + " --weld 1");
+    EXPECT_EQ(welded.exitCode, 1);
+    EXPECT_NE(welded.err.find("nothing left to write: a weld of 1 m"), std::string::npos) << welded.err;
+    EXPECT_FALSE(fs::exists(path("x.txt")));
+
+    std::ofstream(path("huge.obj")) << "v 0 0 0\nv 1e200 0 0\nv 0 1e200 0\nv 0 0 1e200\n"
+                                       "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    const CliResult huge = run("convert " + path("huge.obj") + " " + path("huge.ply") + " --repair");
+    EXPECT_EQ(huge.exitCode, 0) << huge.err;
+    EXPECT_NE(huge.out.find("4 vertices, 4 faces"), std::string::npos) << huge.out;
+
+    std::ofstream(path("empty.txt")) << "physics\n0.3 0.18 0.0002 90766 123\nvertices 1\n0 0 0\nfaces 0\nnormals "
+                                        "0\nedges 0\n";
+    for (const std::string& command :
+         {"run --model " + path("empty.txt"), "soak --strokes 2 --model " + path("empty.txt"),
+          "run --model " + path("empty.txt") + " --trajectory " + std::string(HAPTICUT_SOURCE_DIR) +
+              "/assets/trajectories/press-front.csv"}) {
+        const CliResult empty = run(command);
+        EXPECT_EQ(empty.exitCode, 1) << command;
+        EXPECT_NE(empty.err.find("the model has no faces"), std::string::npos) << command << ": " << empty.err;
+    }
+}
+
 TEST_F(Cli, ExportsTheDeformedMesh) {
     const CliResult r = run("run --steps 100 --force-at 0,0,0.05 --force 0,0,-1 --export-mesh " + path("pressed.ply"));
     ASSERT_EQ(r.exitCode, 0) << r.err;

@@ -64,6 +64,11 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     expectError("model = 3\n", 1, "model: expected a table");
     expectError("[simulation\n", 1, "expected ']'");
     expectError("[material]\nmass_kg = nan\n", 2, "material.mass_kg: nan is out of range");
+    // A value just past a bound shows its own digits, not the bound's, and counts are whole.
+    expectError("[model]\ntriangles = 20000000.9\n", 2,
+                "model.triangles: 20000000.9 is out of range; allowed: 12 to 20000000");
+    expectError("[model]\ntriangles = 2000.5\n", 2, "model.triangles: expected a whole number, found 2000.5");
+    expectError("[simulation]\nsolver_max_iterations = 10.5\n", 2, "expected a whole number, found 10.5");
     expectError("[material]\nmass_kg = -1\n", 2, "out of range");
     expectError("[material]\ntoughness_J_per_m2 = 0\n", 2, "material.toughness_J_per_m2: 0 is out of range");
 }

@@ -211,7 +211,9 @@ RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
     RepairReport r;
     if (m.uvs.size() != m.faces.size()) m.uvs.assign(m.faces.size(), FaceUvs{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});
     const geometry::Aabb box = geometry::boundsOf(m.positions);
-    const double eps = options.weldEpsilon_m >= 0 ? options.weldEpsilon_m : 1e-9 * box.extent().norm();
+    // stableNorm: the diagonal of a model with coordinates of 1e200 must not overflow into a tolerance
+    // that welds every vertex into one.
+    const double eps = options.weldEpsilon_m >= 0 ? options.weldEpsilon_m : 1e-9 * box.extent().stableNorm();
     if ((r.weldedVertices = weld(m, eps)) > 0)
         r.notes.push_back("welded " + count(r.weldedVertices, "duplicate vertices"));
 

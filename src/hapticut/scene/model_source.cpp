@@ -28,6 +28,8 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles) 
     source.mesh = std::move(loaded->mesh);
     source.toolThreshold_N = loaded->toolThreshold_N;
     source.fromThesisFile = loaded->physics.has_value();
+    if (source.mesh.faces.empty())
+        return unexpected(Error{model, 0, "the model has no faces: nothing to touch or simulate"});
     source.physics = loaded->physics ? *loaded->physics : physics::thesisPhysicsFor(source.mesh, physics::Material{});
     // Open or non-manifold surfaces can still be simulated; say what is unusual and go on.
     const mesh::MeshReport report = mesh::validateMesh(source.mesh);

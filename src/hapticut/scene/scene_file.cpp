@@ -1,6 +1,8 @@
 // Scene files (TOML) with strict checking of keys, types and ranges.
 #include "hapticut/scene/scene_file.h"
 
+#include "hapticut/common/line_reader.h"
+
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -43,6 +45,12 @@ const toml::table* subTable(const toml::table& root, const std::string& name) {
     return node->as_table();
 }
 
+/// A number as a user wrote it: whole ones in full (20000000, not 2e+07), others with the digits that
+/// tell them apart (20000000.9).
+std::string shown(double v) {
+    return v == std::floor(v) && std::abs(v) < 1e15 ? std::to_string(static_cast<long long>(v)) : formatDouble(v);
+}
+
 double number(const toml::table& t, const std::string& path, const std::string& key, double fallback, double lo,
               double hi) {
     const toml::node* node = t.get(key);
@@ -50,12 +58,20 @@ double number(const toml::table& t, const std::string& path, const std::string& 
     const auto v = node->value<double>();
     if (!v || !(node->is_floating_point() || node->is_integer()))
         throw SceneError{lineOf(*node), path + "." + key + ": expected a number"};
-    if (!std::isfinite(*v) || *v < lo || *v > hi) {
-        std::ostringstream s;
-        s << path << "." << key << ": " << *v << " is out of range; allowed: " << lo << " to " << hi;
-        throw SceneError{lineOf(*node), s.str()};
-    }
+    if (!std::isfinite(*v) || *v < lo || *v > hi)  // shortest round-trip digits: 20000000.9 is not 2e+07
+        throw SceneError{lineOf(*node), path + "." + key + ": " + shown(*v) +
+                                            " is out of range; allowed: " + shown(lo) + " to " + shown(hi)};
     return *v;
+}
+
+/// A count: a number as number() takes it, and whole.
+long wholeNumber(const toml::table& t, const std::string& path, const std::string& key, long fallback, long lo,
+                 long hi) {
+    const double v =
+        number(t, path, key, static_cast<double>(fallback), static_cast<double>(lo), static_cast<double>(hi));
+    if (v != std::floor(v))
+        throw SceneError{lineOf(*t.get(key)), path + "." + key + ": expected a whole number, found " + shown(v)};
+    return static_cast<long>(v);
 }
 
 bool boolean(const toml::table& t, const std::string& path, const std::string& key, bool fallback) {
@@ -210,7 +226,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
         if (const toml::table* m = subTable(root, "model")) {
             allowOnly(*m, "model", {"source", "triangles", "translate_m", "rotate_deg", "scale"});
             s.model = resolve(text(*m, "model", "source", s.model), directory);
-            s.triangles = static_cast<int>(number(*m, "model", "triangles", s.triangles, 12, 20'000'000));
+            s.triangles = static_cast<int>(wholeNumber(*m, "model", "triangles", s.triangles, 12, 20'000'000));
             s.translate_m = vector3(*m, "model", "translate_m", s.translate_m, 100);
             s.rotate_deg = vector3(*m, "model", "rotate_deg", s.rotate_deg, 3600);
             s.scale = number(*m, "model", "scale", s.scale, 1e-6, 1e6);
@@ -298,10 +314,10 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
             s.scheme = *physics::parseScheme(text(*m, "simulation", "integrator", "auto",
                                                   {"auto", "euler", "midpoint", "rk4", "symplectic", "implicit"}));
             s.solver.tolerance = number(*m, "simulation", "solver_tolerance", s.solver.tolerance, 1e-14, 1);
-            s.solver.maxIterations = static_cast<int>(std::lround(number(
-                *m, "simulation", "solver_max_iterations", s.solver.maxIterations, 1, physics::kMaxSolverIterations)));
-            s.solver.maxNewtonIterations = static_cast<int>(std::lround(
-                number(*m, "simulation", "solver_newton_iterations", s.solver.maxNewtonIterations, 1, 100)));
+            s.solver.maxIterations = static_cast<int>(wholeNumber(
+                *m, "simulation", "solver_max_iterations", s.solver.maxIterations, 1, physics::kMaxSolverIterations));
+            s.solver.maxNewtonIterations = static_cast<int>(
+                wholeNumber(*m, "simulation", "solver_newton_iterations", s.solver.maxNewtonIterations, 1, 100));
             s.rate_hz = number(*m, "simulation", "rate_hz", s.rate_hz, 100, 10'000);
             s.activeRegion = boolean(*m, "simulation", "active_region", s.activeRegion);
         }
