@@ -87,17 +87,6 @@ std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
     return request;
 }
 
-/// Writes `text` to `file` if a file was asked for and says so; false on failure (already reported).
-bool writeOutput(const std::string& file, const std::string& text, const char* what) {
-    if (file.empty()) return true;
-    if (const auto error = writeTextFileAtomically(file, text)) {
-        std::cerr << error->toString() << "\n";
-        return false;
-    }
-    std::cout << "wrote " << what << " to " << file << "\n";
-    return true;
-}
-
 /// The fields every run report starts with: what was simulated, with which integrator (`requested`,
 /// which may be auto, and `scheme`, the one used).
 nlohmann::ordered_json reportHeader(const scene::ModelSource& source, const physics::MassSpringModel& model,
@@ -246,6 +235,23 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
               << (hands.size() > 1 ? " and " + toolOf[1] : "") << ", "
               << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at "
               << rate_hz << " Hz, " << (config.realtime ? "real time" : "simulated time") << "\n";
+    // The force log and the recording are written as the run goes, so a run of any length holds
+    // constant memory; they replace their targets only when the run has ended.
+    std::vector<haptics::StepLogWriter::Target> logTargets;
+    if (!o.forceLog.empty()) logTargets.push_back({o.forceLog, haptics::StepLogColumns::ForceLog});
+    if (!o.record.empty()) logTargets.push_back({o.record, haptics::StepLogColumns::Recording});
+    std::unique_ptr<haptics::StepLogWriter> stepLog;
+    if (!logTargets.empty()) {
+        auto writer = haptics::StepLogWriter::open(std::move(logTargets), config.realtime
+                                                                              ? haptics::StepLogWriter::WhenFull::Drop
+                                                                              : haptics::StepLogWriter::WhenFull::Wait);
+        if (!writer) {
+            std::cerr << writer.error().toString() << "\n";
+            return 1;
+        }
+        stepLog = std::move(*writer);
+        config.stepLog = stepLog.get();
+    }
     auto run = scene::runHaptic(organ, hands, config);
     if (!run) {
         std::cerr << "hapticut run: " << run.error().toString() << "\n";
@@ -253,8 +259,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     }
     const scene::HapticRunResult& r = *run;
     if (StopSignal::requested())
-        std::cerr << "\nhapticut run: stopped by signal " << StopSignal::signalNumber()
-                  << "; the devices were left at zero force\n";
+        std::cerr << "\nhapticut run: stopped by signal " << StopSignal::signalNumber() << " after " << r.steps
+                  << " steps; the devices were left at zero force\n";
 
     std::cout << r.steps << " haptic steps (" << r.simTime_s << " s simulated) in " << r.wallTime_s
               << " s wall: " << r.hapticRate_hz << " steps/s; step " << r.stepTime_us.p50 << " us p50, "
@@ -266,9 +272,11 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         std::cout << "the physics took more than half the period: multi-rate from t = " << r.multiRateFrom_s << " s\n";
     std::cout << (r.multiRate ? "multi-rate" : "single-rate") << " physics: " << r.physicsRate_hz << " steps/s, "
               << r.physicsRealtimeFactor << " simulated s per wall s\n";
-    if (o.realtime)
+    if (config.realtime)
         std::cout << "period error " << r.periodError_us.p50 << " us p50, " << r.periodError_us.p99 << " us p99, "
-                  << r.periodError_us.max << " us max; overruns " << r.overruns << "\n";
+                  << r.periodError_us.max << " us max; overruns " << r.overruns << " (" << r.missedPeriods
+                  << (r.missedPeriods == 1 ? " period" : " periods") << " missed, " << r.stalls << " stall"
+                  << (r.stalls == 1 ? "" : "s") << " after which the force ramped back in)\n";
     std::cout << "contact in " << r.contactSteps << " steps; max force " << r.maxForce_N << " N; max proxy penetration "
               << r.maxProxyPenetration_m << " m (measured in " << r.penetrationMeasuredSteps
               << " steps); max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, "
@@ -305,14 +313,23 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     if (!r.invariantProblems.empty()) std::cout << "the cut broke the organ: " << r.invariantProblems.front() << "\n";
 
     int status = r.watchdogTripped ? 3 : 0;
-    // Ctrl-C is how a run with a live device and no --steps ends; a run with a set length was cut short.
-    if (StopSignal::requested() && o.stepsGiven) status = 128 + StopSignal::signalNumber();
-    if (!o.forceLog.empty() &&
-        !writeOutput(o.forceLog, haptics::formatStepLog(r.log, haptics::StepLogColumns::ForceLog), "the force log"))
-        status = 1;
-    if (!o.record.empty() &&
-        !writeOutput(o.record, haptics::formatStepLog(r.log, haptics::StepLogColumns::Recording), "the recording"))
-        status = 1;
+    // Ctrl-C is how a run with a live device and no --steps ends; a run with a set length (--steps, a
+    // replay) was cut short.
+    if (r.stoppedEarly && config.steps >= 0) status = 128 + StopSignal::signalNumber();
+    if (stepLog) {
+        for (const Error& error : stepLog->finish()) {
+            std::cerr << error.toString() << "\n";
+            status = 1;
+        }
+        if (status != 1)
+            std::cout << "wrote " << stepLog->rowsWritten() << " steps to "
+                      << (o.forceLog.empty() ? o.record
+                          : o.record.empty() ? o.forceLog
+                                             : o.forceLog + " and " + o.record)
+                      << "\n";
+        if (r.droppedLogSteps > 0)
+            std::cout << r.droppedLogSteps << " steps missing from the log: the disk did not keep up\n";
+    }
     if (!exportDeformed(o.exportMesh, organ.mesh(), *source, model)) status = 1;
     if (!o.report.empty()) {
         nlohmann::ordered_json j = reportHeader(*source, model, scheme, r.scheme);
@@ -345,6 +362,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         }
         j["hands"] = handsJson;
         j["stopped_by_signal"] = StopSignal::requested();
+        j["steps_requested"] =
+            config.steps >= 0 ? nlohmann::ordered_json(config.steps) : nlohmann::ordered_json(nullptr);
+        j["log_dropped_steps"] = r.droppedLogSteps;
         j["sim_time_s"] = r.simTime_s;
         j["wall_time_s"] = r.wallTime_s;
         j["haptic_rate_hz"] = r.hapticRate_hz;
@@ -354,8 +374,10 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["physics_rate_hz"] = r.physicsRate_hz;
         j["physics_realtime_factor"] = r.physicsRealtimeFactor;
         j["step_us"] = toJson(r.stepTime_us);
-        j["period_error_us"] = o.realtime ? toJson(r.periodError_us) : nlohmann::ordered_json(nullptr);
+        j["period_error_us"] = config.realtime ? toJson(r.periodError_us) : nlohmann::ordered_json(nullptr);
         j["overruns"] = r.overruns;
+        j["missed_periods"] = r.missedPeriods;
+        j["stalls"] = r.stalls;
         j["contact_steps"] = r.contactSteps;
         j["max_force_N"] = r.maxForce_N;
         j["max_proxy_penetration_m"] = r.maxProxyPenetration_m;
@@ -440,10 +462,15 @@ int run(RunOptions& o) {
               << " springs, integrator " << physics::schemeName(config.scheme) << ", dt " << config.dt_s << " s, "
               << config.steps << " steps\n";
 
+    const StopSignal stopSignal;
+    config.stopRequested = [] { return StopSignal::requested(); };
     Progress progress("simulating");
     const scene::RunResult r =
         scene::runHeadless(model, config, [&](long done, long total) { progress.update(done, total); });
     progress.finish();
+    if (r.stoppedEarly)
+        std::cerr << "hapticut run: stopped by signal " << StopSignal::signalNumber() << " after " << r.steps << " of "
+                  << config.steps << " steps\n";
 
     const bool implicit = r.scheme == physics::Scheme::BackwardEuler;
     std::cout << "simulated " << r.simTime_s << " s in " << r.wallTime_s << " s wall; step " << r.step_us.mean
@@ -464,12 +491,14 @@ int run(RunOptions& o) {
               << r.finalMaxDisplacement_m * 1e3 << " mm at the end; kinetic energy at the end " << r.kineticEnergyEnd_J
               << " J; non-finite steps " << r.nanEvents << "\n";
 
-    int status = r.nanEvents > 0 ? 3 : 0;
+    int status = r.stoppedEarly ? 128 + StopSignal::signalNumber() : r.nanEvents > 0 ? 3 : 0;
     if (!exportDeformed(o.exportMesh, source->mesh, *source, model)) status = 1;
     if (!o.report.empty()) {
         nlohmann::ordered_json j = reportHeader(*source, model, config.scheme, r.scheme);
         j["dt"] = config.dt_s;
         j["steps"] = r.steps;
+        j["steps_requested"] = config.steps;
+        j["stopped_by_signal"] = r.stoppedEarly;
         j["substeps"] = r.substeps;
         j["solver"] = solverJson(r.scheme, r.solver, config.solver);
         j["stable_dt_s"] = implicit ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.stableStep_s);

@@ -85,8 +85,8 @@ int screenshot(ScreenshotOptions& o) {
             return 1;
         }
         const scene::HapticRunResult& r = *run;
-        if (!r.log.empty()) {
-            const haptics::StepOutput& last = r.log.back();
+        if (r.steps > 0) {
+            const haptics::StepOutput& last = r.lastStep;
             frame.hands[0].proxy_m = last.hand().proxy_m;
             frame.hands[0].device_m = last.hand().device_m;
             frame.hands[0].force_N = last.hand().force_N;

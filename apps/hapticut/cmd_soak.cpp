@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "hapticut/common/stop_signal.h"
 #include "hapticut/cutting/stroke_fuzzer.h"
 #include "hapticut/scene/scene.h"
 #include "terminal.h"
@@ -31,10 +32,15 @@ int soak(SoakOptions& o) {
               << source->mesh.faces.size() << " faces), seed " << o.fuzz.seed << ", a fresh organ every "
               << o.fuzz.strokesPerOrgan << ", invariants after every "
               << (o.fuzz.checkEveryOperation ? "operation" : "stroke") << "\n";
+    const StopSignal stopSignal;
+    o.fuzz.stopRequested = [] { return StopSignal::requested(); };
     Progress progress("cutting");
     const cutting::StrokeFuzzResult r =
         cutting::fuzzStrokes(source->mesh, o.fuzz, [&](long done, long total) { progress.update(done, total); });
     progress.finish();
+    if (r.stoppedEarly)
+        std::cerr << "hapticut soak: stopped by signal " << StopSignal::signalNumber() << " after " << r.strokes
+                  << " of " << o.fuzz.strokes << " strokes\n";
     std::cout << r.strokes << " strokes on " << r.organs << " organs in " << r.wallTime_s << " s: " << r.operations
               << " operations, " << r.meshChanges << " changed the mesh; " << r.cutPoints << " cut points, "
               << r.verticesAdded << " vertices and " << r.facesAdded << " faces added (largest organ " << r.largestFaces
@@ -49,6 +55,8 @@ int soak(SoakOptions& o) {
         j["faces"] = source->mesh.faces.size();
         j["seed"] = o.fuzz.seed;
         j["strokes"] = r.strokes;
+        j["strokes_requested"] = o.fuzz.strokes;
+        j["stopped_by_signal"] = r.stoppedEarly;
         j["organs"] = r.organs;
         j["operations"] = r.operations;
         j["mesh_changes"] = r.meshChanges;
@@ -68,7 +76,7 @@ int soak(SoakOptions& o) {
         if (!writeJson(o.report, j)) return 1;
         std::cout << "wrote the report to " << o.report << "\n";
     }
-    return r.ok() ? 0 : 3;
+    return !r.ok() ? 3 : r.stoppedEarly ? 128 + StopSignal::signalNumber() : 0;
 }
 
 }  // namespace

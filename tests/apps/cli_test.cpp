@@ -369,6 +369,10 @@ TEST_F(Cli, ALiveDeviceRunsInRealTimeAndTheSelfTestChecksItEndToEnd) {
     const auto j = nlohmann::json::parse(slurp(path("live.json")));
     EXPECT_EQ(j["realtime"], true) << "a live device runs on the wall clock";
     EXPECT_EQ(j["steps"], 300);
+    ASSERT_TRUE(j["period_error_us"].is_object()) << "measured in the mode it ran in, not by --realtime";
+    EXPECT_TRUE(j["period_error_us"].contains("p99")) << j["period_error_us"];
+    EXPECT_GE(j["overruns"].get<long>(), j["missed_periods"].get<long>()) << "every missed period is an overrun";
+    EXPECT_TRUE(j.contains("stalls"));
     EXPECT_NE(j["hands"][0]["description"].get<std::string>().find("workspace fitted to the model"), std::string::npos)
         << j["hands"][0].dump();
 

@@ -146,18 +146,20 @@ TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyS
         cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
         scene::HapticRunConfig config;
         config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
+        config.keepSteps = 1'000'000;
         const auto run = scene::runHaptic(organ, *trajectory, config);
         ASSERT_TRUE(run) << run.error().message;
         const scene::HapticRunResult& r = *run;
         long first = -1, last = -1;
-        for (std::size_t i = 0; i < r.log.size(); ++i)
-            if (r.log[i].cut) {
+        for (std::size_t i = 0; i < r.keptSteps.size(); ++i)
+            if (r.keptSteps[i].cut) {
                 if (first < 0) first = static_cast<long>(i);
                 last = static_cast<long>(i);
             }
         ASSERT_GE(first, 0) << "the scalpel cut";
         long felt = 0;
-        for (long i = first; i <= last; ++i) felt += r.log[static_cast<std::size_t>(i)].hand().force_N.norm() >= 0.3;
+        for (long i = first; i <= last; ++i)
+            felt += r.keptSteps[static_cast<std::size_t>(i)].hand().force_N.norm() >= 0.3;
         EXPECT_GE(static_cast<double>(felt), 0.95 * static_cast<double>(last - first + 1))
             << "from the first cut event to the last, " << felt << " of " << last - first + 1 << " steps";
         EXPECT_GT(r.cut.length_m, 0.02);

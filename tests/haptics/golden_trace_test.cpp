@@ -31,13 +31,14 @@ std::string traceOf(const std::string& trajectory_name, double cutThreshold_N) {
     cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
     HapticRunConfig config;
     config.loop.cutThreshold_N = cutThreshold_N;
+    config.keepSteps = 1'000'000;
     const auto run = runHaptic(organ, *trajectory, config);
     EXPECT_TRUE(run.has_value());
     if (!run) return {};
     const HapticRunResult& r = *run;
     std::string out = "t,fx,fy,fz,contact\n";
-    for (std::size_t i = 0; i < r.log.size(); i += kEvery) {
-        const haptics::StepOutput& s = r.log[i];
+    for (std::size_t i = 0; i < r.keptSteps.size(); i += kEvery) {
+        const haptics::StepOutput& s = r.keptSteps[i];
         char line[160];
         std::snprintf(line, sizeof line, "%.3f,%.9f,%.9f,%.9f,%d\n", s.t_s, s.hand().force_N.x(), s.hand().force_N.y(),
                       s.hand().force_N.z(), s.hand().contact ? 1 : 0);

@@ -196,6 +196,40 @@ TEST(HapticLoop, PeriodErrorStaysHonestWhenEveryStepIsLate) {
     EXPECT_GT(late.max, 25'000);
 }
 
+// A stall of the loop's own thread (here its observer held up once for 60 ms, as a process stopped
+// and resumed would be): every missed period counts as an overrun, and the step after it sends no
+// force, which then ramps back in rather than jumping to where the hand has since gone.
+TEST(HapticLoop, AStallOfItsOwnThreadCountsEveryMissedPeriodAndTheForceRampsBackIn) {
+    HeartScene h;
+    VirtualDevice device;
+    device.setPosition(frontPoint(h) - Vec3(0, 0, 0.002));
+    LoopConfig config;
+    config.rampTime_s = 0.05;
+    config.stallRampTime_s = 0.05;
+    HapticLoop loop(h.organ, device, config);
+    std::vector<double> force(600, -1);
+    long stalledAt = -1;
+    RealTimeScheduler clock(loop);
+    ASSERT_FALSE(clock.start(600, [&](const StepOutput& s) {
+        const auto i = static_cast<std::size_t>(std::lround(s.t_s * 1000));
+        force[i] = s.hand().force_N.norm();
+        if (i == 300) std::this_thread::sleep_for(std::chrono::milliseconds(60));
+        if (i == 301) stalledAt = 301;
+    }));
+    while (clock.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    clock.stop();
+    const LoopStats& st = loop.stats();
+    EXPECT_GE(st.stalls, 1);
+    EXPECT_GE(st.missedPeriods, 55) << "60 ms held up: about 59 periods without a step";
+    EXPECT_GE(st.overruns, st.missedPeriods);
+    ASSERT_EQ(stalledAt, 301);
+    EXPECT_GT(force[299], 0.3) << "pressing before the stall";
+    EXPECT_EQ(force[301], 0.0) << "the step after the stall sends nothing";
+    EXPECT_LT(force[311], 0.5 * force[299]) << "and the force ramps back in over 50 ms";
+    EXPECT_NEAR(force[599], force[299], 0.1 * force[299]) << "to the same press";
+    EXPECT_EQ(loop.snapshots().readLatest().stalls, st.stalls) << "the panel shows them";
+}
+
 // Snapshots copy only what moved since each slot was last written: read now and then, as a renderer
 // does, so that slots fall several snapshots behind, every one still shows the tissue exactly.
 TEST(HapticLoop, SnapshotsShowTheTissueExactlyThoughTheyCopyOnlyWhatMoved) {

@@ -3,6 +3,8 @@
 // driving the haptic loop at its rate, force clamping, a device lost mid-run, a clean shutdown.
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include <dlfcn.h>
 #include <unistd.h>
 
@@ -48,6 +50,7 @@ struct Emulator {
     }
     double maxForceSent() const { return get<double (*)()>("hdEmu_maxForceSent")(); }
     long ticks() const { return get<long (*)()>("hdEmu_ticks")(); }
+    void stallScheduler(long ms) const { get<void (*)(long)>("hdEmu_stallScheduler")(ms); }
     long calibrationUpdates() const { return get<long (*)()>("hdEmu_calibrationUpdates")(); }
     long frameErrors() const { return get<long (*)()>("hdEmu_frameErrors")(); }
     bool deviceOpen() const { return get<int (*)()>("hdEmu_deviceOpen")(); }
@@ -215,6 +218,52 @@ TEST_F(OpenHaptics, ADeviceLostMidRunTripsTheWatchdogAndSendsNoForce) {
     EXPECT_TRUE(loop.snapshots().readLatest().watchdogTripped);
     EXPECT_EQ(emu.lastForce(), Vec3::Zero());
     clock.stop();
+}
+
+// The device's servo scheduler held up for 100 ms (a Touch's driver stalled, the process stopped): the
+// loop that its ticks drive missed about a hundred periods. They count as overruns, the watchdog zeroes
+// the first force after the gap, and the force ramps back in.
+TEST_F(OpenHaptics, AStalledServoTickCountsAsOverrunsAndTheForceRampsBackIn) {
+    Heart h;
+    auto device = pressing(h.front(), 2);
+    ASSERT_TRUE(device);
+    LoopConfig config;
+    config.rampTime_s = 0.05;
+    HapticLoop loop(h.organ, *device, config);
+    constexpr std::size_t kSteps = 4000;
+    std::vector<double> force(kSteps, -1), wall_ms(kSteps, 0);
+    const auto begin = std::chrono::steady_clock::now();
+    std::atomic<long> steps{0};
+    RealTimeScheduler clock(loop);
+    ASSERT_FALSE(clock.start(static_cast<long>(kSteps), [&](const StepOutput& s) {
+        const auto i = static_cast<std::size_t>(steps.load(std::memory_order_relaxed));
+        force[i] = s.hand().force_N.norm();
+        wall_ms[i] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
+        steps.store(static_cast<long>(i) + 1, std::memory_order_release);
+    }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    emu.stallScheduler(100);
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    clock.stop();
+    const long n = steps.load(std::memory_order_acquire);
+    // The gap: the longest time between two steps.
+    long after = 1;
+    for (long i = 2; i < n; ++i)
+        if (wall_ms[static_cast<std::size_t>(i)] - wall_ms[static_cast<std::size_t>(i - 1)] >
+            wall_ms[static_cast<std::size_t>(after)] - wall_ms[static_cast<std::size_t>(after - 1)])
+            after = i;
+    const auto a = static_cast<std::size_t>(after);
+    ASSERT_GT(wall_ms[a] - wall_ms[a - 1], 95) << "the scheduler stalled";
+    ASSERT_LT(a + 60, static_cast<std::size_t>(n));
+    const LoopStats& st = loop.stats();
+    EXPECT_GE(st.stalls, 1);
+    EXPECT_GE(st.missedPeriods, 95);
+    EXPECT_GE(st.overruns, st.missedPeriods) << "every missed period is an overrun";
+    EXPECT_GT(st.periodError_us.summary().max, 95'000.0);
+    EXPECT_GT(force[a - 1], 0.3) << "pressing before the stall";
+    EXPECT_EQ(force[a], 0.0) << "the first step after the gap sends no force";
+    EXPECT_LT(force[a + 10], 0.5 * force[a - 1]) << "the force ramps back in";
+    EXPECT_NEAR(force[a + 60], force[a - 1], 0.15 * force[a - 1]) << "to the press it had";
 }
 
 }  // namespace

@@ -76,6 +76,11 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
         ImGui::Text("%s, %d substep%s (stable below %.2f ms)   overruns %ld   cut events %ld",
                     std::string(physics::schemeName(s.scheme)).c_str(), s.substeps, s.substeps == 1 ? "" : "s",
                     s.stableStep_s * 1e3, s.overruns, s.cutEvents);
+    if (s.stalls > 0)
+        ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1),
+                           "%ld stall%s: the loop stopped for 3 periods or more; force ramped "
+                           "back in",
+                           s.stalls, s.stalls == 1 ? "" : "s");
     if (s.watchdogTripped) {
         ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "watchdog tripped: force is zero");
         ImGui::SameLine();
@@ -98,6 +103,15 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
 }
 
 }  // namespace
+
+void finishRecording(PanelState& state) {
+    if (!state.recorder) return;
+    const std::vector<Error> errors = state.recorder->finish();
+    state.message = !errors.empty()
+                        ? errors.front().toString()
+                        : "wrote " + std::to_string(state.recorder->rowsWritten()) + " samples to " + state.recordPath;
+    state.recorder.reset();
+}
 
 void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& s, const Rates& rates,
                const ForcePlot& plot, PanelState& state) {
@@ -209,16 +223,13 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
     }
     ImGui::InputText("##record", &state.recordPath);
     ImGui::SameLine();
-    if (!state.recording && ImGui::Button("record")) {
-        state.recorded.clear();
-        state.recording = true;
-        state.message = "recording the device path";
-    } else if (state.recording && ImGui::Button("stop")) {
-        state.recording = false;
-        const auto error = writeTextFileAtomically(
-            state.recordPath, haptics::formatStepLog(state.recorded, haptics::StepLogColumns::Recording));
-        state.message = error ? error->toString()
-                              : "wrote " + std::to_string(state.recorded.size()) + " samples to " + state.recordPath;
+    if (!state.recorder && ImGui::Button("record")) {
+        auto recorder = haptics::StepLogWriter::open({{state.recordPath, haptics::StepLogColumns::Recording}},
+                                                     haptics::StepLogWriter::WhenFull::Drop);
+        state.message = recorder ? "recording the device path" : recorder.error().toString();
+        if (recorder) state.recorder = std::move(*recorder);
+    } else if (state.recorder && ImGui::Button("stop")) {
+        finishRecording(state);
     }
     ImGui::InputText("##replay", &state.replayPath);
     ImGui::SameLine();

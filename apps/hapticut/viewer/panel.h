@@ -1,10 +1,12 @@
 // The Dear ImGui panel (live tuning, rates, forces, files) and the help overlay listing every key.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/step_log.h"
 #include "hapticut/scene/simulation.h"
 #include "render/renderer.h"
 #include "viewer/force_plot.h"
@@ -20,10 +22,13 @@ struct Rates {
 struct PanelState {
     std::string modelPath, toolPath, exportPath = "heart-cut.obj", replayPath, recordPath = "recording.csv";
     std::string message;
-    bool recording = false;
-    float maxForceScale = 1;                    // of the device's maximum force
-    std::vector<haptics::StepOutput> recorded;  // the device path at the display rate, while recording
+    float maxForceScale = 1;  // of the device's maximum force
+    /// While recording: the device path at the display rate, streamed to recordPath as it goes.
+    std::unique_ptr<haptics::StepLogWriter> recorder;
 };
+
+/// Ends a recording, if one runs: its file replaces recordPath; what happened goes to state.message.
+void finishRecording(PanelState& state);
 
 void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& snapshot,
                const Rates& rates, const ForcePlot& plot, PanelState& state);

@@ -307,12 +307,12 @@ int Viewer::run() {
         const haptics::HandStep& hand =
             s.hands[static_cast<std::size_t>(std::min(session_.activeHand(), s.handCount - 1))];
         plot_.add(t_s, hand.force_N);
-        if (panel_.recording) {
+        if (panel_.recorder) {
             haptics::StepOutput sample;
             sample.t_s = t_s;
             sample.hands[0] = hand;
             sample.hands[0].buttons = mouse_.engaged() ? 1u : 0u;
-            panel_.recorded.push_back(sample);
+            panel_.recorder->push(sample);
         }
 
         // A reset (from a key or the panel) starts a new organ whose topology versions count from zero again.
@@ -362,6 +362,10 @@ int Viewer::run() {
         glfwSwapBuffers(w);
     }
     glFinish();
+    if (panel_.recorder) {  // the window closed while recording: keep what was recorded
+        finishRecording(panel_);
+        std::cout << panel_.message << "\n";
+    }
     const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     const haptics::Snapshot& last = session_.loop().snapshots().readLatest();
     const double fps = static_cast<double>(frames) / std::max(wall_s, 1e-9);
@@ -383,6 +387,7 @@ int Viewer::run() {
         j["haptic_steps"] = last.step;
         j["haptic_rate_hz"] = static_cast<double>(last.step) / std::max(wall_s, 1e-9);
         j["overruns"] = last.overruns;
+        j["stalls"] = last.stalls;
         j["cut_events"] = last.cutEvents;
         j["renderer"] = window_->rendererDescription();
         if (const auto error = writeTextFileAtomically(options_.report, j.dump(2) + "\n")) {

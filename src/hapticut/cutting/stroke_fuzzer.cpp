@@ -36,7 +36,7 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
     const geometry::Aabb box = geometry::boundsOf(organ.positions);
     const double reach = box.extent().norm();
 
-    for (long organIndex = 0; r.strokes < config.strokes; ++organIndex) {
+    for (long organIndex = 0; r.strokes < config.strokes && !r.stoppedEarly; ++organIndex) {
         CutModel cut(organ, physics::buildModel(organ, physics::Material{}));
         const double mass = physics::totalMass(cut.model());
         ProgressiveCutter cutter(cut);
@@ -54,6 +54,10 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
                                  what);
         };
         for (long s = 0; s < config.strokesPerOrgan && r.strokes < config.strokes; ++s, ++r.strokes) {
+            if (config.stopRequested && config.stopRequested()) {
+                r.stoppedEarly = true;
+                break;
+            }
             const Vec3 from =
                 touchRestSurface(cut, box.center() + Vec3(unit(rng), unit(rng), unit(rng)).normalized() * reach).point;
             const Vec3 to =

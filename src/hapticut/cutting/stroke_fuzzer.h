@@ -39,10 +39,13 @@ struct StrokeFuzzConfig {
     /// with a freshly prepared one. They must agree, and the incremental stable step must not exceed
     /// the fresh one.
     int simulateSteps = 20;
+    /// Asked before every stroke; true ends the fuzz early (Ctrl-C), with the current organ checked.
+    std::function<bool()> stopRequested;
 };
 
 struct StrokeFuzzResult {
     long strokes = 0, operations = 0, meshChanges = 0, organs = 0, invariantChecks = 0;
+    bool stoppedEarly = false;  // StrokeFuzzConfig::stopRequested ended it before config.strokes
     long cutPoints = 0, verticesAdded = 0, facesAdded = 0;
     long joins = 0;            // cuts that ran into an open edge (or an earlier wound left open) and joined it
     long wallsClosed = 0;      // openings closed with walls

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
+#include <utility>
 
 #include "hapticut/common/assert.h"
 #include "hapticut/common/reserve.h"
@@ -43,6 +44,7 @@ HapticLoop::HapticLoop(cutting::CutModel& organ, std::span<const Hand> hands, Lo
       config_(config),
       stepper_(config.scheme),
       cutter_(organ, config.cutter) {
+    rampTime_s_ = config_.rampTime_s;
     initialise(hands);
 }
 
@@ -168,6 +170,19 @@ void HapticLoop::zeroAllForces() noexcept {
     }
 }
 
+void HapticLoop::recordLateness(double late_us) noexcept {
+    stats_.periodError_us.record(late_us);
+    const double period_us = 1e6 / config_.rate_hz;
+    const auto missed = static_cast<long>(late_us / period_us);
+    if (missed <= 0) return;
+    stats_.missedPeriods += missed;
+    stats_.overruns += missed;
+    if (late_us >= config_.stallPeriods * period_us) {
+        ++stats_.stalls;
+        stalled_ = true;
+    }
+}
+
 void HapticLoop::tripWatchdog() noexcept {
     ++stats_.nonFiniteEvents;
     stats_.watchdogTripped = true;
@@ -187,6 +202,11 @@ StepOutput HapticLoop::step() noexcept {
     const auto start = Clock::now();
     frameNodes_.clear();
     applyPendingCommands();
+    // After a stall the force starts again from zero: the ramp restarts at this step, whose ramp is 0.
+    if (std::exchange(stalled_, false)) {
+        rampStart_s_ = time_s();
+        rampTime_s_ = std::min(config_.stallRampTime_s, config_.rampTime_s);
+    }
     StepOutput out;
     out.t_s = time_s();
     out.handCount = handCount();
@@ -363,7 +383,7 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
     // (model_.tools), so the tissue feels it reversed in every integrator stage and stiff contact stays
     // stable. Clamped, ramped in, and kept finite by the watchdog.
     const collision::SurfaceView view = surface();
-    const double ramp = std::clamp((t_s - rampStart_s_) / config_.rampTime_s, 0.0, 1.0);
+    const double ramp = std::clamp((t_s - rampStart_s_) / rampTime_s_, 0.0, 1.0);
     // Multi-rate: the surface is the latest physics frame's, which ages until the next one. The touched
     // triangle is carried on at its nodes' velocities for that long, so that the force follows the
     // tissue the hand presses between frames instead of a frozen surface.
@@ -645,7 +665,7 @@ void HapticLoop::applyPendingCommands() noexcept {
                 break;
             case LoopCommand::Kind::ResetWatchdog:
                 // Forces fade in again, as at the start: the hand may have moved while they were off.
-                if (stats_.watchdogTripped) rampStart_s_ = time_s();
+                if (stats_.watchdogTripped) rampStart_s_ = time_s(), rampTime_s_ = config_.rampTime_s;
                 stats_.watchdogTripped = false;
                 break;
             case LoopCommand::Kind::Pause:
@@ -734,6 +754,7 @@ void HapticLoop::publishSnapshot(const StepOutput& out) {
     s.multiRate = worker_ != nullptr;
     s.physicsRate_hz = worker_ && time_s() > 0 ? static_cast<double>(stats_.physicsSteps) / time_s() : config_.rate_hz;
     s.overruns = stats_.overruns;
+    s.stalls = stats_.stalls;
     s.cutEvents = stats_.cutEvents;
     s.contactSteps = stats_.contactSteps;
     s.watchdogTripped = stats_.watchdogTripped;

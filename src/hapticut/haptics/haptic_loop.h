@@ -46,8 +46,13 @@ struct LoopConfig {
                                              // this value. 400 N/m keeps RK4 at one step per ms on the 1,619 heart.
     double couplingDamping_Ns_per_m = 0.3;   // b_h on the device velocity, only while in contact
     double rampTime_s = 0.5;                 // force fades in over this long after start and after a watchdog reset
-    int snapshotEvery = 8;                   // publish positions for the renderer every N steps (125 Hz)
-    bool activeRegion = true;                // integrate only the tissue near the tool (Stepper::setActiveRegion)
+    /// On the wall clock a step that starts this many periods late or more follows a stall (the process
+    /// stopped, a servo tick held up): it sends no force and the force ramps back in, since the hand has
+    /// moved on from where the last force was computed.
+    double stallPeriods = 3;
+    double stallRampTime_s = 0.1;  // the force fades back in over this long after a stall
+    int snapshotEvery = 8;         // publish positions for the renderer every N steps (125 Hz)
+    bool activeRegion = true;      // integrate only the tissue near the tool (Stepper::setActiveRegion)
     /// The tool cuts while its force is above this (R14): the scalpel's threshold; the probe's is infinite.
     /// The single-device constructor's tool; a Hand carries its own, which SetCutThreshold changes.
     double cutThreshold_N = std::numeric_limits<double>::infinity();
@@ -103,11 +108,14 @@ struct StepOutput {
 struct LoopStats {
     LatencyHistogram stepTime_us{0.1, 20'000};
     LatencyHistogram periodError_us{0.1, 20'000};  // real-time mode: how late each step started
+    /// overruns: steps that took longer than a period, and periods in which no step started at all.
     long steps = 0, contactSteps = 0, overruns = 0, nonFiniteEvents = 0;
-    long rateLimitedSteps = 0;                  // steps in which a hand's force was held back by its maximum force rate
-    bool watchdogTripped = false;               // latched by a non-finite force or state: force stays zero
-    long cutEvents = 0;                         // steps in which the scalpel changed the mesh
-    LatencyHistogram cutTime_us{0.1, 100'000};  // the cut and the updates it needs (tree, stepper, proxy)
+    long missedPeriods = 0;        // periods in which no step started (counted in overruns too)
+    long stalls = 0;               // gaps of LoopConfig::stallPeriods or more: force zeroed and ramped back in
+    long rateLimitedSteps = 0;     // steps in which a hand's force was held back by its maximum force rate
+    bool watchdogTripped = false;  // latched by a non-finite force or state: force stays zero
+    long cutEvents = 0;            // steps in which the scalpel changed the mesh
+    LatencyHistogram cutTime_us{0.1, 100'000};   // the cut and the updates it needs (tree, stepper, proxy)
     LatencyHistogram syncTime_us{0.1, 100'000};  // multi-rate: cuts and edits copied into the physics' copy
     double maxForce_N = 0;                       // the largest force sent to any hand
     double wallTime_s = 0;
@@ -191,7 +199,9 @@ public:
     // For schedulers (loop_scheduler.h), from the thread that steps the loop or while it is stopped.
     /// On the wall clock a step that overruns its period withholds its force (the watchdog).
     void setRealtime(bool on);
-    void recordPeriodError(double late_us) { stats_.periodError_us.record(late_us); }
+    /// How late the coming step starts: counted in the period error, every period it missed counts as
+    /// an overrun, and a stall (LoopConfig::stallPeriods) zeroes its force and ramps it back in.
+    void recordLateness(double late_us) noexcept;
     void addWallTime(double seconds) { stats_.wallTime_s += seconds; }
     void zeroAllForces() noexcept;
     /// The devices' own servo loops, in hand order; empty when no device has one.
@@ -294,7 +304,9 @@ private:
     collision::Bvh bvh_;
     cutting::ProgressiveCutter cutter_;
     long topologyVersion_ = 0;
-    double rampStart_s_ = 0;  // forces fade in from here: the start, or a watchdog reset
+    double rampStart_s_ = 0;  // forces fade in from here: the start, a watchdog reset, or a stall
+    double rampTime_s_ = 0;   // over this long: LoopConfig::rampTime_s, or stallRampTime_s after a stall
+    bool stalled_ = false;    // recordLateness saw a stall before the coming step
     LoopStats stats_;
     SnapshotPublisher snapshots_;
     SpscQueue<LoopCommand, 64> commands_;

@@ -5,10 +5,12 @@
 
 namespace hapticut::haptics {
 
-void runSimulated(HapticLoop& loop, long steps, const StepObserver& observer) {
+void runSimulated(HapticLoop& loop, long steps, const StepObserver& observer, const std::function<bool()>& keepGoing) {
     loop.setRealtime(false);
     const auto start = std::chrono::steady_clock::now();
+    constexpr long kAskEvery = 64;  // steps: a few milliseconds at most on a large organ
     for (long i = 0; i < steps; ++i) {
+        if (keepGoing && i % kAskEvery == 0 && !keepGoing()) break;
         const StepOutput out = loop.step();
         if (observer) observer(out);
     }
@@ -41,7 +43,7 @@ Status RealTimeScheduler::startServos(std::vector<ServoClock*> servos, long max_
         }
         const auto now = Clock::now();
         if (servoSteps_ > 0)
-            loop_.recordPeriodError(
+            loop_.recordLateness(
                 std::max(0.0, std::chrono::duration<double, std::micro>(now - servoLast_).count() - period_us));
         servoLast_ = now;
         const StepOutput out = loop_.step();
@@ -89,7 +91,7 @@ void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
     for (long i = 0; (max_steps < 0 || i < max_steps) && !stopRequested_.load(std::memory_order_relaxed); ++i) {
         if (deadline - Clock::now() > spinMargin) std::this_thread::sleep_until(deadline - spinMargin);
         while (Clock::now() < deadline) {}
-        loop_.recordPeriodError(std::chrono::duration<double, std::micro>(Clock::now() - deadline + dropped).count());
+        loop_.recordLateness(std::chrono::duration<double, std::micro>(Clock::now() - deadline + dropped).count());
         dropped = Clock::duration{0};
         const StepOutput out = loop_.step();
         if (observer) observer(out);

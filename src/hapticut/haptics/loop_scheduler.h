@@ -16,9 +16,11 @@ namespace hapticut::haptics {
 
 using StepObserver = std::function<void(const StepOutput&)>;
 
-/// Steps `loop` `steps` times on simulated time, as fast as it can; `observer` sees every step. The
-/// devices are left at zero force afterwards.
-void runSimulated(HapticLoop& loop, long steps, const StepObserver& observer = {});
+/// Steps `loop` `steps` times on simulated time, as fast as it can; `observer` sees every step. A
+/// `keepGoing` that returns false (asked every few steps) ends it early. The devices are left at
+/// zero force afterwards.
+void runSimulated(HapticLoop& loop, long steps, const StepObserver& observer = {},
+                  const std::function<bool()>& keepGoing = {});
 
 /// Steps a loop at its rate on the wall clock until stop() or a step count.
 class RealTimeScheduler {

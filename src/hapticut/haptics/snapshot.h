@@ -45,7 +45,7 @@ struct Snapshot {
     int solverIterations = 0;                               // the implicit scheme's, in the latest step
     bool multiRate = false;
     double physicsRate_hz = 0;  // physics steps per second: the loop's rate unless multi-rate
-    long overruns = 0, cutEvents = 0, contactSteps = 0;
+    long overruns = 0, stalls = 0, cutEvents = 0, contactSteps = 0;
     bool watchdogTripped = false, paused = false;
 };
 

@@ -39,10 +39,10 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     if (!created) return unexpected(created.error());
     haptics::HapticLoop& loop = **created;
     r.handCount = loop.handCount();
-    const long tenMinutes = std::lround(600 * config.loop.rate_hz);
-    r.log.reserve(static_cast<std::size_t>(steps >= 0 ? steps : tenMinutes));
-    // The observer runs on the loop's thread in real time: it only appends to reserved memory and
-    // runs the inside test, which allocates nothing.
+    const long keep = std::max(0L, steps >= 0 ? std::min(config.keepSteps, steps) : config.keepSteps);
+    r.keptSteps.reserve(static_cast<std::size_t>(keep));
+    // The observer runs on the loop's thread in real time: it keeps running statistics, appends to
+    // reserved memory, hands the step to the log's ring and runs the inside test, none of which allocates.
     // How far the run is, for the progress line: the log belongs to the stepping thread while it runs.
     std::atomic<long> stepsDone{0};
     const bool closedOrgan = organ.closedBeforeCuts();
@@ -57,7 +57,9 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     LatencyHistogram cuttingForce_mN(1, 20'000);  // any values, here forces in mN: never allocates
     double minCuttingForce_N = std::numeric_limits<double>::infinity();
     auto observe = [&](const haptics::StepOutput& s) {
-        if (r.log.size() < r.log.capacity()) r.log.push_back(s);
+        if (r.keptSteps.size() < r.keptSteps.capacity()) r.keptSteps.push_back(s);
+        if (config.stepLog) config.stepLog->push(s);
+        r.lastStep = s;
         stepsDone.store(stepsDone.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
         for (int h = 0; h < s.handCount; ++h) {
             const auto k = static_cast<std::size_t>(h);
@@ -115,9 +117,20 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
             }
         }
         clock.stop();
+        r.stoppedEarly = config.stopRequested && config.stopRequested();
     } else {
-        haptics::runSimulated(loop, steps, observe);
+        auto lastProgress = std::chrono::steady_clock::now();
+        auto keepGoing = [&] {
+            if (config.progress && std::chrono::steady_clock::now() - lastProgress > std::chrono::seconds(1)) {
+                lastProgress = std::chrono::steady_clock::now();
+                config.progress(stepsDone.load(std::memory_order_relaxed));
+            }
+            r.stoppedEarly = config.stopRequested && config.stopRequested();
+            return !r.stoppedEarly;
+        };
+        haptics::runSimulated(loop, steps, observe, keepGoing);
     }
+    if (config.stepLog) r.droppedLogSteps = config.stepLog->droppedSteps();
     const haptics::LoopStats& st = loop.stats();
     r.steps = st.steps;
     r.simTime_s = static_cast<double>(st.steps) / config.loop.rate_hz;
@@ -126,6 +139,8 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.stepTime_us = st.stepTime_us.summary();
     r.periodError_us = st.periodError_us.summary();
     r.overruns = st.overruns;
+    r.missedPeriods = st.missedPeriods;
+    r.stalls = st.stalls;
     r.contactSteps = st.contactSteps;
     r.nonFiniteEvents = st.nonFiniteEvents;
     r.watchdogTripped = st.watchdogTripped;

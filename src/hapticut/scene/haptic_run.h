@@ -15,6 +15,7 @@
 #include "hapticut/common/stats.h"
 #include "hapticut/cutting/cut_model.h"
 #include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/step_log.h"
 #include "hapticut/haptics/trajectory.h"
 #include "hapticut/mesh/surface_mesh.h"
 
@@ -25,11 +26,16 @@ struct HapticRunConfig {
     long steps = -1;             // negative: the trajectory's duration at the loop rate
     bool realtime = false;       // wall-clock rate in the loop's own thread, else as fast as possible
     std::string tool = "probe";  // its cut threshold is config.loop.cutThreshold_N
-    /// Real time only: polled every few milliseconds; true ends the run (Ctrl-C). With steps < 0 the
-    /// run goes on until it says so.
+    /// Polled every few milliseconds (real time) or every few steps (simulated time); true ends the
+    /// run (Ctrl-C). With steps < 0 a real-time run goes on until it says so.
     std::function<bool()> stopRequested;
-    /// Real time only: called about once a second with the steps done so far.
+    /// Called about once a second with the steps done so far.
     std::function<void(long)> progress;
+    /// Every step goes here as it happens (the force log, the recording), if set: a run of any length
+    /// keeps nothing per step in memory.
+    haptics::StepLogWriter* stepLog = nullptr;
+    /// The first this many steps are also kept in HapticRunResult::keptSteps (tests, short runs).
+    long keepSteps = 0;
 };
 
 /// What one hand did over the run.
@@ -44,6 +50,7 @@ struct HapticRunResult {
     double hapticRate_hz = 0;  // steps per wall-clock second
     Summary stepTime_us, periodError_us;
     long overruns = 0, contactSteps = 0, nonFiniteEvents = 0;
+    long missedPeriods = 0, stalls = 0;  // LoopStats'
     bool watchdogTripped = false;
     double maxForce_N = 0;
     double maxProxyPenetration_m = 0;   // by the ray-parity test on the current surface, in every step it is closed
@@ -73,7 +80,10 @@ struct HapticRunResult {
     std::vector<std::string> invariantProblems;  // empty: every cutting invariant holds at the end
     std::array<HandSummary, haptics::kMaxHands> hands{};
     int handCount = 1;
-    std::vector<haptics::StepOutput> log;  // every step (the first ten minutes of a run until stopped)
+    std::vector<haptics::StepOutput> keptSteps;  // the first HapticRunConfig::keepSteps steps
+    haptics::StepOutput lastStep;                // the run's last step
+    long droppedLogSteps = 0;                    // steps the step log's ring had no room for (real time)
+    bool stoppedEarly = false;                   // stopRequested ended a run before its step count
 };
 
 /// Replays the trajectory through the haptic loop on the organ, which the tool cuts when

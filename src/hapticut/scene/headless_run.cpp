@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "hapticut/common/latency_histogram.h"
+
 namespace hapticut::scene {
 
 std::uint32_t nearestNode(const physics::MassSpringModel& model, const Vec3& point) {
@@ -27,7 +29,7 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
     r.stableStep_s = stepper.stableStep_s();
     r.substeps = stepper.substepsFor(config.dt_s);
 
-    std::vector<double> stepTimes(static_cast<std::size_t>(std::max(config.steps, 0L)));
+    LatencyHistogram stepTimes(0.1, 100'000);
     bool released = false;
     if (config.force) r.forceNode = nearestNode(model, config.force->at_m);
     auto nodeDisplacement = [&] {
@@ -36,7 +38,12 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
     const long progressEvery = std::max(1L, config.steps / 100);
 
     const auto start = Clock::now();
-    for (long i = 0; i < config.steps; ++i) {
+    long i = 0;
+    for (; i < config.steps; ++i) {
+        if (config.stopRequested && i % 64 == 0 && config.stopRequested()) {
+            r.stoppedEarly = true;
+            break;
+        }
         const double t = static_cast<double>(i) * config.dt_s;
         if (config.force) {
             const bool on = t < config.force->until_s;
@@ -48,7 +55,7 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
         }
         const auto t0 = Clock::now();
         const physics::StepResult step = stepper.step(model, config.dt_s);
-        stepTimes[static_cast<std::size_t>(i)] = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+        stepTimes.record(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
         if (!step.finite) ++r.nanEvents;
         if (r.scheme == physics::Scheme::BackwardEuler) r.solver.record(step.solve);
         const double displacement = physics::maxDisplacement(model);
@@ -58,9 +65,9 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
         if (progress && (i + 1) % progressEvery == 0) progress(i + 1, config.steps);
     }
     r.wallTime_s = std::chrono::duration<double>(Clock::now() - start).count();
-    r.steps = config.steps;
-    r.simTime_s = static_cast<double>(config.steps) * config.dt_s;
-    r.step_us = summarize(stepTimes);
+    r.steps = i;
+    r.simTime_s = static_cast<double>(i) * config.dt_s;
+    r.step_us = stepTimes.summary();
     r.finalMaxDisplacement_m = physics::maxDisplacement(model);
     r.kineticEnergyEnd_J = physics::kineticEnergy(model);
     if (config.force) {

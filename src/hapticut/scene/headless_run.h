@@ -24,12 +24,15 @@ struct RunConfig {
     double dt_s = 1e-3;
     long steps = 1000;
     std::optional<PointForce> force;
+    /// Asked every few steps; true ends the run early (Ctrl-C). RunResult::steps says how far it got.
+    std::function<bool()> stopRequested;
 };
 
 struct RunResult {
-    long steps = 0;
+    long steps = 0;  // done: fewer than asked when stopped early
+    bool stoppedEarly = false;
     double simTime_s = 0, wallTime_s = 0;
-    Summary step_us;                                        // wall time per step
+    Summary step_us;                                        // wall time per step (a histogram: any run length)
     physics::Scheme scheme = physics::Scheme::RungeKutta4;  // the one used (Auto resolved)
     int substeps = 1;                                       // per step, chosen for stability
     physics::SolverStats solver;                            // the implicit scheme's solves
@@ -50,7 +53,8 @@ inline constexpr double kRecoveredDistance_m = 1e-4;
 /// Index of the node whose rest position is nearest `point`.
 std::uint32_t nearestNode(const physics::MassSpringModel& model, const Vec3& point);
 
-/// Runs the model; `progress(done, total)` is called about a hundred times, if given.
+/// Runs the model in memory independent of the step count; `progress(done, total)` is called about a
+/// hundred times, if given.
 RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
                       const std::function<void(long, long)>& progress = {});
 

@@ -38,6 +38,7 @@ struct Emulation {
     long failAfterTicks = -1;
     HDerror failWith = kSuccess;
     std::atomic<long> ticks{0};
+    std::atomic<long> stallMs{0};  // the scheduler's next tick is held back this long (a stalled servo)
     long frameErrors = 0, forcesOutsideFrame = 0;
     double position[3] = {0, 0, 0}, velocity[3] = {0, 0, 0};
     int buttons = 0;
@@ -58,6 +59,10 @@ void schedulerMain() {
     while (e.schedulerRunning.load()) {
         next += std::chrono::microseconds(1000);
         std::this_thread::sleep_until(next);
+        if (const long ms = e.stallMs.exchange(0); ms > 0) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+            next = std::chrono::steady_clock::now();  // a stalled scheduler resumes; it does not replay missed ticks
+        }
         std::lock_guard lock(e.mutex);
         ++e.ticks;
         if (e.failAfterTicks >= 0 && e.ticks > e.failAfterTicks) pushError(e.failWith, 5);
@@ -254,6 +259,7 @@ void hdEmu_lastForce(double out[3]) {
 }
 double hdEmu_maxForceSent() { return emu().maxForceSent; }
 long hdEmu_ticks() { return emu().ticks; }
+void hdEmu_stallScheduler(long ms) { emu().stallMs = ms; }
 long hdEmu_calibrationUpdates() { return emu().calibrationUpdates; }
 long hdEmu_frameErrors() { return emu().frameErrors + emu().forcesOutsideFrame; }
 int hdEmu_deviceOpen() { return emu().deviceOpen; }

@@ -1,0 +1,205 @@
+// Long commands stopped by SIGINT or SIGTERM at random moments, and long runs watched for their memory:
+// what a command writes is complete or absent, never half-written; nothing temporary is left beside it;
+// the exit status says that a run with a set length was cut short; a run of any length holds constant
+// memory.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+std::string slurp(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+/// A hapticut process of ours, its output in files of the scratch folder.
+class Process {
+public:
+    Process(const std::string& args, const fs::path& dir, const std::string& env = "") {
+        const std::string command =
+            env + "exec " + HAPTICUT_EXE + " " + args + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
+        pid_ = ::fork();
+        if (pid_ == 0) {
+            ::chdir(dir.c_str());
+            ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+            ::_exit(127);
+        }
+    }
+    ~Process() {
+        if (pid_ > 0 && !exited_) {
+            ::kill(pid_, SIGKILL);
+            ::waitpid(pid_, nullptr, 0);
+        }
+    }
+    Process(const Process&) = delete;
+    Process& operator=(const Process&) = delete;
+
+    void signal(int number) const { ::kill(pid_, number); }
+    /// The exit status, or 128 + the signal that ended it; -1 if it is still running after `timeout`.
+    int wait(std::chrono::milliseconds timeout = 60s) {
+        const auto until = std::chrono::steady_clock::now() + timeout;
+        int status = 0;
+        while (std::chrono::steady_clock::now() < until) {
+            if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+                exited_ = true;
+                return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+            }
+            std::this_thread::sleep_for(10ms);
+        }
+        return -1;
+    }
+    /// Resident memory in kB (VmRSS), 0 when it cannot be read.
+    long residentKb() const {
+        std::ifstream status("/proc/" + std::to_string(pid_) + "/status");
+        std::string line;
+        while (std::getline(status, line))
+            if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+        return 0;
+    }
+
+private:
+    pid_t pid_ = -1;
+    bool exited_ = false;
+};
+
+/// Files the commands left half-written: the temporary ones of an atomic write.
+std::vector<std::string> temporaryFiles(const fs::path& dir) {
+    std::vector<std::string> found;
+    for (const auto& entry : fs::directory_iterator(dir))
+        if (entry.path().string().find(".tmp-hapticut") != std::string::npos) found.push_back(entry.path().string());
+    return found;
+}
+
+/// Every row of a CSV has the header's number of columns and ends with a newline; the rows, header excluded.
+long completeCsvRows(const fs::path& file) {
+    const std::string text = slurp(file);
+    EXPECT_FALSE(text.empty()) << file;
+    EXPECT_EQ(text.back(), '\n') << file << " ends mid-row";
+    std::istringstream in(text);
+    std::string line;
+    std::getline(in, line);
+    const auto columns = std::count(line.begin(), line.end(), ',');
+    long rows = 0;
+    while (std::getline(in, line)) {
+        EXPECT_EQ(std::count(line.begin(), line.end(), ','), columns) << file << " row " << rows + 1;
+        ++rows;
+    }
+    return rows;
+}
+
+const std::string kCutFront = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv";
+
+struct LongCommand {
+    const char* name;
+    std::string args;
+    const char* report;  // written when the command ends on its own or by a signal it caught
+    const char* stepsKey;
+};
+
+// Each command runs long enough that the signal comes while it works: a headless run, a replayed
+// scalpel stroke with its force log and recording, the cutting soak, and a conversion of a large heart
+// (which a signal ends at once, removing what it was writing).
+TEST(Interrupt, EveryLongCommandStoppedAtARandomMomentLeavesCompleteFilesOrNone) {
+    const std::vector<LongCommand> commands = {
+        {"run", "run --steps 100000000 --report r.json --export-mesh m.obj", "r.json", "steps"},
+        {"replay",
+         "run --trajectory " + kCutFront +
+             " --tool scalpel --steps 100000000 --force-log f.csv --record rec.csv --report r.json",
+         "r.json", "steps"},
+        {"soak", "soak --strokes 10000000 --report s.json", "s.json", "strokes"},
+        {"convert", "convert heart big.ply --triangles 1000000", nullptr, nullptr},
+    };
+    std::mt19937 rng(20261123);
+    for (const LongCommand& c : commands)
+        for (const int number : {SIGINT, SIGTERM}) {
+            const int delay_ms = std::uniform_int_distribution<int>(300, 1500)(rng);
+            SCOPED_TRACE(std::string(c.name) + ", signal " + std::to_string(number) + " after " +
+                         std::to_string(delay_ms) + " ms");
+            hapticut::test::ScratchDir dir;
+            std::ofstream(dir / "big.ply") << "what the user had before\n";
+            Process p(c.args, dir.path());
+            std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+            p.signal(number);
+            const int status = p.wait();
+            const std::string err = slurp(dir / "err");
+            EXPECT_EQ(status, 128 + number) << "a run with a set length was cut short\n" << err;
+            EXPECT_TRUE(temporaryFiles(dir.path()).empty()) << temporaryFiles(dir.path()).front();
+            if (c.report) {
+                ASSERT_TRUE(fs::exists(dir / c.report)) << "the command finished its report\n" << err;
+                const auto j = nlohmann::json::parse(slurp(dir / c.report));
+                EXPECT_EQ(j["stopped_by_signal"], true);
+                EXPECT_LT(j[c.stepsKey].get<long>(), 10'000'000L);
+                EXPECT_NE(err.find("stopped by signal " + std::to_string(number)), std::string::npos) << err;
+                if (fs::exists(dir / "f.csv")) {
+                    EXPECT_EQ(completeCsvRows(dir / "f.csv"), j["steps"].get<long>()) << "every step in the force log";
+                    EXPECT_EQ(completeCsvRows(dir / "rec.csv"), j["steps"].get<long>());
+                }
+                if (std::string(c.name) == "run") {
+                    EXPECT_TRUE(fs::exists(dir / "m.obj"));
+                }
+            } else {
+                EXPECT_EQ(slurp(dir / "big.ply"), "what the user had before\n") << "the target is as it was";
+            }
+        }
+}
+
+// A replay of a billion steps in simulated time, stopped after ten seconds: its memory stays flat while
+// it streams every step to the force log (it once reserved 200 bytes a step up front).
+TEST(Interrupt, ARunOfABillionStepsHoldsConstantMemoryUntilStopped) {
+    hapticut::test::ScratchDir dir;
+    Process p("run --trajectory " + kCutFront + " --tool scalpel --steps 1000000000 --force-log f.csv --report r.json",
+              dir.path());
+    std::this_thread::sleep_for(3s);
+    const long early = p.residentKb();
+    std::this_thread::sleep_for(7s);
+    const long late = p.residentKb();
+    p.signal(SIGINT);
+    ASSERT_EQ(p.wait(), 128 + SIGINT) << slurp(dir / "err");
+    const auto j = nlohmann::json::parse(slurp(dir / "r.json"));
+    EXPECT_GT(j["steps"].get<long>(), 100'000) << "ten seconds of simulated-time steps";
+    EXPECT_GT(early, 0);
+    EXPECT_LT(late - early, 4'000) << "kB grown between 3 s and 10 s, over " << j["steps"] << " steps";
+    EXPECT_EQ(completeCsvRows(dir / "f.csv"), j["steps"].get<long>());
+}
+
+// A live run with the emulated Touch for a minute, ended by Ctrl-C as a user ends it: memory stays flat
+// (it grew by about 200 bytes a step, 0.7 GB an hour), and every step reached the force log.
+TEST(Interrupt, ALiveRunHoldsConstantMemoryForAMinute) {
+    hapticut::test::ScratchDir dir;
+    Process p("run --device openhaptics --tool scalpel --force-log f.csv --report r.json", dir.path(),
+              std::string("HAPTICUT_HD_LIBRARY=") + HD_EMULATION_LIBRARY + " ");
+    std::this_thread::sleep_for(10s);
+    const long early = p.residentKb();
+    std::this_thread::sleep_for(50s);
+    const long late = p.residentKb();
+    p.signal(SIGINT);
+    ASSERT_EQ(p.wait(), 0) << "Ctrl-C is how a live run ends\n" << slurp(dir / "err");
+    const auto j = nlohmann::json::parse(slurp(dir / "r.json"));
+    EXPECT_EQ(j["stopped_by_signal"], true);
+    EXPECT_GT(j["steps"].get<long>(), 40'000) << "a minute at 1 kHz on a busy machine";
+    EXPECT_GT(early, 0);
+    EXPECT_LT(late - early, 2'000) << "kB grown between 10 s and 60 s, over " << j["steps"] << " steps";
+    EXPECT_EQ(completeCsvRows(dir / "f.csv") + j["log_dropped_steps"].get<long>(), j["steps"].get<long>());
+}
+
+}  // namespace
