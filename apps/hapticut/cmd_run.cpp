@@ -367,7 +367,10 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["log_dropped_steps"] = r.droppedLogSteps;
         j["sim_time_s"] = r.simTime_s;
         j["wall_time_s"] = r.wallTime_s;
-        j["haptic_rate_hz"] = r.hapticRate_hz;
+        // A rate of the haptic loop only on the wall clock; in simulated time it is how fast the run went.
+        j["haptic_rate_hz"] =
+            config.realtime ? nlohmann::ordered_json(r.hapticRate_hz) : nlohmann::ordered_json(nullptr);
+        j["steps_per_wall_s"] = r.hapticRate_hz;
         j["multi_rate"] = r.multiRate;
         j["multi_rate_from_s"] =
             r.multiRate ? nlohmann::ordered_json(r.multiRateFrom_s) : nlohmann::ordered_json(nullptr);

@@ -202,6 +202,9 @@ TEST_F(Cli, AScalpelStrokeCutsTheHeartWithWallsThatTheExportedMeshKeepsAndAProbe
     EXPECT_EQ(j["walls_closed"], j["openings"]);
     EXPECT_EQ(j["wall_faces"], 4 * j["walls_closed"].get<int>());
     EXPECT_EQ(j["penetration_measured_steps"], j["steps"]);
+    EXPECT_TRUE(j["haptic_rate_hz"].is_null()) << "simulated time has no haptic rate, only a speed";
+    EXPECT_GT(j["steps_per_wall_s"].get<double>(), 0.0);
+    EXPECT_TRUE(j["period_error_us"].is_null());
     // The blade felt the tissue all through the cut: toughness x depth, and never nothing.
     EXPECT_GT(j["cutting_steps"].get<int>(), 200);
     EXPECT_NEAR(j["cutting_force_N"]["p50"].get<double>(), 2.0, 0.5);
