@@ -40,6 +40,14 @@ int convert(const ConvertOptions& o) {
         const mesh::RepairReport r = mesh::cleanMesh(m, options);
         for (const std::string& note : r.notes) std::cout << "  " << note << "\n";
         if (r.notes.empty()) std::cout << "  nothing to clean or repair\n";
+        if (m.faces.empty()) {
+            std::cerr << "hapticut convert: nothing left to write: "
+                      << (o.weld ? "a weld of " + formatDouble(*o.weld) +
+                                       " m joined the model's vertices until no face was left"
+                                 : std::string("cleaning removed every face"))
+                      << "; " << o.out << " was not written\n";
+            return 1;
+        }
         if (!source->fromThesisFile) source->physics = physics::thesisPhysicsFor(m, physics::Material{});
     }
     if (o.fitUnitBox) {
@@ -54,14 +62,6 @@ int convert(const ConvertOptions& o) {
     if (o.kp) source->physics.positioningStiffness = *o.kp;
     if (o.kdp) source->physics.positioningDamping = *o.kdp;
 
-    if (m.faces.empty()) {
-        std::cerr << "hapticut convert: nothing left to write: "
-                  << (o.weld ? "a weld of " + formatDouble(*o.weld) +
-                                   " m joined the model's vertices until no face was left"
-                             : std::string("cleaning removed every face"))
-                  << "; " << o.out << " was not written\n";
-        return 1;
-    }
     const mesh::MeshReport report = mesh::validateMesh(m);
     std::cout << "  " << report.vertices << " vertices, " << report.faces << " faces, " << report.edges << " edges; "
               << (report.closed ? "closed"

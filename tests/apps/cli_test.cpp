@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -247,6 +248,29 @@ TEST_F(Cli, EmptyResultsAreErrorsAndModelsWithoutFacesAreRefused) {
         const CliResult empty = run(command);
         EXPECT_EQ(empty.exitCode, 1) << command;
         EXPECT_NE(empty.err.find("the model has no faces"), std::string::npos) << command << ": " << empty.err;
+    }
+}
+
+// Real-time runs longer than a second, with the progress line, the step log's ring and its writer all
+// running beside the loop's thread (ThreadSanitizer watches this in CI): a replayed scalpel and the
+// emulated Touch.
+TEST_F(Cli, RealTimeRunsLongerThanASecondLogEveryStepWhileTheProgressLineRuns) {
+    const std::string trajectory = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv";
+    const std::string env = std::string("HAPTICUT_HD_LIBRARY=") + HD_EMULATION_LIBRARY + " ";
+    for (const std::string& device : {"--trajectory " + trajectory, std::string("--device openhaptics")}) {
+        SCOPED_TRACE(device);
+        const CliResult r =
+            run_with_env(env, "run " + device + " --tool scalpel --realtime --steps 1500 --force-log " + path("f.csv") +
+                                  " --record " + path("rec.csv") + " --report " + path("rt.json"));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const auto j = nlohmann::json::parse(slurp(path("rt.json")));
+        EXPECT_EQ(j["steps"], 1500);
+        EXPECT_GT(j["haptic_rate_hz"].get<double>(), 500.0);
+        const std::string log = slurp(path("f.csv"));
+        EXPECT_EQ(std::count(log.begin(), log.end(), '\n') - 1 + j["log_dropped_steps"].get<long>(), 1500);
+        if (j["log_dropped_steps"] == 0) {
+            EXPECT_NE(r.out.find("wrote 1500 steps to"), std::string::npos) << r.out;
+        }
     }
 }
 

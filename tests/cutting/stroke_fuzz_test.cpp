@@ -1,6 +1,6 @@
 // The cutting fuzz: 10,000 random scalpel strokes on the heart in four seeded parts (so ctest can run
 // them side by side), every invariant checked after every operation that changed the mesh, the heart
-// closed throughout.
+// closed throughout. Under a sanitizer, which makes every check ten times slower, a fifth of them.
 #include <gtest/gtest.h>
 
 #include "hapticut/common/assert.h"
@@ -12,14 +12,20 @@ namespace {
 
 class StrokeFuzz : public ::testing::TestWithParam<std::uint64_t> {};
 
+#ifdef HAPTICUT_SANITIZED
+constexpr long kStrokes = 500;
+#else
+constexpr long kStrokes = 2500;
+#endif
+
 TEST_P(StrokeFuzz, TwoAndAHalfThousandRandomStrokesKeepEveryInvariant) {
     StrokeFuzzConfig config;
     config.seed = GetParam();
-    config.strokes = 2500;
+    config.strokes = kStrokes;
     const StrokeFuzzResult r = fuzzStrokes(mesh::procedural::makeHeart({}), config);
     ASSERT_TRUE(r.ok()) << r.problems.front();
-    EXPECT_EQ(r.strokes, 2500);
-    EXPECT_EQ(r.organs, 13);  // 200 strokes an organ
+    EXPECT_EQ(r.strokes, kStrokes);
+    EXPECT_EQ(r.organs, (kStrokes + 199) / 200);  // 200 strokes an organ
     // The strokes did cut, a lot: cut points, openings and fresh faces on every organ.
     EXPECT_GT(r.cutPoints, 5 * r.strokes / 2);
     EXPECT_GT(r.meshChanges, r.strokes);

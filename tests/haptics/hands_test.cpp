@@ -342,8 +342,12 @@ TEST(ForceSafety, TheLoopLeavesEveryHandAtZeroForceWhenItGoesAwayEvenByAnExcepti
         b.position = frontAt(h.mesh, 0.01, 0) - Vec3(0, 0, 0.004);
         RealTimeScheduler clock(loop);
         ASSERT_FALSE(clock.start());
-        for (int i = 0; i < 500 && (a.force.norm() < 0.5 || b.force.norm() < 0.5); ++i)
-            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        // Watched through the snapshots: the devices' own fields belong to the loop's thread while it runs.
+        auto pressing = [&] {
+            const Snapshot& s = loop.snapshots().readLatest();
+            return s.hands[0].force_N.norm() >= 0.5 && s.hands[1].force_N.norm() >= 0.5;
+        };
+        for (int i = 0; i < 500 && !pressing(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(2));
         clock.stop();
         // Pushing again, on the caller's thread this time, then something throws mid-run.
         runSimulated(loop, 100, [&](const StepOutput& s) {

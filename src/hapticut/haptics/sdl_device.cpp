@@ -122,6 +122,11 @@ void SdlDevice::commandForce(const Vec3& force_N) {
 }
 
 void SdlDevice::threadMain(std::string* error, std::atomic<int>* started) {
+    // SDL keeps per-thread data (its error message) for threads it did not create, and frees it only
+    // when asked: last thing on every way out of this thread, after SDL_Quit.
+    struct ThreadDataCleanup {
+        ~ThreadDataCleanup() { SDL_TLSCleanup(); }
+    } threadDataCleanup;
     Sdl& sdl = *sdl_;
     {
         std::string e;
