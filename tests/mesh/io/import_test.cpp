@@ -98,6 +98,11 @@ TEST_F(Import, MalformedFilesOfEachFormatGiveClearErrors) {
     const auto missing = io::loadMesh(dir_ / "missing.stl");
     ASSERT_FALSE(missing.has_value());
     EXPECT_NE(missing.error().message.find("no such file"), std::string::npos);
+    // A valid glTF whose scene holds no mesh: the importer gives no reason, so we say what is missing.
+    std::ofstream(dir_ / "empty.gltf") << R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[]}],"scene":0})";
+    const auto empty = io::loadMesh(dir_ / "empty.gltf");
+    ASSERT_FALSE(empty.has_value());
+    EXPECT_NE(empty.error().message.find("no mesh in the file"), std::string::npos) << empty.error().toString();
 }
 
 TEST(Repair, WeldsDuplicateVerticesAndDropsDuplicateAndDegenerateFaces) {

@@ -24,10 +24,14 @@ Result<ImportedMesh, Error> importWithAssimp(const std::filesystem::path& file) 
         // No vertex joining here: welding is ours, with a tolerance the user controls.
         const aiScene* scene = importer.ReadFile(
             file.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
-        if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
-            return unexpected(Error{file, 0,
-                                    std::string("cannot import: ") +
-                                        (importer.GetErrorString()[0] ? importer.GetErrorString() : "unknown error")});
+        if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+            // Assimp flags a scene without geometry as incomplete and gives no reason.
+            const char* reason = importer.GetErrorString();
+            if (!reason[0] && scene && scene->mNumMeshes == 0)
+                return unexpected(Error{file, 0, "no mesh in the file: its scene has no geometry"});
+            return unexpected(
+                Error{file, 0, std::string("cannot import: ") + (reason[0] ? reason : "the importer gave no reason")});
+        }
         ImportedMesh out;
         SurfaceMesh& m = out.mesh;
         std::size_t skippedPrimitives = 0, nonFinite = 0;
