@@ -163,6 +163,29 @@ TEST(Interrupt, EveryLongCommandStoppedAtARandomMomentLeavesCompleteFilesOrNone)
         }
 }
 
+// The whole process stopped (SIGSTOP) mid-run and resumed (SIGCONT), in the loop's own thread and in
+// the emulated Touch's servo: the report counts the periods missed as overruns and the stall after which
+// the force ramped back in (the servo-driven loop once reported a 500 ms gap with 0 overruns).
+TEST(Interrupt, AProcessStoppedMidRunCountsItsMissedPeriodsAndItsStall) {
+    const std::string env = std::string("HAPTICUT_HD_LIBRARY=") + HD_EMULATION_LIBRARY + " ";
+    for (const auto& [device, stop_ms] : {std::pair<std::string, int>{"--trajectory " + kCutFront, 50},
+                                          std::pair<std::string, int>{"--device openhaptics", 500}}) {
+        SCOPED_TRACE(device);
+        hapticut::test::ScratchDir dir;
+        Process p("run " + device + " --tool probe --realtime --steps 3000 --report r.json", dir.path(), env);
+        std::this_thread::sleep_for(1500ms);
+        p.signal(SIGSTOP);
+        std::this_thread::sleep_for(std::chrono::milliseconds(stop_ms));
+        p.signal(SIGCONT);
+        ASSERT_EQ(p.wait(), 0) << slurp(dir / "err");
+        const auto j = nlohmann::json::parse(slurp(dir / "r.json"));
+        EXPECT_GE(j["stalls"].get<long>(), 1);
+        EXPECT_GE(j["missed_periods"].get<long>(), stop_ms - 10);
+        EXPECT_GE(j["overruns"].get<long>(), j["missed_periods"].get<long>());
+        EXPECT_GT(j["period_error_us"]["max"].get<double>(), 1000.0 * (stop_ms - 10));
+    }
+}
+
 // A replay of a billion steps in simulated time, stopped after ten seconds: its memory stays flat while
 // it streams every step to the force log (it once reserved 200 bytes a step up front).
 TEST(Interrupt, ARunOfABillionStepsHoldsConstantMemoryUntilStopped) {

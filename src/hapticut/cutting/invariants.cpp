@@ -26,7 +26,8 @@ InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_
     const mesh::MeshAdjacency adj = mesh::buildAdjacency(m.faces);
     for (std::size_t e = 0; e < adj.edges.size(); ++e) {
         const auto faces = adj.facesOfEdge(e);
-        const auto [a, b] = adj.edges[e];
+        // Named, not a structured binding: the lambda below captures them, which clang before 16 refuses.
+        const std::uint32_t a = adj.edges[e][0], b = adj.edges[e][1];
         if (closed && faces.size() == 1)
             problem("edge (" + std::to_string(a) + ", " + std::to_string(b) +
                     ") is open, but the organ was closed: a wound without its walls");
