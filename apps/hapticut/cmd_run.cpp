@@ -468,9 +468,15 @@ int run(RunOptions& o) {
     const StopSignal stopSignal;
     config.stopRequested = [] { return StopSignal::requested(); };
     Progress progress("simulating");
-    const scene::RunResult r =
-        scene::runHeadless(model, config, [&](long done, long total) { progress.update(done, total); });
+    const auto run = scene::runHeadless(
+        model, config, [&](long done, long total) { progress.update(done, total); },
+        [](const std::string& what) { std::cerr << "\nhapticut run: slow: " << what << " (Ctrl-C stops it)\n"; });
     progress.finish();
+    if (!run) {
+        std::cerr << "hapticut run: " << run.error().toString() << "\n";
+        return 2;
+    }
+    const scene::RunResult& r = *run;
     if (r.stoppedEarly)
         std::cerr << "hapticut run: stopped by signal " << StopSignal::signalNumber() << " after " << r.steps << " of "
                   << config.steps << " steps\n";

@@ -274,6 +274,25 @@ TEST_F(Cli, RealTimeRunsLongerThanASecondLogEveryStepWhileTheProgressLineRuns) {
     }
 }
 
+// A material so stiff that RK4 would need tens of thousands of substeps a step: refused up front with
+// the way out, instead of a run that crawls for hours (one such ran 14 minutes without a word).
+TEST_F(Cli, AnExplicitRunThatWouldCrawlIsRefusedWithTheWayOut) {
+    std::ofstream(path("stiff.toml"))
+        << "[material]\nstructural_stiffness_N = 1e9\n[simulation]\nintegrator = \"rk4\"\n";
+    const CliResult headless = run("run --scene " + path("stiff.toml") + " --steps 10");
+    EXPECT_EQ(headless.exitCode, 2);
+    const CliResult haptic = run("run --scene " + path("stiff.toml") + " --trajectory " +
+                                 std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/press-front.csv");
+    EXPECT_EQ(haptic.exitCode, 1);
+    for (const CliResult& r : {headless, haptic}) {
+        EXPECT_NE(r.err.find("rk4 would need"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("more than the 10000 allowed"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("--integrator implicit"), std::string::npos) << r.err;
+    }
+    EXPECT_EQ(run("run --scene " + path("stiff.toml") + " --integrator auto --steps 10").exitCode, 0)
+        << "auto takes the implicit scheme instead";
+}
+
 TEST_F(Cli, ExportsTheDeformedMesh) {
     const CliResult r = run("run --steps 100 --force-at 0,0,0.05 --force 0,0,-1 --export-mesh " + path("pressed.ply"));
     ASSERT_EQ(r.exitCode, 0) << r.err;

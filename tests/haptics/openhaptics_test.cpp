@@ -229,6 +229,7 @@ TEST_F(OpenHaptics, AStalledServoTickCountsAsOverrunsAndTheForceRampsBackIn) {
     ASSERT_TRUE(device);
     LoopConfig config;
     config.rampTime_s = 0.05;
+    config.stallRampTime_s = 0.05;
     HapticLoop loop(h.organ, *device, config);
     constexpr std::size_t kSteps = 4000;
     std::vector<double> force(kSteps, -1), wall_ms(kSteps, 0);

@@ -10,6 +10,7 @@
 #include "hapticut/common/reserve.h"
 #include "hapticut/haptics/force_safety.h"
 #include "hapticut/mesh/adjacency.h"
+#include "hapticut/physics/stability.h"
 #include "hapticut/physics/volume_pressure.h"
 
 namespace hapticut::haptics {
@@ -44,7 +45,6 @@ HapticLoop::HapticLoop(cutting::CutModel& organ, std::span<const Hand> hands, Lo
       config_(config),
       stepper_(config.scheme),
       cutter_(organ, config.cutter) {
-    rampTime_s_ = config_.rampTime_s;
     initialise(hands);
 }
 
@@ -60,7 +60,13 @@ Result<std::unique_ptr<HapticLoop>, Error> HapticLoop::create(cutting::CutModel&
         return fail("a haptic rate of " + std::to_string(config.rate_hz) + " Hz: expected 1 Hz to 100 kHz");
     if (organ.mesh().faces.empty()) return fail("an organ without faces: nothing to touch");
     try {
-        return std::unique_ptr<HapticLoop>(new HapticLoop(organ, hands, config));
+        auto loop = std::unique_ptr<HapticLoop>(new HapticLoop(organ, hands, config));
+        const physics::Stepper& stepper = loop->worker_ ? loop->worker_->stepper() : loop->stepper_;
+        if (const std::string why =
+                physics::tooManySubsteps(loop->scheme(), loop->substeps(), stepper.stableStep_s(), 1 / config.rate_hz);
+            !why.empty())
+            return fail(why);
+        return loop;
     } catch (const std::bad_alloc&) {
         return fail("out of memory preparing the haptic loop for " + std::to_string(organ.model().nodes.size()) +
                     " nodes");
@@ -202,11 +208,7 @@ StepOutput HapticLoop::step() noexcept {
     const auto start = Clock::now();
     frameNodes_.clear();
     applyPendingCommands();
-    // After a stall the force starts again from zero: the ramp restarts at this step, whose ramp is 0.
-    if (std::exchange(stalled_, false)) {
-        rampStart_s_ = time_s();
-        rampTime_s_ = std::min(config_.stallRampTime_s, config_.rampTime_s);
-    }
+    if (std::exchange(stalled_, false)) stallRampStart_s_ = time_s();
     StepOutput out;
     out.t_s = time_s();
     out.handCount = handCount();
@@ -225,6 +227,10 @@ StepOutput HapticLoop::step() noexcept {
         ++stats_.overruns;
         for (HandFrame& hand : frame) hand.force_N = Vec3::Zero();
     }
+    // After a stall the hand has moved on from where the last force was computed: the force it gets
+    // starts again from zero at this step and ramps back in. The tissue and the cut go on as computed.
+    if (const double since_s = time_s() - stallRampStart_s_; since_s < config_.stallRampTime_s)
+        for (HandFrame& hand : frame) hand.force_N *= std::max(since_s, 0.0) / config_.stallRampTime_s;
     sendForces(frame, out);
     finishStep(out, elapsed_us);
     return out;
@@ -383,7 +389,7 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
     // (model_.tools), so the tissue feels it reversed in every integrator stage and stiff contact stays
     // stable. Clamped, ramped in, and kept finite by the watchdog.
     const collision::SurfaceView view = surface();
-    const double ramp = std::clamp((t_s - rampStart_s_) / rampTime_s_, 0.0, 1.0);
+    const double ramp = std::clamp((t_s - rampStart_s_) / config_.rampTime_s, 0.0, 1.0);
     // Multi-rate: the surface is the latest physics frame's, which ages until the next one. The touched
     // triangle is carried on at its nodes' velocities for that long, so that the force follows the
     // tissue the hand presses between frames instead of a frozen surface.
@@ -665,7 +671,7 @@ void HapticLoop::applyPendingCommands() noexcept {
                 break;
             case LoopCommand::Kind::ResetWatchdog:
                 // Forces fade in again, as at the start: the hand may have moved while they were off.
-                if (stats_.watchdogTripped) rampStart_s_ = time_s(), rampTime_s_ = config_.rampTime_s;
+                if (stats_.watchdogTripped) rampStart_s_ = time_s();
                 stats_.watchdogTripped = false;
                 break;
             case LoopCommand::Kind::Pause:

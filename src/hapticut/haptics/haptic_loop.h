@@ -50,7 +50,7 @@ struct LoopConfig {
     /// stopped, a servo tick held up): it sends no force and the force ramps back in, since the hand has
     /// moved on from where the last force was computed.
     double stallPeriods = 3;
-    double stallRampTime_s = 0.1;  // the force fades back in over this long after a stall
+    double stallRampTime_s = 0.1;  // the force sent fades back in over this long after a stall
     int snapshotEvery = 8;         // publish positions for the renderer every N steps (125 Hz)
     bool activeRegion = true;      // integrate only the tissue near the tool (Stepper::setActiveRegion)
     /// The tool cuts while its force is above this (R14): the scalpel's threshold; the probe's is infinite.
@@ -304,9 +304,10 @@ private:
     collision::Bvh bvh_;
     cutting::ProgressiveCutter cutter_;
     long topologyVersion_ = 0;
-    double rampStart_s_ = 0;  // forces fade in from here: the start, a watchdog reset, or a stall
-    double rampTime_s_ = 0;   // over this long: LoopConfig::rampTime_s, or stallRampTime_s after a stall
-    bool stalled_ = false;    // recordLateness saw a stall before the coming step
+    double rampStart_s_ = 0;  // forces fade in from here: the start, or a watchdog reset
+    // The force sent fades back in from here after a stall (LoopConfig::stallRampTime_s).
+    double stallRampStart_s_ = -std::numeric_limits<double>::infinity();
+    bool stalled_ = false;  // recordLateness saw a stall before the coming step
     LoopStats stats_;
     SnapshotPublisher snapshots_;
     SpscQueue<LoopCommand, 64> commands_;

@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <vector>
+
+#include "hapticut/common/line_reader.h"
 
 namespace hapticut::physics {
 
@@ -73,6 +76,22 @@ Scheme resolveScheme(Scheme requested, const MassSpringModel& model, double dt_s
     if (requested != Scheme::Auto) return requested;
     return stableTimeStep(model, Scheme::RungeKutta4, extra_stiffness_N_per_m) >= dt_s ? Scheme::RungeKutta4
                                                                                        : Scheme::BackwardEuler;
+}
+
+namespace {
+std::string threeDigits(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+}
+}  // namespace
+
+std::string tooManySubsteps(Scheme scheme, int substeps, double stableStep_s, double dt_s) {
+    if (substeps <= kMaxSubsteps) return {};
+    return std::string(schemeName(scheme)) + " would need " + std::to_string(substeps) + " substeps per " +
+           formatDouble(dt_s * 1e3) + " ms step on this model (stable below " + threeDigits(stableStep_s * 1e6) +
+           " us), more than the " + std::to_string(kMaxSubsteps) +
+           " allowed: the implicit integrator (--integrator implicit, or auto) takes one solve per step";
 }
 
 }  // namespace hapticut::physics

@@ -2,6 +2,8 @@
 // local modes (DESIGN "Materials and stability").
 #pragma once
 
+#include <string>
+
 #include "hapticut/physics/mass_spring_model.h"
 #include "hapticut/physics/scheme.h"
 
@@ -31,5 +33,14 @@ double stableTimeStep(const MassSpringModel& model, Scheme scheme, double extra_
 /// The scheme to step `model` with at dt_s: `requested` itself unless it is Auto, which keeps the
 /// thesis's RK4 where one RK4 step of dt_s is stable and takes BackwardEuler where RK4 would need substeps.
 Scheme resolveScheme(Scheme requested, const MassSpringModel& model, double dt_s, double extra_stiffness_N_per_m = 0);
+
+/// Substeps per step above which a run is refused instead of left to crawl: an explicit scheme this far
+/// past its stable step spends minutes of wall clock per simulated second, where the implicit one takes
+/// one solve a step.
+inline constexpr int kMaxSubsteps = 10'000;
+
+/// Why stepping with `scheme` at dt_s would need more than kMaxSubsteps substeps of `stableStep_s`, in
+/// words a user can act on; empty when it would not.
+std::string tooManySubsteps(Scheme scheme, int substeps, double stableStep_s, double dt_s);
 
 }  // namespace hapticut::physics

@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "hapticut/common/latency_histogram.h"
+#include "hapticut/common/line_reader.h"
+#include "hapticut/physics/stability.h"
 
 namespace hapticut::scene {
 
@@ -18,8 +21,9 @@ std::uint32_t nearestNode(const physics::MassSpringModel& model, const Vec3& poi
     return best;
 }
 
-RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
-                      const std::function<void(long, long)>& progress) {
+Result<RunResult, Error> runHeadless(physics::MassSpringModel& model, const RunConfig& config,
+                                     const std::function<void(long, long)>& progress,
+                                     const std::function<void(const std::string&)>& slow) {
     using Clock = std::chrono::steady_clock;
     RunResult r;
     r.scheme = physics::resolveScheme(config.scheme, model, config.dt_s);
@@ -28,6 +32,9 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
     stepper.prepare(model);
     r.stableStep_s = stepper.stableStep_s();
     r.substeps = stepper.substepsFor(config.dt_s);
+    if (const std::string why = physics::tooManySubsteps(r.scheme, r.substeps, r.stableStep_s, config.dt_s);
+        !why.empty())
+        return unexpected(Error{{}, 0, why});
 
     LatencyHistogram stepTimes(0.1, 100'000);
     bool released = false;
@@ -39,8 +46,9 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
 
     const auto start = Clock::now();
     long i = 0;
+    bool warned = false;
     for (; i < config.steps; ++i) {
-        if (config.stopRequested && i % 64 == 0 && config.stopRequested()) {
+        if (config.stopRequested && config.stopRequested()) {
             r.stoppedEarly = true;
             break;
         }
@@ -63,6 +71,19 @@ RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
         if (released && r.recoveryTime_s < 0 && displacement < kRecoveredDistance_m)
             r.recoveryTime_s = static_cast<double>(i + 1) * config.dt_s - config.force->until_s;
         if (progress && (i + 1) % progressEvery == 0) progress(i + 1, config.steps);
+        // Two seconds in, say what a run that will take more than a minute spends its time on.
+        if (slow && !warned && Clock::now() - start > std::chrono::seconds(2)) {
+            warned = true;
+            const double perStep_s =
+                std::chrono::duration<double>(Clock::now() - start).count() / static_cast<double>(i + 1);
+            if (perStep_s * static_cast<double>(config.steps) > 60)
+                slow("each step takes " + formatDouble(std::round(perStep_s * 1e4) / 10) + " ms (" +
+                     (r.scheme == physics::Scheme::BackwardEuler
+                          ? std::string("one implicit solve over ") + std::to_string(model.nodes.size()) + " nodes"
+                          : std::to_string(r.substeps) + " substeps of " + std::string(physics::schemeName(r.scheme))) +
+                     "): the " + std::to_string(config.steps) + " steps will take about " +
+                     formatDouble(std::round(perStep_s * static_cast<double>(config.steps) / 6) / 10) + " min");
+        }
     }
     r.wallTime_s = std::chrono::duration<double>(Clock::now() - start).count();
     r.steps = i;

@@ -3,8 +3,11 @@
 
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
+#include "hapticut/common/error.h"
+#include "hapticut/common/result.h"
 #include "hapticut/common/stats.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/mass_spring_model.h"
@@ -54,8 +57,10 @@ inline constexpr double kRecoveredDistance_m = 1e-4;
 std::uint32_t nearestNode(const physics::MassSpringModel& model, const Vec3& point);
 
 /// Runs the model in memory independent of the step count; `progress(done, total)` is called about a
-/// hundred times, if given.
-RunResult runHeadless(physics::MassSpringModel& model, const RunConfig& config,
-                      const std::function<void(long, long)>& progress = {});
+/// hundred times, if given, and `slow(what)` once if the run looks like taking more than a minute. An
+/// error, before any step, when an explicit scheme would need more than kMaxSubsteps substeps a step.
+Result<RunResult, Error> runHeadless(physics::MassSpringModel& model, const RunConfig& config,
+                                     const std::function<void(long, long)>& progress = {},
+                                     const std::function<void(const std::string&)>& slow = {});
 
 }  // namespace hapticut::scene
