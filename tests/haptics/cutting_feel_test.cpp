@@ -170,5 +170,47 @@ TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyS
     }
 }
 
+// A device that jumps a metre between two samples (a glitch of the driver, a tracker losing its
+// marker), while the scalpel cuts: out into the room, back deep into the organ from above, and through
+// the organ to its back in one step. The hand is never pushed harder than the device's maximum nor
+// faster than the force rate allows, the proxy stays outside, nothing is non-finite, and the organ stays
+// sound.
+TEST(Faults, AScalpelWhoseDeviceJumpsAMetreBetweenSamplesStaysSafe) {
+    const mesh::SurfaceMesh heart = mesh::procedural::makeHeart({});
+    cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
+    const double z = 0.0302;  // the front near y = -1 cm
+    const Trajectory jumps = path({{0.0, {-0.02, -0.01, 0.06}},
+                                   {0.6, {-0.02, -0.01, z + 0.003}},
+                                   {0.9, {-0.02, -0.01, z - 0.01}},
+                                   {1.2, {0.0, -0.01, z - 0.01}},
+                                   {1.201, {1.0, 1.0, 1.0}},  // a metre away in a millisecond
+                                   {1.4, {1.0, 1.0, 1.0}},
+                                   {1.401, {0.005, -0.01, z - 0.015}},  // and back, deep in the organ
+                                   {1.6, {0.01, -0.01, z - 0.015}},
+                                   {1.601, {0.01, -0.01, -0.2}},  // through the organ to behind it
+                                   {1.8, {0.01, -0.01, -0.2}},
+                                   {1.801, {0.01, -0.01, 0.06}},
+                                   {2.0, {0.01, -0.01, 0.06}}});
+    scene::HapticRunConfig config;
+    config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
+    config.keepSteps = 1'000'000;
+    const auto run = scene::runHaptic(organ, jumps, config);
+    ASSERT_TRUE(run) << run.error().message;
+    const scene::HapticRunResult& r = *run;
+    EXPECT_GT(r.cut.cuts, 0) << "the scalpel was cutting when the device jumped";
+    EXPECT_FALSE(r.watchdogTripped);
+    EXPECT_EQ(r.nonFiniteEvents, 0);
+    EXPECT_LE(r.maxForce_N, kDefaultMaxForce_N + 1e-9);
+    EXPECT_EQ(r.penetrationMeasuredSteps, r.steps);
+    EXPECT_LT(r.maxProxyPenetration_m, 1e-4);
+    EXPECT_TRUE(r.invariantProblems.empty()) << r.invariantProblems.front();
+    double largestRise_N = 0;
+    for (std::size_t i = 1; i < r.keptSteps.size(); ++i)
+        largestRise_N =
+            std::max(largestRise_N, r.keptSteps[i].hand().force_N.norm() - r.keptSteps[i - 1].hand().force_N.norm());
+    EXPECT_LE(largestRise_N, kDefaultMaxForceRate_N_per_s * 1e-3 + 1e-9) << "no jolt: 1.5 N a millisecond at most";
+    EXPECT_TRUE(physics::allFinite(organ.model()));
+}
+
 }  // namespace
 }  // namespace hapticut::haptics
