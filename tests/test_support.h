@@ -42,6 +42,9 @@ double signedVolume(const mesh::SurfaceMesh& mesh);
 
 /// A fresh folder of the test's own, named after the running test and the process, removed again at the end.
 /// ctest runs tests in parallel processes, so a folder shared between tests would be deleted under another's feet.
+/// A file's bytes as a string; empty when it cannot be read.
+std::string slurp(const std::filesystem::path& file);
+
 class ScratchDir {
 public:
     ScratchDir();

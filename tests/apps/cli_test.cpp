@@ -22,12 +22,7 @@ struct CliResult {
     std::string out, err;
 };
 
-std::string slurp(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using hapticut::test::slurp;
 
 class Cli : public ::testing::Test {
 protected:

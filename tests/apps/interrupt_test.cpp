@@ -25,12 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-std::string slurp(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using hapticut::test::slurp;
 
 /// A hapticut process of ours, its output in files of the scratch folder.
 class Process {

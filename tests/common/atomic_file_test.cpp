@@ -7,7 +7,6 @@
 
 #include <csignal>
 #include <fstream>
-#include <sstream>
 
 #include "hapticut/common/temp_files.h"
 #include "hapticut/common/text_file.h"
@@ -18,12 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using test::slurp;
 
 TEST(AtomicFile, ReplacesTheTargetOnlyWhenCommitted) {
     test::ScratchDir dir;

@@ -5,7 +5,6 @@
 
 #include <fstream>
 #include <random>
-#include <sstream>
 
 #include "hapticut/haptics/step_log.h"
 #include "hapticut/haptics/trajectory.h"
@@ -16,12 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using test::slurp;
 
 std::vector<StepOutput> randomSteps(std::size_t count, int hands, bool oriented) {
     std::mt19937_64 rng(7);
