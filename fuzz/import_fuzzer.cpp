@@ -20,8 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         std::filesystem::temp_directory_path() / ("hapticut-import-fuzz-" + std::to_string(::getpid()));
     std::filesystem::create_directories(folder);
     const std::filesystem::path file = folder / (std::string("input") + kExtensions[data[0] % 4]);
-    std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(data + 1),
-                                                static_cast<std::streamsize>(size - 1));
+    std::ofstream(file, std::ios::binary)
+        .write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
     auto loaded = hapticut::mesh::io::loadMesh(file);
     if (loaded) {
         hapticut::mesh::RepairOptions options;
