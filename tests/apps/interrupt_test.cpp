@@ -200,6 +200,24 @@ TEST(Interrupt, ARunOfABillionStepsHoldsConstantMemoryUntilStopped) {
     EXPECT_EQ(completeCsvRows(dir / "f.csv"), j["steps"].get<long>());
 }
 
+// The cutting soak, a fresh organ every 200 strokes, for fifteen seconds: its memory stays flat, and
+// Ctrl-C ends it with every invariant checked and the report written.
+TEST(Interrupt, ASoakHoldsConstantMemoryUntilStopped) {
+    hapticut::test::ScratchDir dir;
+    Process p("soak --strokes 100000000 --report s.json", dir.path());
+    std::this_thread::sleep_for(5s);
+    const long early = p.residentKb();
+    std::this_thread::sleep_for(10s);
+    const long late = p.residentKb();
+    p.signal(SIGINT);
+    ASSERT_EQ(p.wait(), 128 + SIGINT) << slurp(dir / "err");
+    const auto j = nlohmann::json::parse(slurp(dir / "s.json"));
+    EXPECT_EQ(j["invariants_ok"], true);
+    EXPECT_GT(j["organs"].get<long>(), 3) << "several fresh organs between the two samples";
+    EXPECT_GT(early, 0);
+    EXPECT_LT(late - early, 2'000) << "kB grown between 5 s and 15 s, over " << j["strokes"] << " strokes";
+}
+
 // A live run with the emulated Touch for a minute, ended by Ctrl-C as a user ends it: memory stays flat
 // (it grew by about 200 bytes a step, 0.7 GB an hour), and every step reached the force log.
 TEST(Interrupt, ALiveRunHoldsConstantMemoryForAMinute) {
