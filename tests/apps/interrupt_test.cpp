@@ -15,6 +15,7 @@
 #include <random>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -63,6 +64,18 @@ public:
         }
         return -1;
     }
+    /// Resident memory in kB (VmRSS) at `first` and at `second` from now, then SIGINT: how a user ends a
+    /// long run. Zero where it cannot be read.
+    std::pair<long, long> residentThenInterrupt(std::chrono::seconds first, std::chrono::seconds second) const {
+        std::this_thread::sleep_for(first);
+        const long early = residentKb();
+        std::this_thread::sleep_for(second - first);
+        const long late = residentKb();
+        signal(SIGINT);
+        return {early, late};
+    }
+
+private:
     /// Resident memory in kB (VmRSS), 0 when it cannot be read.
     long residentKb() const {
         std::ifstream status("/proc/" + std::to_string(pid_) + "/status");
@@ -72,7 +85,6 @@ public:
         return 0;
     }
 
-private:
     pid_t pid_ = -1;
     bool exited_ = false;
 };
@@ -187,11 +199,7 @@ TEST(Interrupt, ARunOfABillionStepsHoldsConstantMemoryUntilStopped) {
     hapticut::test::ScratchDir dir;
     Process p("run --trajectory " + kCutFront + " --tool scalpel --steps 1000000000 --force-log f.csv --report r.json",
               dir.path());
-    std::this_thread::sleep_for(3s);
-    const long early = p.residentKb();
-    std::this_thread::sleep_for(7s);
-    const long late = p.residentKb();
-    p.signal(SIGINT);
+    const auto [early, late] = p.residentThenInterrupt(3s, 10s);
     ASSERT_EQ(p.wait(), 128 + SIGINT) << slurp(dir / "err");
     const auto j = nlohmann::json::parse(slurp(dir / "r.json"));
     EXPECT_GT(j["steps"].get<long>(), 100'000) << "ten seconds of simulated-time steps";
@@ -205,11 +213,7 @@ TEST(Interrupt, ARunOfABillionStepsHoldsConstantMemoryUntilStopped) {
 TEST(Interrupt, ASoakHoldsConstantMemoryUntilStopped) {
     hapticut::test::ScratchDir dir;
     Process p("soak --strokes 100000000 --report s.json", dir.path());
-    std::this_thread::sleep_for(5s);
-    const long early = p.residentKb();
-    std::this_thread::sleep_for(10s);
-    const long late = p.residentKb();
-    p.signal(SIGINT);
+    const auto [early, late] = p.residentThenInterrupt(5s, 15s);
     ASSERT_EQ(p.wait(), 128 + SIGINT) << slurp(dir / "err");
     const auto j = nlohmann::json::parse(slurp(dir / "s.json"));
     EXPECT_EQ(j["invariants_ok"], true);
@@ -224,11 +228,7 @@ TEST(Interrupt, ALiveRunHoldsConstantMemoryForAMinute) {
     hapticut::test::ScratchDir dir;
     Process p("run --device openhaptics --tool scalpel --force-log f.csv --report r.json", dir.path(),
               std::string("HAPTICUT_HD_LIBRARY=") + HD_EMULATION_LIBRARY + " ");
-    std::this_thread::sleep_for(10s);
-    const long early = p.residentKb();
-    std::this_thread::sleep_for(50s);
-    const long late = p.residentKb();
-    p.signal(SIGINT);
+    const auto [early, late] = p.residentThenInterrupt(10s, 60s);
     ASSERT_EQ(p.wait(), 0) << "Ctrl-C is how a live run ends\n" << slurp(dir / "err");
     const auto j = nlohmann::json::parse(slurp(dir / "r.json"));
     EXPECT_EQ(j["stopped_by_signal"], true);
