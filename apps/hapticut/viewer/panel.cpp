@@ -76,11 +76,8 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
         ImGui::Text("%s, %d substep%s (stable below %.2f ms)   overruns %ld   cut events %ld",
                     std::string(physics::schemeName(s.scheme)).c_str(), s.substeps, s.substeps == 1 ? "" : "s",
                     s.stableStep_s * 1e3, s.overruns, s.cutEvents);
-    if (s.stalls > 0)
-        ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1),
-                           "%ld stall%s: the loop stopped for 3 periods or more; force ramped "
-                           "back in",
-                           s.stalls, s.stalls == 1 ? "" : "s");
+    if (s.stalls > 0)  // gaps of 3 periods or more, after each of which the force sent ramped back in
+        ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "stalls %ld: force ramped back in", s.stalls);
     if (s.watchdogTripped) {
         ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "watchdog tripped: force is zero");
         ImGui::SameLine();
