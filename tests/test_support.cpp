@@ -52,11 +52,8 @@ void pressFrontWithTool(physics::MassSpringModel& model, const mesh::SurfaceMesh
         if (mesh.normals[f].z() > mesh.normals[front].z()) front = f;
     physics::PointSpring& tool = model.tools[0];
     tool.active = step < 300;
-    tool.nodes = mesh.faces[front];
-    tool.bary = Vec3(0.5, 0.3, 0.2);
-    tool.weights = physics::PointSpring::contactWeights(tool.bary);
-    const Vec3 surface =
-        0.5 * mesh.positions[tool.nodes[0]] + 0.3 * mesh.positions[tool.nodes[1]] + 0.2 * mesh.positions[tool.nodes[2]];
+    tool.touchTriangle(mesh.faces[front], Vec3(0.5, 0.3, 0.2));
+    const Vec3 surface = tool.heldPoint(mesh.positions);
     tool.anchor_m = surface - 0.003 * std::min(1.0, step / 50.0) * mesh.normals[front];
     tool.stiffness_N_per_m = 400;
     tool.maxForce_N = 3.3;

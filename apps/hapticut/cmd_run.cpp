@@ -116,13 +116,13 @@ bool exportDeformed(const std::string& file, const mesh::SurfaceMesh& rest, cons
     return true;
 }
 
-/// The cut threshold of --tool or --second-tool; nothing (with the reason printed, and `status` set to
-/// the exit code) for an unknown name (2) or a tool file that does not load (1).
-std::optional<double> toolThreshold(const scene::SceneFile& settings, const std::string& name, int& status) {
-    auto threshold = scene::toolThreshold(settings, name);
-    if (threshold) return *threshold;
-    const bool unknownName = threshold.error().file.empty();
-    std::cerr << (unknownName ? "hapticut run: " : "") << threshold.error().toString() << "\n";
+/// The tip of --tool or --second-tool; nothing (with the reason printed, and `status` set to the exit
+/// code) for an unknown name (2) or a tool file that does not load (1).
+std::optional<scene::ToolTip> toolTip(const scene::SceneFile& settings, const std::string& name, int& status) {
+    auto tip = scene::toolTip(settings, name);
+    if (tip) return *tip;
+    const bool unknownName = tip.error().file.empty();
+    std::cerr << (unknownName ? "hapticut run: " : "") << tip.error().toString() << "\n";
     status = unknownName ? 2 : 1;
     return std::nullopt;
 }
@@ -167,13 +167,13 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         toolOf[h] = !o.given.count(option) && fromScene[h] && !fromScene[h]->tool.empty() ? fromScene[h]->tool : given;
     }
     int toolStatus = 0;
-    std::vector<double> thresholdOf;
+    std::vector<scene::ToolTip> tipOf;
     for (const std::string& name : {o.tool, o.secondTool})  // both checked, used or not: a typo is an error either way
-        if (!toolThreshold(settings, name, toolStatus)) return toolStatus;
+        if (!toolTip(settings, name, toolStatus)) return toolStatus;
     for (const std::string& name : toolOf) {
-        const auto threshold_N = toolThreshold(settings, name, toolStatus);
-        if (!threshold_N) return toolStatus;
-        thresholdOf.push_back(*threshold_N);
+        const auto tip = toolTip(settings, name, toolStatus);
+        if (!tip) return toolStatus;
+        tipOf.push_back(*tip);
     }
     const std::string& firstTool = toolOf.empty() ? o.tool : toolOf[0];
     if (o.sdlControl != "position" && o.sdlControl != "rate") {
@@ -214,7 +214,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     for (std::size_t h = 0; h < opened.size(); ++h) {
         haptics::Hand hand;
         hand.device = opened[h].device.get();
-        hand.cutThreshold_N = thresholdOf[h];
+        hand.cutThreshold_N = tipOf[h].threshold_N;
+        hand.tipRadius_m = tipOf[h].radius_m;
         hand.maxForce_N = scene->settings.maxForce_N;
         if (fromScene[h]) scene::applyHandSettings(*fromScene[h], hand);
         hands.push_back(hand);
@@ -230,7 +231,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         std::cerr << "\rhapticut run: " << steps << " steps (Ctrl-C ends the run)" << std::flush;
     };
     config.tool = firstTool;
-    config.loop.cutThreshold_N = thresholdOf[0];
+    config.loop.cutThreshold_N = tipOf[0].threshold_N;
+    config.loop.tipRadius_m = tipOf[0].radius_m;
     std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << firstTool
               << (hands.size() > 1 ? " and " + toolOf[1] : "") << ", "
               << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at "
@@ -350,13 +352,14 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         nlohmann::ordered_json handsJson = nlohmann::ordered_json::array();
         for (int h = 0; h < r.handCount; ++h) {
             const auto k = static_cast<std::size_t>(h);
-            const double threshold = thresholdOf[k];
+            const double threshold = tipOf[k].threshold_N;
             handsJson.push_back(
                 {{"device", specs[k].toString()},
                  {"description", opened[k].description},
                  {"tool", toolOf[k]},
                  {"tool_threshold_N", std::isfinite(threshold) && threshold < 1e8 ? nlohmann::ordered_json(threshold)
                                                                                   : nlohmann::ordered_json(nullptr)},
+                 {"tip_radius_m", tipOf[k].radius_m},
                  {"max_force_N", r.hands[k].maxForce_N},
                  {"contact_steps", r.hands[k].contactSteps}});
         }
@@ -391,6 +394,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["volume_change_max_pct"] =
             r.volumeMeasurements > 0 ? nlohmann::ordered_json(r.volumeChangeMax_pct) : nlohmann::ordered_json(nullptr);
         j["max_strain"] = r.maxStrain;
+        j["contact_nodes_max"] = r.contactNodesMax;
+        j["footprint_cut_steps"] = r.footprintCutSteps;
         j["nan_events"] = r.nonFiniteEvents;
         j["watchdog_tripped"] = r.watchdogTripped;
         j["cut_points"] = r.cut.cutPoints;

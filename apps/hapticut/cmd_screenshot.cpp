@@ -78,6 +78,7 @@ int screenshot(ScreenshotOptions& o) {
         scene::HapticRunConfig config;
         config.loop = loaded->loopConfig();
         config.loop.cutThreshold_N = loaded->tools[*tool].threshold_N;
+        config.loop.tipRadius_m = loaded->tools[*tool].tipRadius_m;
         config.steps = std::lround((o.at_s >= 0 ? o.at_s : end_s) * config.loop.rate_hz) + 1;
         auto run = scene::runHaptic(organ, *trajectory, config);
         if (!run) {

@@ -137,8 +137,12 @@ TEST(CuttingFeel, TheBladeCutsTheWayItsEdgeFacesAndDraggedSidewaysItCutsNothing)
 }
 
 TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyStaysOutside) {
-    for (const int triangles : {1619, 9714}) {
-        SCOPED_TRACE(triangles);
+    // With the thesis's point contact and with the scalpel's tip as users get it.
+    for (const auto& [triangles, tip_m] : {std::pair{1619, 0.0},
+                                           {9714, 0.0},
+                                           {1619, mesh::procedural::kScalpelTipRadius_m},
+                                           {9714, mesh::procedural::kScalpelTipRadius_m}}) {
+        SCOPED_TRACE(testing::Message() << triangles << " triangles, tip " << tip_m << " m");
         const auto trajectory =
             readTrajectory(std::filesystem::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories/cut-front.csv");
         ASSERT_TRUE(trajectory);
@@ -146,6 +150,7 @@ TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyS
         cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
         scene::HapticRunConfig config;
         config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
+        config.loop.tipRadius_m = tip_m;
         config.keepSteps = 1'000'000;
         const auto run = scene::runHaptic(organ, *trajectory, config);
         ASSERT_TRUE(run) << run.error().message;

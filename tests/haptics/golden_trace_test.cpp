@@ -4,6 +4,7 @@
 // regenerate with HAPTICUT_UPDATE_GOLDEN=1 and review the diff like code.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -22,7 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int kEvery = 10;  // keep every 10th step: 10 ms resolution is plenty to see a change
 
-/// `cutThreshold_N`: the tool's; infinite for the probe, the scalpel's for a cut.
+/// `cutThreshold_N`: the tool's; infinite for the probe, the scalpel's for a cut. Both tools' tips as
+/// users get them (their footprints).
 std::string traceOf(const std::string& trajectory_name, double cutThreshold_N) {
     const auto trajectory =
         haptics::readTrajectory(fs::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories" / trajectory_name);
@@ -31,6 +33,8 @@ std::string traceOf(const std::string& trajectory_name, double cutThreshold_N) {
     cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
     HapticRunConfig config;
     config.loop.cutThreshold_N = cutThreshold_N;
+    config.loop.tipRadius_m =
+        std::isfinite(cutThreshold_N) ? mesh::procedural::kScalpelTipRadius_m : mesh::procedural::kProbeTipRadius_m;
     config.keepSteps = 1'000'000;
     const auto run = runHaptic(organ, *trajectory, config);
     EXPECT_TRUE(run.has_value());

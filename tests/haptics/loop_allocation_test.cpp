@@ -7,6 +7,7 @@
 #include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/virtual_device.h"
 #include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/physics/material.h"
 
 namespace hapticut::haptics {
@@ -21,6 +22,7 @@ TEST_P(SteadyState, StepsWithoutHeapAllocation) {
     VirtualDevice device;
     LoopConfig config;
     config.physicsRate = GetParam();
+    config.tipRadius_m = mesh::procedural::kProbeTipRadius_m;  // the tools' footprints, as users get them
     HapticLoop loop(organ, device, config);
     ASSERT_EQ(loop.multiRate(), GetParam() == LoopConfig::PhysicsRate::Multi);
     // Sweep the device in and out of the front of the heart: contact, sliding, release.
@@ -34,6 +36,7 @@ TEST_P(SteadyState, StepsWithoutHeapAllocation) {
         device.setPosition(at(i));
         loop.step();
         if (i % 50 == 0) loop.commands().push({LoopCommand::Kind::SetCouplingStiffness, 400.0 + i % 7});
+        if (i % 500 == 0) loop.commands().push({LoopCommand::Kind::SetTipRadius, i % 1000 ? 0.004 : 0.007});
     }
     EXPECT_EQ(test::allocationCount() - before, 0);
     EXPECT_GT(loop.stats().contactSteps, 500);

@@ -237,10 +237,7 @@ TEST(PointSpring, TissueFeelsExactlyTheToolForceReversed) {
     MassSpringModel model = buildModel(mesh::procedural::makeHeart({}), Material{});
     for (Vec3& f : model.nodes.externalForce) f = Vec3::Zero();
     model.tools[0].active = true;
-    model.tools[0].nodes = {3, 17, 40};
-    model.tools[0].bary = Vec3(0.2, 0.5, 0.3);
-    const Vec3 w = model.tools[0].bary.cwiseAbs2();
-    model.tools[0].weights = w / w.sum();
+    model.tools[0].touchTriangle({3, 17, 40}, Vec3(0.2, 0.5, 0.3));
     model.tools[0].anchor_m = Vec3(0, 0, 0.02);
     model.tools[0].stiffness_N_per_m = 500;
     model.tools[0].maxForce_N = 3.3;

@@ -25,9 +25,7 @@ TEST(PointSpring, ContactWeightsAreTheNormalisedSquaredBarycentrics) {
 PointSpring toolOnTriangle(const Vec3& bary, const Vec3& anchor_m) {
     PointSpring tool;
     tool.active = true;
-    tool.nodes = {0, 1, 2};
-    tool.bary = bary;
-    tool.weights = PointSpring::contactWeights(bary);
+    tool.touchTriangle({0, 1, 2}, bary);
     tool.anchor_m = anchor_m;
     tool.stiffness_N_per_m = 400;
     tool.normal = Vec3(0, 0, 1);
@@ -64,6 +62,39 @@ TEST(PointSpring, ForceIsClampedDampedAndNeverPulls) {
     EXPECT_NEAR(damped.forceOnTool(kTriangle).z(), 0.4 + 0.2, 1e-12);
     const PointSpring pulling = toolOnTriangle(Vec3(1, 0, 0), Vec3(0, 0, 0.002));  // the device above the surface
     EXPECT_EQ(pulling.forceOnTool(kTriangle), Vec3::Zero());
+}
+
+TEST(PointSpring, ASpreadLoadIsTheGradientOfTheSpringsEnergy) {
+    // Spread over nodes with weights w, the spring holds p = Σ w_i x_i, so each node's reaction
+    // -w_i F must equal minus the gradient of E = k |p - anchor|² / 2 in that node's position.
+    const std::vector<Vec3> x{Vec3(0, 0, 0), Vec3(0.004, 0, 0.0002), Vec3(0, 0.003, -0.0001), Vec3(0.003, 0.003, 0)};
+    PointSpring tool;
+    tool.active = true;
+    tool.spread = true;
+    tool.count = 4;
+    const double w[] = {0.4, 0.3, 0.2, 0.1};
+    for (std::uint32_t i = 0; i < 4; ++i) tool.nodes[i] = i, tool.weights[i] = w[i];
+    tool.anchor_m = Vec3(0.001, 0.001, -0.004);
+    tool.stiffness_N_per_m = 400;
+    tool.normal = Vec3(0, 0, 1);
+    std::vector<Vec3> f(4, Vec3::Zero());
+    tool.addReaction(x, f);
+    auto energy = [&](const std::vector<Vec3>& y) {
+        return 0.5 * tool.stiffness_N_per_m * (tool.heldPoint(y) - tool.anchor_m).squaredNorm();
+    };
+    const double h = 1e-7;
+    for (std::size_t i = 0; i < 4; ++i)
+        for (int c = 0; c < 3; ++c) {
+            std::vector<Vec3> plus = x, minus = x;
+            plus[i][c] += h, minus[i][c] -= h;
+            EXPECT_NEAR(f[i][c], -(energy(plus) - energy(minus)) / (2 * h), 1e-6) << "node " << i << " axis " << c;
+        }
+    Vec3 sum = Vec3::Zero();
+    for (const Vec3& fi : f) sum += fi;
+    EXPECT_LT((sum + tool.forceOnTool(x)).norm(), 1e-14) << "the tissue gets exactly minus the force on the tool";
+    PointSpring copy;
+    tool.copyTo(copy);
+    EXPECT_EQ(copy.forceOnTool(x), tool.forceOnTool(x)) << "what is in use is copied";
 }
 
 }  // namespace

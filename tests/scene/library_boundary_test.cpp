@@ -69,8 +69,8 @@ TEST(LibraryBoundary, ScenesWithAMissingModelToolOrNameAreErrors) {
     model.overrides.model = (dir / "liver.obj").string();
     EXPECT_NO_THROW(expectError(scene::loadScene(model), "liver.obj"));
     const scene::SceneFile settings = scene::defaultScene();
-    EXPECT_NO_THROW(expectError(scene::toolThreshold(settings, "chisel"), "unknown tool 'chisel'"));
-    EXPECT_NO_THROW(expectError(scene::toolThreshold(settings, (dir / "knife.txt").string()), "knife.txt"));
+    EXPECT_NO_THROW(expectError(scene::toolTip(settings, "chisel"), "unknown tool 'chisel'"));
+    EXPECT_NO_THROW(expectError(scene::toolTip(settings, (dir / "knife.txt").string()), "knife.txt"));
     EXPECT_NO_THROW(expectError(scene::loadModelSource((dir / "heart.ply").string(), 1619), "heart.ply"));
 }
 

@@ -31,6 +31,7 @@ std::vector<Hand> oneHand(Device& device, const LoopConfig& config) {
     Hand hand;
     hand.device = &device;
     hand.cutThreshold_N = config.cutThreshold_N;
+    hand.tipRadius_m = config.tipRadius_m;
     return {hand};
 }
 }  // namespace
@@ -101,6 +102,7 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
         startMultiRate(0);
     bvh_.build(surface());
     reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
+    footprint_.fitTo(roomToGrow(model_.nodes.size()), roomToGrow(faces_.size()));
     for (HandState& hand : hands_) {
         hand.proxy.setTopology(&organ_.vertexFaces());
         // Start the proxy where the device is, or just outside the surface if the device begins inside.
@@ -417,15 +419,25 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         if (!f.touching || stats_.watchdogTripped) continue;
         hand.lastContactStep = stepIndex_;
         const Contact& contact = hand.proxy.contact();
-        tool.nodes = faces_[contact.face];
-        tool.bary = contact.bary;
-        tool.weights = physics::PointSpring::contactWeights(contact.bary);
+        double subgrid_m_per_N = 0;  // the dent under the tip that the mesh is too coarse to show
+        if (hand.setup.tipRadius_m > 0) {
+            const FootprintSpread spread = footprint_.spread(view, organ_.vertexFaces(), model_.nodes.anchorStiffness,
+                                                             contact.face, contact.bary, hand.setup.tipRadius_m, tool);
+            if (!spread.complete) ++stats_.footprintCutSteps;
+            subgrid_m_per_N = spread.subgridCompliance_m_per_N;
+        } else {
+            tool.touchTriangle(faces_[contact.face], contact.bary);
+        }
+        stats_.contactNodesMax = std::max(stats_.contactNodesMax, static_cast<long>(tool.count));
         // Anchor so that at this instant the spring reads k (proxy - device): the proxy sits a small
-        // offset off the contact point.
-        tool.anchor_m = f.sample.position_m - (hand.proxy.position() - pointOnFace(view, contact.face, contact.bary));
+        // offset off the contact point, and the point the spring holds (the footprint's load-weighted
+        // mean) a little beneath it.
+        tool.anchor_m = f.sample.position_m - (hand.proxy.position() - tool.heldPoint(model_.nodes.position));
         tool.bias_N =
             hand.setup.couplingDamping_Ns_per_m.value_or(config_.couplingDamping_Ns_per_m) * f.sample.velocity_m_per_s;
-        tool.stiffness_N_per_m = couplingStiffness_N_per_m(static_cast<int>(h));
+        // That dent is a spring in series with the coupling: the hand presses through both.
+        const double coupling_N_per_m = couplingStiffness_N_per_m(static_cast<int>(h));
+        tool.stiffness_N_per_m = coupling_N_per_m / (1 + coupling_N_per_m * subgrid_m_per_N);
         tool.maxForce_N = std::min(hand.setup.device->maxForce_N(), hand.setup.maxForce_N) * maxForceScale_;
         tool.scale = ramp;
         tool.normal = contact.side * faceNormal(view, contact.face);
@@ -454,14 +466,9 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
 }
 
 Vec3 HapticLoop::forceAhead(const physics::PointSpring& tool, double ahead_s) const {
+    // The held point is linear in the node positions, so the same weights give its velocity.
     const physics::Nodes& n = model_.nodes;
-    std::array<Vec3, 3> x;
-    physics::PointSpring local = tool;
-    for (std::size_t c = 0; c < 3; ++c) {
-        x[c] = n.position[tool.nodes[c]] + ahead_s * n.velocity[tool.nodes[c]];
-        local.nodes[c] = static_cast<std::uint32_t>(c);
-    }
-    return local.forceOnTool(x);
+    return tool.forceAt(tool.heldPoint(n.position) + ahead_s * tool.heldPoint(n.velocity));
 }
 
 void HapticLoop::advanceTissue(Frame& frame) noexcept {
@@ -665,6 +672,10 @@ void HapticLoop::applyPendingCommands() noexcept {
                 if (c->hand >= 0 && c->hand < handCount())
                     hands_[static_cast<std::size_t>(c->hand)].setup.cutThreshold_N = std::max(c->value, 0.0);
                 break;
+            case LoopCommand::Kind::SetTipRadius:
+                if (c->hand >= 0 && c->hand < handCount() && std::isfinite(c->value))
+                    hands_[static_cast<std::size_t>(c->hand)].setup.tipRadius_m = std::clamp(c->value, 0.0, 0.05);
+                break;
             case LoopCommand::Kind::ResetModel:
                 // The awake nodes find themselves at rest and fall asleep.
                 editModel({ModelEdit::Kind::ResetModel, 1});
@@ -727,6 +738,7 @@ void HapticLoop::afterTopologyChange() {
     // No refit: the boxes grow to hold the changed and added faces; the step's refit tightens them.
     bvh_.facesChanged(view, changes.faces);
     if (3 * faces_.size() > movedFaces_.capacity()) reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
+    footprint_.fitTo(model_.nodes.size(), faces_.size());
     stepper_.topologyChanged(model_, changes.nodes, changes.springs);
     if (volumeOn_) restVolume_m3_ = physics::enclosedVolume(model_.nodes.restPosition, faces_);
     if (worker_) {  // the physics' copy follows once it is held (advanceMultiRate)

@@ -19,6 +19,7 @@
 #include "hapticut/common/spsc_queue.h"
 #include "hapticut/cutting/fracture.h"
 #include "hapticut/cutting/progressive_cutter.h"
+#include "hapticut/haptics/contact_footprint.h"
 #include "hapticut/haptics/device.h"
 #include "hapticut/haptics/physics_worker.h"
 #include "hapticut/haptics/proxy.h"
@@ -56,6 +57,9 @@ struct LoopConfig {
     /// The tool cuts while its force is above this (R14): the scalpel's threshold; the probe's is infinite.
     /// The single-device constructor's tool; a Hand carries its own, which SetCutThreshold changes.
     double cutThreshold_N = std::numeric_limits<double>::infinity();
+    /// The single-device constructor's tool tip: its load spreads over this radius (contact_footprint.h);
+    /// 0: the thesis's point contact on the touched triangle (R9). A Hand carries its own.
+    double tipRadius_m = 0;
     ProxyParams proxy{};
     cutting::CutterParams cutter{};
     /// The tissue's fracture toughness (cutting/fracture.h) for blades whose Hand gives none; empty:
@@ -79,6 +83,9 @@ inline constexpr double kDefaultMaxForceRate_N_per_s = 1500;
 struct Hand {
     Device* device = nullptr;
     double cutThreshold_N = std::numeric_limits<double>::infinity();  // the tool's (R14); infinite: it never cuts
+    /// The tool's tip: its load spreads over the surface within this radius (contact_footprint.h), so a
+    /// press feels the same on any mesh finer than the tip; 0: the thesis's point contact (R9).
+    double tipRadius_m = 0;
     /// The tissue's fracture toughness for this tool's blade (cutting/fracture.h); empty: from the
     /// threshold (toughnessFromThreshold), so a tool file without it keeps its feel.
     std::optional<double> toughness_J_per_m2{};
@@ -113,6 +120,8 @@ struct LoopStats {
     long missedPeriods = 0;        // periods in which no step started (counted in overruns too)
     long stalls = 0;               // gaps of LoopConfig::stallPeriods or more: force zeroed and ramped back in
     long rateLimitedSteps = 0;     // steps in which a hand's force was held back by its maximum force rate
+    long contactNodesMax = 0;      // the most nodes a tool's load spread over in one step
+    long footprintCutSteps = 0;    // steps whose footprint held more nodes than a tool can load (cut to fit)
     bool watchdogTripped = false;  // latched by a non-finite force or state: force stays zero
     long cutEvents = 0;            // steps in which the scalpel changed the mesh
     LatencyHistogram cutTime_us{0.1, 100'000};   // the cut and the updates it needs (tree, stepper, proxy)
@@ -132,6 +141,7 @@ struct LoopCommand {
         SetCouplingDamping,
         SetMaxForceScale,
         SetCutThreshold,
+        SetTipRadius,
         ResetModel,
         ResetWatchdog,
         Pause,
@@ -145,7 +155,7 @@ struct LoopCommand {
         ScalePositioningDamping
     } kind;
     double value = 0;
-    int hand = 0;  // SetCutThreshold: whose tool
+    int hand = 0;  // SetCutThreshold, SetTipRadius: whose tool
 };
 
 class HapticLoop {
@@ -261,7 +271,7 @@ private:
     /// Single-rate, Auto, on the wall clock: counts physics steps that took more than half the period,
     /// and turns the loop multi-rate once there are kSlowPhysicsSteps of them within a second.
     void watchPhysicsTime(double physics_us) noexcept;
-    /// Multi-rate: the tool's force with its triangle carried `ahead_s` on at its nodes' velocities.
+    /// Multi-rate: the tool's force with its held point carried `ahead_s` on at its nodes' velocities.
     Vec3 forceAhead(const physics::PointSpring& tool, double ahead_s) const;
     /// An edit to the model: now in a single-rate loop, and in a multi-rate one once the physics is held.
     void editModel(const ModelEdit& edit) noexcept;
@@ -302,6 +312,7 @@ private:
     int slowPhysicsSteps_ = 0;  // watchPhysicsTime's count in the current second
     long slowWindowStart_ = 0;
     collision::Bvh bvh_;
+    ContactFootprint footprint_;
     cutting::ProgressiveCutter cutter_;
     long topologyVersion_ = 0;
     double rampStart_s_ = 0;  // forces fade in from here: the start, or a watchdog reset

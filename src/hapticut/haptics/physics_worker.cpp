@@ -79,7 +79,9 @@ void PhysicsWorker::stop() {
 }
 
 void PhysicsWorker::setTools(const Tools& tools) {
-    tools_.writeSlot() = tools;
+    // Only the loaded nodes' part of each tool: its arrays are sized for the largest footprint.
+    Tools& slot = tools_.writeSlot();
+    for (std::size_t t = 0; t < tools.size(); ++t) tools[t].copyTo(slot[t]);
     tools_.publish();
 }
 
@@ -94,7 +96,8 @@ void PhysicsWorker::releaseFrame() {
 }
 
 void PhysicsWorker::stepOnce(double dt_s) {
-    model_.tools = tools_.readLatest();
+    const Tools& tools = tools_.readLatest();
+    for (std::size_t t = 0; t < tools.size(); ++t) tools[t].copyTo(model_.tools[t]);
     const physics::StepResult result = stepper_.step(model_, dt_s);
     // The frame the haptic side gave back; in simulated time it was given back before this call.
     PhysicsFrame& frame = frames_[static_cast<std::size_t>(writeFrame_)];

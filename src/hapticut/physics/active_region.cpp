@@ -52,7 +52,7 @@ void ActiveRegion::admit(const MassSpringModel& model, const NodeSprings& spring
     };
     for (const PointSpring& tool : model.tools) {
         if (!tool.active) continue;
-        for (std::uint32_t i : tool.nodes) {
+        for (std::uint32_t i : tool.loadedNodes()) {
             // The tool's nodes and their neighbours are always awake: within one step a push travels
             // further than the one ring the region grows by per step.
             wakeNext_[i] = 1;

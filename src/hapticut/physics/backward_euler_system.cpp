@@ -76,12 +76,13 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         if (!tool.active) continue;
         const Vec3 force = tool.forceOnTool(x);
         // A clamped force no longer grows with the press: its stiffness is left out of the matrix.
-        const Vec3 p =
-            tool.bary.x() * x[tool.nodes[0]] + tool.bary.y() * x[tool.nodes[1]] + tool.bary.z() * x[tool.nodes[2]];
+        const Vec3 p = tool.heldPoint(x);
         const bool linear = force != Vec3::Zero() &&
                             (tool.stiffness_N_per_m * (p - tool.anchor_m) - tool.bias_N).norm() <= tool.maxForce_N;
         const double kt = linear ? tool.scale * tool.stiffness_N_per_m : 0.0;
-        for (int c = 0; c < 3; ++c) {
+        // The spring's stiffness k w w^T lumped by rows to k w_i: with weights that sum to 1 the lumped
+        // matrix exceeds the true one by the weights' variance, so the solve stays definite and stable.
+        for (std::uint32_t c = 0; c < tool.count; ++c) {
             const std::uint32_t k = unknownOf_[tool.nodes[c]];
             if (k == kResting) continue;  // the active region keeps a tool's nodes awake; a full solve has all
             const double w = tool.weights[c];

@@ -1,6 +1,8 @@
 // A tool pressing the surface, as a force term of the physics.
 #include "hapticut/physics/point_spring.h"
 
+#include <algorithm>
+
 namespace hapticut::physics {
 
 Vec3 PointSpring::contactWeights(const Vec3& bary) {
@@ -8,19 +10,50 @@ Vec3 PointSpring::contactWeights(const Vec3& bary) {
     return w.sum() > 0 ? Vec3(w / w.sum()) : Vec3::Constant(1.0 / 3);
 }
 
-Vec3 PointSpring::forceOnTool(std::span<const Vec3> x) const {
-    const Vec3 p = bary.x() * x[nodes[0]] + bary.y() * x[nodes[1]] + bary.z() * x[nodes[2]];
-    Vec3 f = stiffness_N_per_m * (p - anchor_m) - bias_N;
+void PointSpring::touchTriangle(const std::array<std::uint32_t, 3>& face, const Vec3& at) {
+    const Vec3 w = contactWeights(at);
+    count = 3;
+    for (int c = 0; c < 3; ++c) nodes[c] = face[c], weights[c] = w[c];
+    spread = false;
+    bary = at;
+}
+
+Vec3 PointSpring::heldPoint(std::span<const Vec3> x) const {
+    if (!spread) return bary.x() * x[nodes[0]] + bary.y() * x[nodes[1]] + bary.z() * x[nodes[2]];
+    Vec3 p = Vec3::Zero();
+    for (std::uint32_t k = 0; k < count; ++k) p += weights[k] * x[nodes[k]];
+    return p;
+}
+
+Vec3 PointSpring::forceAt(const Vec3& held_m) const {
+    Vec3 f = stiffness_N_per_m * (held_m - anchor_m) - bias_N;
     if (f.dot(normal) < 0) return Vec3::Zero();
     const double len = f.norm();
     if (len > maxForce_N) f *= maxForce_N / len;
     return scale * f;
 }
 
+Vec3 PointSpring::forceOnTool(std::span<const Vec3> x) const { return forceAt(heldPoint(x)); }
+
 void PointSpring::addReaction(std::span<const Vec3> x, std::span<Vec3> f) const {
     if (!active) return;
     const Vec3 force = forceOnTool(x);
-    for (int k = 0; k < 3; ++k) f[nodes[k]] -= weights[k] * force;
+    for (std::uint32_t k = 0; k < count; ++k) f[nodes[k]] -= weights[k] * force;
+}
+
+void PointSpring::copyTo(PointSpring& other) const {
+    other.active = active;
+    other.count = count;
+    std::copy_n(nodes.begin(), count, other.nodes.begin());
+    std::copy_n(weights.begin(), count, other.weights.begin());
+    other.spread = spread;
+    other.bary = bary;
+    other.anchor_m = anchor_m;
+    other.bias_N = bias_N;
+    other.stiffness_N_per_m = stiffness_N_per_m;
+    other.maxForce_N = maxForce_N;
+    other.scale = scale;
+    other.normal = normal;
 }
 
 }  // namespace hapticut::physics

@@ -22,6 +22,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, const haptics
     haptics::Hand hand;
     hand.device = &device;
     hand.cutThreshold_N = config.loop.cutThreshold_N;
+    hand.tipRadius_m = config.loop.tipRadius_m;
     HapticRunConfig c = config;
     if (c.steps < 0) c.steps = std::lround(trajectory.duration_s() * config.loop.rate_hz) + 1;
     return runHaptic(organ, std::span<const haptics::Hand>(&hand, 1), c);
@@ -142,6 +143,8 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.missedPeriods = st.missedPeriods;
     r.stalls = st.stalls;
     r.contactSteps = st.contactSteps;
+    r.contactNodesMax = st.contactNodesMax;
+    r.footprintCutSteps = st.footprintCutSteps;
     r.nonFiniteEvents = st.nonFiniteEvents;
     r.watchdogTripped = st.watchdogTripped;
     r.maxForce_N = st.maxForce_N;

@@ -50,7 +50,8 @@ struct HapticRunResult {
     double hapticRate_hz = 0;  // steps per wall-clock second
     Summary stepTime_us, periodError_us;
     long overruns = 0, contactSteps = 0, nonFiniteEvents = 0;
-    long missedPeriods = 0, stalls = 0;  // LoopStats'
+    long contactNodesMax = 0, footprintCutSteps = 0;  // LoopStats': how far the tools' loads spread
+    long missedPeriods = 0, stalls = 0;               // LoopStats'
     bool watchdogTripped = false;
     double maxForce_N = 0;
     double maxProxyPenetration_m = 0;   // by the ray-parity test on the current surface, in every step it is closed

@@ -34,17 +34,17 @@ std::optional<std::size_t> Scene::toolIndex(std::string_view name) const {
     return std::nullopt;
 }
 
-Result<double, Error> toolThreshold(const SceneFile& settings, const std::string& name) {
+Result<ToolTip, Error> toolTip(const SceneFile& settings, const std::string& name) {
     for (const SceneTool& t : settings.tools)
-        if (t.name == name) return t.threshold_N;
-    if (name == "probe") return mesh::procedural::kProbeThreshold_N;
-    if (name == "scalpel") return mesh::procedural::kScalpelThreshold_N;
+        if (t.name == name) return ToolTip{t.threshold_N, t.tipRadius_m};
+    if (name == "probe") return ToolTip{mesh::procedural::kProbeThreshold_N, mesh::procedural::kProbeTipRadius_m};
+    if (name == "scalpel") return ToolTip{mesh::procedural::kScalpelThreshold_N, mesh::procedural::kScalpelTipRadius_m};
     if (name.find('.') == std::string::npos)
         return unexpected(
             Error{{}, 0, "unknown tool '" + name + "': expected probe, scalpel or a tool file (thesis format)"});
     auto tool = mesh::io::readToolFile(name);
     if (!tool) return unexpected(tool.error());
-    return tool->threshold_N;
+    return ToolTip{tool->threshold_N, mesh::procedural::tipRadiusForThreshold_m(tool->threshold_N)};
 }
 
 void applyOverrides(const SceneOverrides& o, SceneFile& s) {
@@ -85,7 +85,7 @@ Result<Scene, Error> assembleScene(std::filesystem::path file, SceneFile setting
     applyPlacement(scene.settings, scene.source.mesh.positions);
     mesh::computeFaceNormals(scene.source.mesh);
     for (const SceneTool& t : scene.settings.tools) {
-        Tool tool{t.name, {}, t.threshold_N};
+        Tool tool{t.name, {}, t.threshold_N, t.tipRadius_m};
         if (!t.file.empty()) {
             auto toolFile = mesh::io::readToolFile(t.file);
             if (!toolFile) return unexpected(toolFile.error());

@@ -38,6 +38,7 @@ struct Tool {
     std::string name;
     mesh::SurfaceMesh mesh;  // tip at the origin, handle along +z
     double threshold_N = 1e9;
+    double tipRadius_m = 0;  // haptics::Hand::tipRadius_m
 };
 
 struct Scene {
@@ -57,10 +58,16 @@ struct Scene {
     std::optional<std::size_t> toolIndex(std::string_view name) const;
 };
 
-/// The cut threshold of the tool a command line names: the scene's tool of that name, the procedural
-/// probe's or scalpel's, or a thesis tool file's. A name with no '.' that is none of these is an
-/// unknown tool (an error without a file); anything else is a file that did not load.
-Result<double, Error> toolThreshold(const SceneFile& settings, const std::string& name);
+/// What a tool does to the tissue: the force it cuts at (R14) and the radius of its tip.
+struct ToolTip {
+    double threshold_N = 1e9;
+    double radius_m = 0;
+};
+
+/// The tip of the tool a command line names: the scene's tool of that name, the procedural probe's
+/// or scalpel's, or a thesis tool file's. A name with no '.' that is none of these is an unknown tool
+/// (an error without a file); anything else is a file that did not load.
+Result<ToolTip, Error> toolTip(const SceneFile& settings, const std::string& name);
 
 /// Sets the overrides over `settings`.
 void applyOverrides(const SceneOverrides& overrides, SceneFile& settings);

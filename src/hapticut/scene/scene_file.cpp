@@ -203,8 +203,8 @@ std::optional<std::pair<int, int>> overlyDottedKey(std::string_view text) {
 
 SceneFile defaultScene() {
     SceneFile s;
-    s.tools = {{"probe", "", mesh::procedural::kProbeThreshold_N},
-               {"scalpel", "", mesh::procedural::kScalpelThreshold_N}};
+    s.tools = {{"probe", "", mesh::procedural::kProbeThreshold_N, mesh::procedural::kProbeTipRadius_m},
+               {"scalpel", "", mesh::procedural::kScalpelThreshold_N, mesh::procedural::kScalpelTipRadius_m}};
     return s;
 }
 
@@ -258,7 +258,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
                 const std::string path = "tools[" + std::to_string(i) + "]";
                 const toml::table* t = (*list)[i].as_table();
                 if (!t) throw SceneError{lineOf((*list)[i]), path + ": expected a table"};
-                allowOnly(*t, path, {"name", "file", "threshold_N"});
+                allowOnly(*t, path, {"name", "file", "threshold_N", "tip_radius_m"});
                 SceneTool tool;
                 tool.name = text(*t, path, "name", "");
                 if (tool.name.empty()) throw SceneError{lineOf(*t), path + ".name: every tool needs a name"};
@@ -266,6 +266,10 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
                 const double fallback = tool.name == "scalpel" ? mesh::procedural::kScalpelThreshold_N
                                                                : mesh::procedural::kProbeThreshold_N;
                 tool.threshold_N = number(*t, path, "threshold_N", fallback, 0, 1e12);
+                const double tip = tool.name == "scalpel" ? mesh::procedural::kScalpelTipRadius_m
+                                   : tool.name == "probe" ? mesh::procedural::kProbeTipRadius_m
+                                                          : mesh::procedural::tipRadiusForThreshold_m(tool.threshold_N);
+                tool.tipRadius_m = number(*t, path, "tip_radius_m", tip, 0, 0.05);
                 s.tools.push_back(tool);
             }
         }

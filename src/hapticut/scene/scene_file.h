@@ -21,6 +21,7 @@ struct SceneTool {
     std::string name;  // "probe", "scalpel", or any name for a tool file
     std::string file;  // a tool file (thesis format); empty: the procedural tool of that name
     double threshold_N = 1e9;
+    double tipRadius_m = 0;  // its tip spreads its load over this radius (haptics/contact_footprint.h); 0: a point
 };
 
 /// One hand's device: a [[devices]] table.

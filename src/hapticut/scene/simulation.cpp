@@ -9,6 +9,7 @@
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/io/thesis_format.h"
+#include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/physics/material.h"
 #include "hapticut/scene/open_device.h"
 
@@ -61,6 +62,7 @@ void Simulation::startLoop() {
         haptics::Hand& hand = hands[static_cast<std::size_t>(h)];
         hand.device = &deviceOf(h);
         hand.cutThreshold_N = threshold_[static_cast<std::size_t>(h)];
+        hand.tipRadius_m = tipRadius(h);
         // A mouse touches only while its button is held: hovering, a view change or a switch of hands
         // moves it anywhere without pressing or cutting.
         hand.touchesOnlyWhileButtonHeld = hand.device == mice_[static_cast<std::size_t>(h)].get();
@@ -144,6 +146,12 @@ void Simulation::setTool(std::size_t index) {
     if (index >= scene_.tools.size()) return;
     tool_[static_cast<std::size_t>(activeHand_)] = index;
     setCutThreshold(scene_.tools[index].threshold_N);
+    loop_->commands().push({haptics::LoopCommand::Kind::SetTipRadius, scene_.tools[index].tipRadius_m, activeHand_});
+}
+
+double Simulation::tipRadius(int hand) const {
+    const std::size_t tool = tool_[static_cast<std::size_t>(hand)];
+    return tool < scene_.tools.size() ? scene_.tools[tool].tipRadius_m : config_.tipRadius_m;
 }
 
 void Simulation::setCutThreshold(double threshold_N) {
@@ -187,7 +195,8 @@ Status Simulation::loadModel(const std::string& model) {
 Status Simulation::loadTool(const std::string& file) {
     auto tool = mesh::io::readToolFile(file);
     if (!tool) return tool.error();
-    scene_.tools.push_back({std::filesystem::path(file).stem().string(), std::move(tool->mesh), tool->threshold_N});
+    scene_.tools.push_back({std::filesystem::path(file).stem().string(), std::move(tool->mesh), tool->threshold_N,
+                            mesh::procedural::tipRadiusForThreshold_m(tool->threshold_N)});
     setTool(scene_.tools.size() - 1);
     return std::nullopt;
 }

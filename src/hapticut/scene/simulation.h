@@ -47,6 +47,8 @@ public:
     /// The active hand's cut threshold: its tool's until the user changes it.
     double cutThreshold() const { return threshold_[static_cast<std::size_t>(activeHand_)]; }
     void setCutThreshold(double threshold_N);
+    /// The radius hand `hand`'s tool spreads its load over: its tool's (haptics::Hand::tipRadius_m).
+    double tipRadius(int hand) const;
 
     /// Drives a hand with a hardware device instead of the mouse (a servo device steps the loop).
     void useDevice(std::unique_ptr<haptics::Device> device, int hand = 0);

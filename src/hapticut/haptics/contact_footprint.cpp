@@ -1,0 +1,154 @@
+// A tool tip's footprint on the surface.
+#include "hapticut/haptics/contact_footprint.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "hapticut/haptics/proxy.h"
+
+namespace hapticut::haptics {
+
+namespace {
+
+/// How deep a face is split at most: a face 4,000 times larger than the tip is still resolved.
+constexpr int kMaxSplits = 12;
+/// Faces looked at per footprint at most: every loaded face and the ring round them.
+constexpr std::size_t kMaxQueuedFaces = 4 * physics::kMaxContactNodes;
+
+struct Piece {
+    std::array<Vec3, 3> corner_m;  // where its corners are
+    std::array<Vec3, 3> bary;      // and where on the face
+    int depth = 0;
+};
+
+}  // namespace
+
+void ContactFootprint::fitTo(std::size_t nodes, std::size_t faces) {
+    if (nodes > nodeStamp_.size()) {
+        nodeStamp_.resize(nodes, 0);
+        nodeSlot_.resize(nodes, 0);
+    }
+    if (faces > faceStamp_.size()) faceStamp_.resize(faces, 0);
+    queue_.reserve(kMaxQueuedFaces);
+}
+
+Vec3 ContactFootprint::integrateFace(const collision::SurfaceView& s, std::uint32_t face, const Vec3& centre_m,
+                                     double radius_m) const noexcept {
+    const mesh::Face& f = s.faces[face];
+    // Depth-first, four children per split: the stack never holds more than 3 per level, plus one.
+    std::array<Piece, 3 * kMaxSplits + 4> stack;
+    std::size_t top = 0;
+    stack[top++] = Piece{
+        {s.positions[f[0]], s.positions[f[1]], s.positions[f[2]]}, {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()}, 0};
+    const double leafSize_m = radius_m / 3;
+    Vec3 load = Vec3::Zero();
+    while (top > 0) {
+        const Piece p = stack[--top];
+        const Vec3 g = (p.corner_m[0] + p.corner_m[1] + p.corner_m[2]) / 3;
+        double reach_m = 0;
+        for (const Vec3& c : p.corner_m) reach_m = std::max(reach_m, (c - g).norm());
+        const double distance_m = (g - centre_m).norm();
+        if (distance_m - reach_m >= radius_m) continue;  // wholly outside the tip
+        if (2 * reach_m <= leafSize_m || p.depth == kMaxSplits) {
+            // The centroid rule on a piece under r/3 across; the piece's share goes to the face's corners
+            // by the centroid's barycentric coordinates (the hat functions there).
+            const double area_m2 = 0.5 * (p.corner_m[1] - p.corner_m[0]).cross(p.corner_m[2] - p.corner_m[0]).norm();
+            load += tipPressure(distance_m / radius_m) * area_m2 * (p.bary[0] + p.bary[1] + p.bary[2]) / 3;
+            continue;
+        }
+        const std::array<Vec3, 3> mid_m = {(p.corner_m[0] + p.corner_m[1]) / 2, (p.corner_m[1] + p.corner_m[2]) / 2,
+                                           (p.corner_m[2] + p.corner_m[0]) / 2};
+        const std::array<Vec3, 3> midBary = {(p.bary[0] + p.bary[1]) / 2, (p.bary[1] + p.bary[2]) / 2,
+                                             (p.bary[2] + p.bary[0]) / 2};
+        const int d = p.depth + 1;
+        stack[top++] = Piece{{p.corner_m[0], mid_m[0], mid_m[2]}, {p.bary[0], midBary[0], midBary[2]}, d};
+        stack[top++] = Piece{{mid_m[0], p.corner_m[1], mid_m[1]}, {midBary[0], p.bary[1], midBary[1]}, d};
+        stack[top++] = Piece{{mid_m[2], mid_m[1], p.corner_m[2]}, {midBary[2], midBary[1], p.bary[2]}, d};
+        stack[top++] = Piece{{mid_m[0], mid_m[1], mid_m[2]}, {midBary[0], midBary[1], midBary[2]}, d};
+    }
+    return load;
+}
+
+FootprintSpread ContactFootprint::spread(const collision::SurfaceView& s, const mesh::VertexFaces& around,
+                                         std::span<const double> anchorStiffness_N_per_m, std::uint32_t face,
+                                         const Vec3& bary, double radius_m, physics::PointSpring& tool) noexcept {
+    const Vec3 centre_m = pointOnFace(s, face, bary);
+    if (++stamp_ == 0) {  // the stamps wrapped: start them afresh
+        std::fill(faceStamp_.begin(), faceStamp_.end(), 0);
+        std::fill(nodeStamp_.begin(), nodeStamp_.end(), 0);
+        stamp_ = 1;
+    }
+    tool.count = 0;
+    FootprintSpread result;
+    queue_.clear();
+    queue_.push_back(face);
+    faceStamp_[face] = stamp_;
+    double total = 0;
+    for (std::size_t next = 0; next < queue_.size(); ++next) {
+        const std::uint32_t f = queue_[next];
+        const Vec3 load = integrateFace(s, f, centre_m, radius_m);
+        if (load == Vec3::Zero()) continue;  // beyond the tip: its neighbours are reached through nearer faces
+        const mesh::Face& corners = s.faces[f];
+        std::uint32_t fresh = 0;
+        for (std::uint32_t v : corners) fresh += nodeStamp_[v] != stamp_;
+        if (tool.count + fresh > physics::kMaxContactNodes) {
+            result.complete = false;
+            continue;
+        }
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = corners[k];
+            if (nodeStamp_[v] != stamp_) {
+                nodeStamp_[v] = stamp_;
+                nodeSlot_[v] = tool.count;
+                tool.nodes[tool.count] = v;
+                tool.weights[tool.count] = 0;
+                ++tool.count;
+            }
+            tool.weights[nodeSlot_[v]] += load[k];
+            total += load[k];
+            for (std::uint32_t g : around.of(v))
+                if (faceStamp_[g] != stamp_ && queue_.size() < kMaxQueuedFaces) {
+                    faceStamp_[g] = stamp_;
+                    queue_.push_back(g);
+                }
+        }
+    }
+    if (!(total > 0)) {  // nothing under the tip (a degenerate face): the thesis's point contact
+        tool.touchTriangle(s.faces[face], bary);
+        return result;
+    }
+    for (std::uint32_t k = 0; k < tool.count; ++k) tool.weights[k] /= total;
+    tool.spread = true;
+    tool.bary = bary;
+    result.subgridCompliance_m_per_N = subgridCompliance(s, around, anchorStiffness_N_per_m, face, bary, total, tool);
+    return result;
+}
+
+double ContactFootprint::subgridCompliance(const collision::SurfaceView& s, const mesh::VertexFaces& around,
+                                           std::span<const double> anchorStiffness_N_per_m, std::uint32_t face,
+                                           const Vec3& bary, double area_m2,
+                                           const physics::PointSpring& tool) const noexcept {
+    // The anchors' stiffness per m² where the tip is: the touched triangle's corners' anchors over
+    // their shares of the surface (a third of each face round them).
+    const mesh::Face& corners = s.faces[face];
+    double anchors_N_per_m = 0, nodeArea_m2 = 0, resolved_m_per_N = 0;
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = corners[k];
+        const double anchor = anchorStiffness_N_per_m[v];
+        if (!(anchor > 0)) return 0;  // a node without an anchor: no foundation to model
+        anchors_N_per_m += anchor;
+        for (std::uint32_t g : around.of(v)) {
+            const mesh::Face& f = s.faces[g];
+            nodeArea_m2 +=
+                (s.positions[f[1]] - s.positions[f[0]]).cross(s.positions[f[2]] - s.positions[f[0]]).norm() / 6;
+        }
+        // The dent the mesh shows at the tip's centre: its corners' own sinking, interpolated.
+        resolved_m_per_N += bary[k] * tool.weights[nodeSlot_[v]] / anchor;
+    }
+    if (!(nodeArea_m2 > 0)) return 0;
+    const double foundation_N_per_m3 = anchors_N_per_m / nodeArea_m2;
+    return std::max(0.0, 1 / (foundation_N_per_m3 * area_m2) - resolved_m_per_N);
+}
+
+}  // namespace hapticut::haptics
