@@ -4,12 +4,14 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 #include <random>
 
 #include "bench/solver_kernels.h"
 #include "commands.h"
 #include "hapticut/collision/bvh.h"
 #include "hapticut/common/latency_histogram.h"
+#include "hapticut/haptics/contact_footprint.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/proxy.h"
 #include "hapticut/haptics/replay_device.h"
@@ -51,6 +53,7 @@ nlohmann::ordered_json benchCutting(const scene::Scene& scene) {
     haptics::ReplayDevice device(path);
     haptics::LoopConfig config;
     config.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
+    config.tipRadius_m = mesh::procedural::kScalpelTipRadius_m;
     haptics::HapticLoop loop(organ, device, config);
     loop.commands().push({haptics::LoopCommand::Kind::Pause, 0});
     haptics::runSimulated(loop, std::lround(path.duration_s() * config.rate_hz) + 1);
@@ -135,14 +138,35 @@ nlohmann::ordered_json benchHaptics(const mesh::SurfaceMesh& mesh, double second
         update.record(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
         contacts += proxy.contact().active;
     }
-    const Summary r = refit.summary(), u = update.summary();
-    std::printf("%10zu %12.2f %12.1f %12.1f %12.2f %12.2f %9.0f%%\n", mesh.faces.size(), build_ms, r.mean, r.p99,
-                u.mean, u.p99, 100.0 * static_cast<double>(contacts) / static_cast<double>(update.count()));
+    // Building the probe tip's footprint where the sliding proxy touches (the loop builds one each time
+    // a contact has slid a twentieth of the tip).
+    haptics::ContactFootprint footprint;
+    footprint.fitTo(mesh.positions.size(), mesh.faces.size());
+    const std::vector<double> anchors(mesh.positions.size(), 1.0);  // their values do not change the work
+    auto tool = std::make_unique<physics::PointSpring>();
+    LatencyHistogram build(0.01, 100'000);
+    std::uint32_t nodes = 0;
+    const auto footprintEnd = Clock::now() + std::chrono::duration<double>(seconds / 2);
+    while (Clock::now() < footprintEnd || build.count() < 100) {
+        proxy.update(scene::slidingDevice_m(++step), view, bvh);
+        if (!proxy.contact().active) continue;
+        t0 = Clock::now();
+        footprint.spread(view, topology, anchors, proxy.contact().face, proxy.contact().bary,
+                         mesh::procedural::kProbeTipRadius_m, *tool);
+        build.record(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+        nodes = std::max(nodes, tool->count);
+    }
+    const Summary r = refit.summary(), u = update.summary(), b = build.summary();
+    std::printf("%10zu %12.2f %12.1f %12.1f %12.2f %12.2f %9.0f%% %12.1f %12.1f %8u\n", mesh.faces.size(), build_ms,
+                r.mean, r.p99, u.mean, u.p99,
+                100.0 * static_cast<double>(contacts) / static_cast<double>(update.count()), b.mean, b.p99, nodes);
     return {{"triangles", mesh.faces.size()},
             {"bvh_build_ms", build_ms},
             {"bvh_refit_us", toJson(r)},
             {"proxy_update_us", toJson(u)},
-            {"proxy_contact_fraction", static_cast<double>(contacts) / static_cast<double>(update.count())}};
+            {"proxy_contact_fraction", static_cast<double>(contacts) / static_cast<double>(update.count())},
+            {"footprint_build_us", toJson(b)},
+            {"footprint_nodes", nodes}};
 }
 
 int forceEvaluations(physics::Scheme s) {
@@ -245,8 +269,8 @@ int bench(const BenchOptions& o) {
     }
     nlohmann::ordered_json haptics = nlohmann::ordered_json::array();
     if (o.haptics) {
-        std::printf("\n%10s %12s %12s %12s %12s %12s %10s\n", "triangles", "build ms", "refit us", "refit p99",
-                    "proxy us", "proxy p99", "contact");
+        std::printf("\n%10s %12s %12s %12s %12s %12s %10s %12s %12s %8s\n", "triangles", "build ms", "refit us",
+                    "refit p99", "proxy us", "proxy p99", "contact", "tip us", "tip p99", "tip nodes");
         for (int triangles : o.triangles)
             haptics.push_back(benchHaptics(scene::benchHeart(triangles).source.mesh, o.seconds));
     }
@@ -291,7 +315,9 @@ Command addBenchCommand(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(0.01, 600.0));
     cmd->add_option("--json", o->json, "Write the figures as JSON");
-    cmd->add_flag("--haptics", o->haptics, "Also measure BVH build and refit and the proxy update (mean and p99)");
+    cmd->add_flag(
+        "--haptics", o->haptics,
+        "Also measure BVH build and refit, the proxy update and the probe tip's footprint build (mean and p99)");
     cmd->add_flag("--cutting", o->cutting,
                   "Also measure the scalpel's cut events through the haptic loop (mean, p50, p99, max)");
 #ifdef HAPTICUT_WITH_VIEWER

@@ -96,6 +96,7 @@ FootprintSpread ContactFootprint::spread(const collision::SurfaceView& s, const 
             result.complete = false;
             continue;
         }
+        const std::uint32_t firstNew = tool.count;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t v = corners[k];
             if (nodeStamp_[v] != stamp_) {
@@ -107,12 +108,14 @@ FootprintSpread ContactFootprint::spread(const collision::SurfaceView& s, const 
             }
             tool.weights[nodeSlot_[v]] += load[k];
             total += load[k];
-            for (std::uint32_t g : around.of(v))
+        }
+        // The faces round each node newly under the tip, once per node: the footprint grows outwards.
+        for (std::uint32_t k = firstNew; k < tool.count; ++k)
+            for (std::uint32_t g : around.of(tool.nodes[k]))
                 if (faceStamp_[g] != stamp_ && queue_.size() < kMaxQueuedFaces) {
                     faceStamp_[g] = stamp_;
                     queue_.push_back(g);
                 }
-        }
     }
     if (!(total > 0)) {  // nothing under the tip (a degenerate face): the thesis's point contact
         tool.touchTriangle(s.faces[face], bary);

@@ -419,15 +419,7 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         if (!f.touching || stats_.watchdogTripped) continue;
         hand.lastContactStep = stepIndex_;
         const Contact& contact = hand.proxy.contact();
-        double subgrid_m_per_N = 0;  // the dent under the tip that the mesh is too coarse to show
-        if (hand.setup.tipRadius_m > 0) {
-            const FootprintSpread spread = footprint_.spread(view, organ_.vertexFaces(), model_.nodes.anchorStiffness,
-                                                             contact.face, contact.bary, hand.setup.tipRadius_m, tool);
-            if (!spread.complete) ++stats_.footprintCutSteps;
-            subgrid_m_per_N = spread.subgridCompliance_m_per_N;
-        } else {
-            tool.touchTriangle(faces_[contact.face], contact.bary);
-        }
+        const double subgrid_m_per_N = loadTissue(hand, tool, wasActive);
         stats_.contactNodesMax = std::max(stats_.contactNodesMax, static_cast<long>(tool.count));
         // Anchor so that at this instant the spring reads k (proxy - device): the proxy sits a small
         // offset off the contact point, and the point the spring holds (the footprint's load-weighted
@@ -463,6 +455,33 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
             frame[h].force_N = Vec3::Zero();
             model_.tools[h].active = false;
         }
+}
+
+double HapticLoop::loadTissue(HandState& hand, physics::PointSpring& tool, bool wasActive) noexcept {
+    const Contact& contact = hand.proxy.contact();
+    const double radius_m = hand.setup.tipRadius_m;
+    if (!(radius_m > 0)) {
+        tool.touchTriangle(faces_[contact.face], contact.bary);
+        return 0;
+    }
+    // Built again only once the contact has slid a twentieth of the tip over the tissue (measured on
+    // the rest surface, so a press that deforms it does not count), after a new touch, a cut or a new
+    // tip. Between, the nodes keep their shares. The hand feels no rebuild: the coupling is anchored
+    // afresh every step. On the million-triangle heart a build walks some 7,000 faces.
+    const Vec3 at_m = pointOnFace({model_.nodes.restPosition, faces_}, contact.face, contact.bary);
+    const bool current = wasActive && tool.spread && hand.footprintTopology == topologyVersion_ &&
+                         hand.footprintRadius_m == radius_m &&
+                         (at_m - hand.footprintAt_m).norm() <= kFootprintSlide * radius_m;
+    if (!current) {
+        const FootprintSpread spread = footprint_.spread(surface(), organ_.vertexFaces(), model_.nodes.anchorStiffness,
+                                                         contact.face, contact.bary, radius_m, tool);
+        if (!spread.complete) ++stats_.footprintCutSteps;
+        hand.subgrid_m_per_N = spread.subgridCompliance_m_per_N;
+        hand.footprintAt_m = at_m;
+        hand.footprintTopology = topologyVersion_;
+        hand.footprintRadius_m = radius_m;
+    }
+    return tool.spread ? hand.subgrid_m_per_N : 0.0;
 }
 
 Vec3 HapticLoop::forceAhead(const physics::PointSpring& tool, double ahead_s) const {

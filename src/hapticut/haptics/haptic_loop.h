@@ -71,6 +71,10 @@ struct LoopConfig {
     double bulkModulus_Pa = 0;
 };
 
+/// How far, as a share of its tip's radius, a contact slides over the tissue before its footprint is
+/// built again: a slide of d moves about 2 d / r of the load, 10% here.
+inline constexpr double kFootprintSlide = 0.05;
+
 /// How many physics steps within a second may take more than half the period before an Auto loop
 /// turns multi-rate.
 inline constexpr int kSlowPhysicsSteps = 20;
@@ -235,6 +239,11 @@ private:
         Vec3 fractureForce_N = Vec3::Zero();
         Vec3 sentForce_N = Vec3::Zero();    // what the device was last told, for the force-rate limit
         long lastContactStep = -1'000'000;  // the last step in which it touched
+        // The footprint its tool's load spreads over: where on the rest surface it was built, for
+        // which topology and tip, and the dent under the tip the mesh cannot show (loadTissue).
+        Vec3 footprintAt_m = Vec3::Zero();
+        long footprintTopology = -1;
+        double footprintRadius_m = 0, subgrid_m_per_N = 0;
     };
     /// What a step knows about each hand as it goes through its phases.
     struct HandFrame {
@@ -271,6 +280,9 @@ private:
     /// Single-rate, Auto, on the wall clock: counts physics steps that took more than half the period,
     /// and turns the loop multi-rate once there are kSlowPhysicsSteps of them within a second.
     void watchPhysicsTime(double physics_us) noexcept;
+    /// The nodes hand `hand`'s tool loads this step, into `tool`: its tip's footprint (built again only
+    /// as the contact slides) or the thesis's triangle. Returns the footprint's subgrid compliance, m/N.
+    double loadTissue(HandState& hand, physics::PointSpring& tool, bool wasActive) noexcept;
     /// Multi-rate: the tool's force with its held point carried `ahead_s` on at its nodes' velocities.
     Vec3 forceAhead(const physics::PointSpring& tool, double ahead_s) const;
     /// An edit to the model: now in a single-rate loop, and in a multi-rate one once the physics is held.

@@ -15,9 +15,9 @@ namespace hapticut::physics {
 /// Tools pressing one model at once: one per hand.
 inline constexpr int kMaxTools = 2;
 
-/// The most nodes one tool's load may spread over: a 5 mm tip on a mesh with 0.2 mm edges (the heart
-/// at a million triangles) covers about 1,600.
-inline constexpr std::uint32_t kMaxContactNodes = 2048;
+/// The most nodes one tool's load may spread over: a 7 mm tip on the heart at a million triangles
+/// (0.2 mm edges) covers about 3,700.
+inline constexpr std::uint32_t kMaxContactNodes = 4096;
 
 struct PointSpring {
     bool active = false;
