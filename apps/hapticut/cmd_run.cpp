@@ -394,6 +394,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["volume_change_max_pct"] =
             r.volumeMeasurements > 0 ? nlohmann::ordered_json(r.volumeChangeMax_pct) : nlohmann::ordered_json(nullptr);
         j["max_strain"] = r.maxStrain;
+        j["strain_limit"] = config.loop.strainLimit > 0 ? nlohmann::ordered_json(config.loop.strainLimit)
+                                                        : nlohmann::ordered_json(nullptr);
         j["contact_nodes_max"] = r.contactNodesMax;
         j["footprint_cut_steps"] = r.footprintCutSteps;
         j["nan_events"] = r.nonFiniteEvents;

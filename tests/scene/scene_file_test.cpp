@@ -3,6 +3,7 @@
 
 #include <filesystem>
 
+#include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/scene/scene_file.h"
 #include "test_support.h"
 
@@ -80,6 +81,28 @@ TEST(SceneFile, TheTissuesToughnessGoesToEveryBladeAndIsOtherwiseTheToolsOwn) {
     const auto none = parseScene("[material]\nmass_kg = 0.2\n", "x.toml", "/data");
     ASSERT_TRUE(none.has_value());
     EXPECT_FALSE(none->toughness_J_per_m2.has_value()) << "from each tool's threshold";
+}
+
+TEST(SceneFile, ToolsHaveTipsAndTheTissueMayLimitItsStrain) {
+    const SceneFile d = defaultScene();
+    EXPECT_EQ(d.tools[0].tipRadius_m, mesh::procedural::kProbeTipRadius_m);
+    EXPECT_EQ(d.tools[1].tipRadius_m, mesh::procedural::kScalpelTipRadius_m);
+    EXPECT_EQ(d.strainLimit, 0) << "off unless asked for";
+    const auto given = parseScene(
+        "[material]\nstrain_limit = 0.1\n[[tools]]\nname = \"probe\"\ntip_radius_m = 0\n[[tools]]\nname = "
+        "\"knife\"\nfile = \"knife.txt\"\nthreshold_N = 3\n[[tools]]\nname = \"pusher\"\nfile = \"p.txt\"\n",
+        "x.toml", "/data");
+    ASSERT_TRUE(given.has_value()) << given.error().toString();
+    EXPECT_EQ(given->strainLimit, 0.1);
+    EXPECT_EQ(given->tools[0].tipRadius_m, 0) << "the thesis's point contact";
+    EXPECT_EQ(given->tools[1].tipRadius_m, mesh::procedural::kScalpelTipRadius_m) << "a tool that cuts: a blade's tip";
+    EXPECT_EQ(given->tools[2].tipRadius_m, mesh::procedural::kProbeTipRadius_m) << "one that never cuts: a probe's";
+    auto expectError = [](const std::string& text, int line, const std::string& fragment) {
+        test::expectError(parseScene(text, "s.toml", "."), line, fragment);
+    };
+    expectError("[[tools]]\nname = \"probe\"\ntip_radius_m = 0.2\n", 3,
+                "tools[0].tip_radius_m: 0.2 is out of range; allowed: 0 to 0.05");
+    expectError("[material]\nstrain_limit = -0.1\n", 2, "material.strain_limit: -0.1 is out of range");
 }
 
 TEST(SceneFile, PlacementScalesThenRotatesThenTranslates) {

@@ -91,6 +91,7 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
     stepper_.setToolStiffness(allHands_N_per_m);
     stepper_.setScheme(physics::resolveScheme(config_.scheme, model_, 1 / config_.rate_hz, allHands_N_per_m));
     stepper_.setSolverSettings(config_.solver);
+    stepper_.setStrainLimit(config_.strainLimit);
     // A pressure acts on every node of the organ, so with volume on the whole organ is integrated.
     volumeOn_ = config_.bulkModulus_Pa > 0 && organ_.closedBeforeCuts();
     if (volumeOn_) restVolume_m3_ = physics::enclosedVolume(model_.nodes.restPosition, faces_);

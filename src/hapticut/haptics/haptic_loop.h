@@ -69,6 +69,10 @@ struct LoopConfig {
     /// bulk modulus; 0: off. Single-rate only, over the whole organ (a pressure acts everywhere, so the
     /// active region is off): a cost of the organ's size each step.
     double bulkModulus_Pa = 0;
+    /// Provot's strain limit (physics/strain_limit.h): springs stretched more than this share of their
+    /// rest length are pulled back after every physics step; 0: off. The opened wound's springs, whose
+    /// rest lengths a cut shortens by 10%, are held too: a limit under 0.11 closes wounds a little.
+    double strainLimit = 0;
 };
 
 /// How far, as a share of its tip's radius, a contact slides over the tissue before its footprint is

@@ -43,6 +43,8 @@ public:
     std::span<const std::uint32_t> touched() const { return touchedNodes_; }
     /// The springs with an awake end.
     std::span<const std::uint32_t> springs() const { return activeSprings_; }
+    /// 1 for an awake node, per node of the model.
+    std::span<const std::uint8_t> awakeFlags() const { return awake_; }
 
 private:
     void rebuild(const MassSpringModel& model, const NodeSprings& springsAt);

@@ -1,5 +1,6 @@
 // The Stepper: preparation, edits after cuts, substepping, the snap-back rule, and one substep function
-// per scheme (explicit Euler, midpoint and classic RK4 as in the thesis; symplectic Euler).
+// per scheme (explicit Euler, midpoint and classic RK4 as in the thesis; symplectic Euler), and
+// Provot's strain limit after a step when it is on.
 #include "hapticut/physics/integrators.h"
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 
 #include "hapticut/common/reserve.h"
 #include "hapticut/physics/spring_forces.h"
+#include "hapticut/physics/strain_limit.h"
 
 namespace hapticut::physics {
 
@@ -134,6 +136,14 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
     } else {
         const double h = dt_s / result.substeps;
         for (int i = 0; i < result.substeps; ++i) substep(model, h);
+    }
+    if (strainLimit_ > 0) {
+        // Over the springs the step integrated; a resting neighbour of the region stays at rest.
+        const std::span<const std::uint32_t> springs =
+            activeRegion_ ? region_.springs() : std::span<const std::uint32_t>(allSprings_);
+        const std::span<const std::uint8_t> movable =
+            activeRegion_ ? region_.awakeFlags() : std::span<const std::uint8_t>();
+        limitStrain(model, springs, strainLimit_, movable);
     }
 
     for (std::uint32_t i : nodes) {

@@ -49,6 +49,10 @@ public:
     /// When the implicit scheme's linear solve stops.
     void setSolverSettings(SolverSettings settings) { implicit_.setSettings(settings); }
     const SolverSettings& solverSettings() const { return implicit_.settings(); }
+    /// Provot's strain limit (strain_limit.h) after every step: springs stretched more than this share
+    /// of their rest length are pulled back to it; 0: off.
+    void setStrainLimit(double maxStrain) { strainLimit_ = maxStrain; }
+    double strainLimit() const { return strainLimit_; }
     /// Substeps are off when false: every step is taken as asked, stable or not.
     void setAutoSubstep(bool on) { autoSubstep_ = on; }
     double stableStep_s() const { return stableDt_; }
@@ -88,6 +92,7 @@ private:
     bool autoSubstep_ = true;
     double stableDt_ = 0, rawStableDt_ = 0;  // with and without the safety factor
     double toolStiffness_ = 0;
+    double strainLimit_ = 0;
     std::size_t preparedNodes_ = static_cast<std::size_t>(-1), preparedSprings_ = 0;
     std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
     std::vector<std::uint32_t> allNodes_, allSprings_;

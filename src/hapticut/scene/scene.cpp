@@ -25,6 +25,7 @@ haptics::LoopConfig Scene::loopConfig() const {
     config.proxy.dynamicFriction = settings.dynamicFriction;
     config.toughness_J_per_m2 = settings.toughness_J_per_m2;
     config.bulkModulus_Pa = settings.bulkModulus_Pa;
+    config.strainLimit = settings.strainLimit;
     return config;
 }
 

@@ -234,7 +234,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
         if (const toml::table* m = subTable(root, "material")) {
             allowOnly(*m, "material",
                       {"mass_kg", "structural_stiffness_N", "structural_damping_Ns", "positioning_stiffness_N_per_m3",
-                       "positioning_damping_Ns_per_m3", "toughness_J_per_m2", "bulk_modulus_Pa"});
+                       "positioning_damping_Ns_per_m3", "toughness_J_per_m2", "bulk_modulus_Pa", "strain_limit"});
             physics::Material& mat = s.material;
             mat.totalMass_kg = number(*m, "material", "mass_kg", mat.totalMass_kg, 1e-9, 1e6);
             mat.structuralStiffness_N =
@@ -248,6 +248,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
             if (m->contains("toughness_J_per_m2"))
                 s.toughness_J_per_m2 = number(*m, "material", "toughness_J_per_m2", 0, 1e-3, 1e7);
             s.bulkModulus_Pa = number(*m, "material", "bulk_modulus_Pa", s.bulkModulus_Pa, 0, 1e9);
+            s.strainLimit = number(*m, "material", "strain_limit", s.strainLimit, 0, 10);
             s.materialGiven = true;
         }
         if (const toml::node* tools = root.get("tools")) {

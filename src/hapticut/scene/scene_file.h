@@ -52,6 +52,8 @@ struct SceneFile {
     std::optional<double> toughness_J_per_m2;
     /// [material] bulk_modulus_Pa: a closed organ keeps its volume by a pressure of this modulus; 0: off.
     double bulkModulus_Pa = 0;
+    /// [material] strain_limit: Provot's limit on spring stretch (0.1: 10%); 0: off.
+    double strainLimit = 0;
     // [[tools]]
     std::vector<SceneTool> tools;
     // [device]
