@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "hapticut/collision/bvh.h"
 #include "hapticut/common/latency_histogram.h"
+#include "hapticut/common/output_path.h"
 #include "hapticut/haptics/contact_footprint.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/proxy.h"
@@ -188,6 +189,10 @@ void perturb(physics::MassSpringModel& model, std::mt19937& rng) {
 
 int bench(const BenchOptions& o) {
     using Clock = std::chrono::steady_clock;
+    if (const Status unwritable = checkOutputPath(o.json)) {
+        std::cerr << "hapticut bench: " << unwritable->toString() << "\n";
+        return 2;
+    }
     std::vector<physics::Scheme> schemes;
     for (const std::string& name : o.integrators) {
         const auto s = physics::parseScheme(name);

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "hapticut/common/line_reader.h"
+#include "hapticut/common/output_path.h"
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/mesh/mesh_report.h"
@@ -28,6 +29,10 @@ struct ConvertOptions {
 int convert(const ConvertOptions& o) {
     if (!mesh::io::formatFromExtension(o.out)) {
         std::cerr << "hapticut convert: cannot write '" << o.out << "': expected .txt (thesis format), .obj or .ply\n";
+        return 2;
+    }
+    if (const Status unwritable = checkOutputPath(o.out)) {
+        std::cerr << "hapticut convert: " << unwritable->toString() << "\n";
         return 2;
     }
     auto source = loadModelSource(o.in, o.triangles);

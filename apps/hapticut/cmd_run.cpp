@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "hapticut/common/line_reader.h"
+#include "hapticut/common/output_path.h"
 #include "hapticut/common/stop_signal.h"
 #include "hapticut/common/text_file.h"
 #include "hapticut/haptics/replay_device.h"
@@ -428,6 +429,11 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
 }
 
 int run(RunOptions& o) {
+    // Every file the run will write, checked before it starts: a typo must not cost a long run its results.
+    if (const Status unwritable = checkOutputPaths({o.report, o.forceLog, o.record, o.exportMesh})) {
+        std::cerr << "hapticut run: " << unwritable->toString() << "\n";
+        return 2;
+    }
     const auto request = sceneRequest(o);
     if (!request) return 2;
     auto settings = scene::sceneSettings(*request);

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "hapticut/common/output_path.h"
 #include "hapticut/cutting/cut_model.h"
 #include "hapticut/haptics/trajectory.h"
 #include "hapticut/scene/haptic_run.h"
@@ -38,6 +39,10 @@ int screenshot(ScreenshotOptions& o) {
     if (!stereo) {
         std::cerr << "hapticut screenshot: unknown --stereo '" << o.stereo
                   << "': expected off, quad, anaglyph or side-by-side\n";
+        return 2;
+    }
+    if (const Status unwritable = checkOutputPath(o.out, ".png")) {
+        std::cerr << "hapticut screenshot: " << unwritable->toString() << "\n";
         return 2;
     }
     if (o.at_s >= 0 && o.trajectory.empty()) {

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "hapticut/common/output_path.h"
 #include "hapticut/common/stop_signal.h"
 #include "hapticut/cutting/stroke_fuzzer.h"
 #include "hapticut/scene/scene.h"
@@ -21,6 +22,10 @@ struct SoakOptions {
 };
 
 int soak(SoakOptions& o) {
+    if (const Status unwritable = checkOutputPath(o.report)) {
+        std::cerr << "hapticut soak: " << unwritable->toString() << "\n";
+        return 2;
+    }
     scene::SceneRequest request;
     request.overrides.model = o.model;
     request.overrides.triangles = o.triangles;

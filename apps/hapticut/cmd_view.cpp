@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "commands.h"
+#include "hapticut/common/output_path.h"
 #include "hapticut/haptics/device_name.h"
 #include "terminal.h"
 #include "viewer/viewer.h"
@@ -45,6 +46,10 @@ int view(ViewCommandOptions& o) {
     o.viewer.hands = std::max(o.viewer.hands, static_cast<int>(o.viewer.devices.size()));
     if (!o.viewer.screenshot.empty() && o.viewer.frames < 0) {
         std::cerr << "hapticut view: --screenshot needs --frames: it captures the last frame\n";
+        return 2;
+    }
+    if (const Status unwritable = checkOutputPath(o.viewer.screenshot, ".png")) {
+        std::cerr << "hapticut view: " << unwritable->toString() << "\n";
         return 2;
     }
     return viewer::runViewer(o.viewer);

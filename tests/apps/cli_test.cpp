@@ -1,6 +1,8 @@
 // The hapticut executable end to end: reports, conversions, errors and exit codes, shipped assets.
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 #include <sys/wait.h>
 #include <algorithm>
 #include <cstdlib>
@@ -115,6 +117,53 @@ TEST_F(Cli, BadArgumentsAreExplained) {
     r = run("convert heart " + path("x.stl"));  // STL is read, not written
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(r.err.find("expected .txt (thesis format), .obj or .ply"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, EveryMistakeInTheArgumentsExitsWithTwoAndSaysWhat) {
+    const struct {
+        std::string command, says;
+    } cases[] = {
+        {"viwe", "'viwe' is not a command; did you mean 'view'?"},
+        {"sok --strokes 1", "did you mean 'soak'?"},
+        {"frobnicate", "'frobnicate' is not a command\ncommands: "},
+        {"run --dt abc", "--dt: expected a number, found 'abc'"},
+        {"run --steps -5", "--steps: -5 is out of range; allowed: 0 to 1e+09"},
+        {"run --bogus", "--bogus"},
+        {"", "A subcommand is required"},
+        {"soak --strokes", "--strokes"},
+    };
+    for (const auto& c : cases) {
+        const CliResult r = run(c.command);
+        EXPECT_EQ(r.exitCode, 2) << c.command << ": " << r.err;
+        EXPECT_NE(r.err.find(c.says), std::string::npos) << c.command << ": " << r.err;
+    }
+    EXPECT_EQ(run("--version").exitCode, 0);
+    EXPECT_EQ(run("run --help").exitCode, 0);
+}
+
+TEST_F(Cli, OutputsThatCannotBeWrittenAreRefusedBeforeTheRunStarts) {
+    const std::string missing = path("no-such-folder") + "/r.json";
+    const struct {
+        std::string command, says;
+    } cases[] = {
+        {"run --steps 100000000 --report " + missing, "no-such-folder/r.json: cannot write it: there is no folder"},
+        {"run --trajectory " + std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/press-front.csv --force-log " +
+             path(""),
+         "is a folder, expected a file"},
+        {"soak --strokes 100000000 --report " + missing, "there is no folder"},
+        {"convert heart " + path("no-such-folder") + "/h.obj", "there is no folder"},
+        {"bench --json " + missing, "there is no folder"},
+        {"screenshot --out " + path("shot.jpg"), "shot.jpg: cannot write it: expected a .png file"},
+    };
+    for (const auto& c : cases) {
+        const auto start = std::chrono::steady_clock::now();
+        const CliResult r = run(c.command);
+        EXPECT_EQ(r.exitCode, 2) << c.command << ": " << r.err;
+        if (r.err.find("'screenshot' is not a command") != std::string::npos) continue;  // built without the viewer
+        EXPECT_NE(r.err.find(c.says), std::string::npos) << c.command << ": " << r.err;
+        // A hundred million steps or strokes would take hours: refused before any of them.
+        EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 20) << c.command;
+    }
 }
 
 TEST_F(Cli, ShippedAssetsAreWhatTheCodeGenerates) {
