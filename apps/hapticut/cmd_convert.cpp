@@ -14,6 +14,7 @@
 #include "hapticut/mesh/repair.h"
 #include "hapticut/physics/material.h"
 #include "terminal.h"
+#include "unit_options.h"
 
 namespace hapticut::app {
 
@@ -22,6 +23,7 @@ namespace {
 struct ConvertOptions {
     std::string in, out;
     int triangles = 1619;
+    UnitOptions units;
     std::optional<double> mass, ks, kd, kp, kdp, weld;
     bool fitUnitBox = false, repair = false;
 };
@@ -38,6 +40,7 @@ int convert(const ConvertOptions& o) {
     auto source = loadModelSource(o.in, o.triangles);
     if (!source) return 1;
     mesh::SurfaceMesh& m = source->mesh;
+    applyUnits(o.units, m.positions, source->name);
     if (o.weld || o.repair) {
         mesh::RepairOptions options;
         options.weldEpsilon_m = o.weld.value_or(-1);
@@ -58,7 +61,8 @@ int convert(const ConvertOptions& o) {
     if (o.fitUnitBox) {
         mesh::fitUnitBox(m);
         mesh::computeFaceNormals(m);
-        std::cout << "  fitted into the unit box centred at the origin\n";
+        std::cout << "  fitted into the unit box centred at the origin (1 m across: the thesis's convention, not "
+                     "an organ's size)\n";
         if (!source->fromThesisFile) source->physics = physics::thesisPhysicsFor(m, physics::Material{});
     }
     if (o.mass) source->physics.mass = *o.mass;
@@ -97,6 +101,7 @@ Command addConvertCommand(CLI::App& app) {
         "Import a mesh (thesis .txt, OBJ, PLY, STL, glTF, 3DS, FBX, Collada, ...), clean it, write .txt/.obj/.ply");
     cmd->add_option("in", o->in, "Input file, or 'heart' for the procedural heart")->required();
     cmd->add_option("out", o->out, "Output file (.txt, .obj or .ply)")->required();
+    addUnitOptions(cmd, o->units);
     cmd->add_option("--triangles", o->triangles, "Triangle count when the input is 'heart'")
         ->capture_default_str()
         ->check(CLI::Range(12, 20'000'000));

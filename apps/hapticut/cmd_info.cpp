@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "terminal.h"
+#include "unit_options.h"
 
 namespace hapticut::app {
 
@@ -16,11 +17,13 @@ struct InfoOptions {
     std::string model;
     int triangles = 1619;
     bool json = false;
+    UnitOptions units;
 };
 
 int info(const InfoOptions& o) {
-    const auto source = loadModelSource(o.model, o.triangles);
+    auto source = loadModelSource(o.model, o.triangles);
     if (!source) return 1;
+    applyUnits(o.units, source->mesh.positions, source->name);
     const mesh::MeshReport r = mesh::validateMesh(source->mesh);
     if (o.json) {
         nlohmann::ordered_json j;
@@ -85,6 +88,7 @@ Command addInfoCommand(CLI::App& app) {
     auto o = std::make_shared<InfoOptions>();
     CLI::App* cmd = app.add_subcommand("info", "Validate a mesh: counts, boundary, manifoldness, orientation, quality");
     cmd->add_option("model", o->model, "'heart' or a model/tool file (.txt, .obj, .ply)")->required();
+    addUnitOptions(cmd, o->units);
     cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")
         ->capture_default_str()
         ->check(CLI::Range(12, 20'000'000));

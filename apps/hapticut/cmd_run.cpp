@@ -18,9 +18,11 @@
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/scene/haptic_run.h"
 #include "hapticut/scene/headless_run.h"
+#include "hapticut/scene/model_size.h"
 #include "hapticut/scene/open_device.h"
 #include "hapticut/scene/scene.h"
 #include "terminal.h"
+#include "unit_options.h"
 
 namespace hapticut::app {
 
@@ -49,6 +51,7 @@ struct RunOptions {
     double couplingStiffness_N_per_m = haptics::LoopConfig{}.couplingStiffness_N_per_m;
     std::string friction;  // "static,dynamic"
     std::string scene;
+    UnitOptions units;
     std::set<std::string> given;  // options given on the command line: they override the scene
 };
 
@@ -58,6 +61,7 @@ std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
     scene::SceneRequest request;
     request.file = o.scene;
     scene::SceneOverrides& over = request.overrides;
+    over.scale = o.units.factor();
     auto given = [&](const char* option) { return o.given.count(option) > 0; };
     if (given("--model")) over.model = o.model;
     if (given("--triangles")) over.triangles = o.triangles;
@@ -204,9 +208,14 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
             std::cerr << "hapticut run: " << device.error().toString() << "\n";
             return 1;
         }
-        if (const auto* replay = dynamic_cast<const haptics::ReplayDevice*>(device->device.get()))
+        if (const auto* replay = dynamic_cast<const haptics::ReplayDevice*>(device->device.get())) {
             replayDuration_s = std::max(replayDuration_s, replay->trajectory().duration_s());
-        else
+            std::vector<Vec3> path;
+            for (const haptics::TrajectoryPoint& p : replay->trajectory().points) path.push_back(p.sample.position_m);
+            if (const auto far =
+                    scene::farFromModelWarning(source->mesh.positions, path, "the device's path", spec.argument))
+                std::cerr << "warning: " << far->toString() << "\n";
+        } else
             live = true;
         std::cerr << "hapticut run: hand " << opened.size() + 1 << ": " << device->description << "\n";
         opened.push_back(std::move(*device));
@@ -473,6 +482,10 @@ int run(RunOptions& o) {
     const auto scene = app::assembleScene(request->file, std::move(*settings));
     if (!scene) return 1;
     const scene::ModelSource* source = &scene->source;
+    if (config.force)
+        if (const auto far = scene::farFromModelWarning(source->mesh.positions, std::span(&config.force->at_m, 1),
+                                                        "--force-at " + o.forceAt))
+            std::cerr << "warning: " << far->toString() << "\n";
     physics::MassSpringModel model = scene->buildModel();
     std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes, " << model.springs.size()
               << " springs, integrator " << physics::schemeName(config.scheme) << ", dt " << config.dt_s << " s, "
@@ -555,6 +568,7 @@ Command addRunCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("run", "Simulate a model headless and report what happened");
     cmd->add_option("--model", o->model, "'heart' (procedural) or a model file (.txt thesis format, .obj, .ply)")
         ->capture_default_str();
+    addUnitOptions(cmd, o->units);
     cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")
         ->capture_default_str()
         ->check(CLI::Range(12, 20'000'000));

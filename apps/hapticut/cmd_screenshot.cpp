@@ -14,6 +14,7 @@
 #include "render/offscreen.h"
 #include "render/renderer.h"
 #include "terminal.h"
+#include "unit_options.h"
 
 namespace hapticut::app {
 
@@ -23,6 +24,7 @@ struct ScreenshotOptions {
     scene::SceneRequest scene;
     std::string model, size = "1280x1024", out, trajectory, tool, stereo = "off";
     int triangles = 1619;
+    UnitOptions units;
     double at_s = -1;
     bool wireframe = false, noBump = false, noWalls = false;
     double yaw_deg = 0, pitch_deg = 12, zoom = 1;
@@ -184,9 +186,11 @@ Command addScreenshotCommand(CLI::App& app) {
         ->check(CLI::Range(0.05, 50.0));
     cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT")->capture_default_str();
     cmd->add_option("--out", o->out, "The PNG to write")->required();
+    addUnitOptions(cmd, o->units);
     cmd->callback([o, cmd] {
         if (cmd->count("--model")) o->scene.overrides.model = o->model;
         if (cmd->count("--triangles")) o->scene.overrides.triangles = o->triangles;
+        o->scene.overrides.scale = o->units.factor();
     });
     return [o] { return screenshot(*o); };
 }

@@ -9,6 +9,7 @@
 #include "hapticut/cutting/stroke_fuzzer.h"
 #include "hapticut/scene/scene.h"
 #include "terminal.h"
+#include "unit_options.h"
 
 namespace hapticut::app {
 
@@ -17,6 +18,7 @@ namespace {
 struct SoakOptions {
     std::string model = "heart", report;
     int triangles = 1619;
+    UnitOptions units;
     cutting::StrokeFuzzConfig fuzz;
     bool checkEveryStroke = false;
 };
@@ -29,6 +31,7 @@ int soak(SoakOptions& o) {
     scene::SceneRequest request;
     request.overrides.model = o.model;
     request.overrides.triangles = o.triangles;
+    request.overrides.scale = o.units.factor();
     const auto scene = app::loadScene(request);
     if (!scene) return 1;
     const scene::ModelSource* source = &scene->source;
@@ -91,6 +94,7 @@ Command addSoakCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "soak", "Cut a model with random scalpel strokes, checking every cutting invariant as it goes");
     cmd->add_option("--model", o->model, "'heart' or a model file")->capture_default_str();
+    addUnitOptions(cmd, o->units);
     cmd->add_option("--triangles", o->triangles, "Triangle count of the procedural heart")
         ->capture_default_str()
         ->check(CLI::Range(12, 20'000'000));

@@ -8,6 +8,7 @@
 #include "hapticut/common/output_path.h"
 #include "hapticut/haptics/device_name.h"
 #include "terminal.h"
+#include "unit_options.h"
 #include "viewer/viewer.h"
 
 namespace hapticut::app {
@@ -17,6 +18,7 @@ namespace {
 struct ViewCommandOptions {
     viewer::ViewerOptions viewer;
     std::string model, stereo = "off", size = "1280x1024";
+    UnitOptions units;
     int triangles = 1619;
 };
 
@@ -91,12 +93,14 @@ Command addViewCommand(CLI::App& app) {
         ->check(CLI::Range(0L, 100'000'000L));
     cmd->add_option("--quit-after", o->viewer.quitAfter_s, "Quit after this many seconds (scripted runs)")
         ->check(CLI::Range(0.0, 1e7));
+    addUnitOptions(cmd, o->units);
     cmd->add_option("--screenshot", o->viewer.screenshot,
                     "With --frames: write the last frame (panel and all) as a PNG");
     cmd->add_option("--report", o->viewer.report, "Write a JSON report: frames, frame rate, haptic rate, renderer");
     cmd->callback([o, cmd] {
         if (cmd->count("--model")) o->viewer.scene.overrides.model = o->model;
         if (cmd->count("--triangles")) o->viewer.scene.overrides.triangles = o->triangles;
+        o->viewer.scene.overrides.scale = o->units.factor();
         o->viewer.devicesGiven = cmd->count("--device") > 0;
     });
     return [o] { return view(*o); };

@@ -166,6 +166,41 @@ TEST_F(Cli, OutputsThatCannotBeWrittenAreRefusedBeforeTheRunStarts) {
     }
 }
 
+TEST_F(Cli, AMillimetreModelIsWarnedAboutAndLoadsRightWithUnits) {
+    // The heart written in millimetres, as segmentation tools write organs.
+    ASSERT_EQ(run("convert heart " + path("h.obj")).exitCode, 0);
+    {
+        std::ifstream in(path("h.obj"));
+        std::ofstream out(path("mm.obj"));
+        for (std::string line; std::getline(in, line);) {
+            if (line.rfind("v ", 0) == 0) {
+                std::istringstream v(line.substr(2));
+                double x, y, z;
+                v >> x >> y >> z;
+                out << "v " << x * 1000 << " " << y * 1000 << " " << z * 1000 << "\n";
+            } else {
+                out << line << "\n";
+            }
+        }
+    }
+    CliResult r = run("info " + path("mm.obj"));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("give --units mm (it is then 12 cm across)"), std::string::npos) << r.err;
+    r = run("info --units mm --json " + path("mm.obj"));
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+    const std::string trajectory = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/press-front.csv";
+    r = run("run --model " + path("mm.obj") + " --units mm --trajectory " + trajectory + " --report " + path("r.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+    std::ifstream report(path("r.json"));
+    const auto j = nlohmann::json::parse(report);
+    EXPECT_GT(j["contact_steps"].get<long>(), 500) << "the shipped press reaches the organ in metres";
+    // The same press in millimetres never comes near the organ, and says so.
+    r = run("run --model " + path("mm.obj") + " --units mm --scale 1 --force-at 0,-10,50 --force 0,0,-1 --steps 5");
+    EXPECT_NE(r.err.find("--force-at 0,-10,50 never comes near the model"), std::string::npos) << r.err;
+    EXPECT_EQ(run("run --units inch --steps 1").exitCode, 2);
+}
+
 TEST_F(Cli, ShippedAssetsAreWhatTheCodeGenerates) {
     const CliResult r = run("assets --out " + dir_.string());
     ASSERT_EQ(r.exitCode, 0) << r.err;

@@ -4,6 +4,7 @@
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/physics/material.h"
+#include "hapticut/scene/model_size.h"
 
 namespace hapticut::scene {
 
@@ -51,6 +52,7 @@ Result<ToolTip, Error> toolTip(const SceneFile& settings, const std::string& nam
 void applyOverrides(const SceneOverrides& o, SceneFile& s) {
     if (o.model) s.model = *o.model;
     if (o.triangles) s.triangles = *o.triangles;
+    if (o.scale) s.scale = *o.scale;
     if (o.scheme) s.scheme = *o.scheme;
     if (o.solverTolerance) s.solver.tolerance = *o.solverTolerance;
     if (o.solverMaxIterations) s.solver.maxIterations = *o.solverMaxIterations;
@@ -84,6 +86,8 @@ Result<Scene, Error> assembleScene(std::filesystem::path file, SceneFile setting
     if (!source) return unexpected(source.error());
     scene.source = std::move(*source);
     applyPlacement(scene.settings, scene.source.mesh.positions);
+    if (auto unusual = sizeWarning(scene.source.mesh.positions, scene.source.name))
+        scene.source.warnings.push_back(std::move(*unusual));
     mesh::computeFaceNormals(scene.source.mesh);
     for (const SceneTool& t : scene.settings.tools) {
         Tool tool{t.name, {}, t.threshold_N, t.tipRadius_m};

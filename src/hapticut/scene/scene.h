@@ -27,6 +27,7 @@ struct SceneOverrides {
     std::optional<double> couplingStiffness_N_per_m;
     std::optional<std::array<double, 2>> friction;  // static, dynamic
     std::optional<std::string> trajectory;          // the first device replays it
+    std::optional<double> scale;                    // the model's scale ([model] scale): --units, --scale
 };
 
 struct SceneRequest {

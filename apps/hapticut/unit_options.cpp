@@ -1,0 +1,32 @@
+// --units and --scale.
+#include "unit_options.h"
+
+#include <iostream>
+
+#include "hapticut/scene/model_size.h"
+
+namespace hapticut::app {
+
+std::optional<double> UnitOptions::factor() const {
+    if (units.empty() && !scaleGiven) return std::nullopt;
+    return scene::unitScale(units.empty() ? "m" : units).value_or(1.0) * scale;
+}
+
+void addUnitOptions(CLI::App* cmd, UnitOptions& o) {
+    cmd->add_option("--units", o.units,
+                    "The unit the model file's coordinates are in: mm (most segmentation tools), cm or m "
+                    "(the default); overrides a scene's [model] scale")
+        ->check(CLI::IsMember({"mm", "cm", "m"}));
+    cmd->add_option_function<double>(
+           "--scale", [&o](double s) { o.scale = s, o.scaleGiven = true; },
+           "Multiply the model's coordinates by this (after --units)")
+        ->check(CLI::Range(1e-9, 1e9));
+}
+
+void applyUnits(const UnitOptions& o, std::span<Vec3> positions, const std::string& name) {
+    if (const auto f = o.factor())
+        for (Vec3& p : positions) p *= *f;
+    if (const auto unusual = scene::sizeWarning(positions, name)) std::cerr << "warning: " << unusual->toString() << "\n";
+}
+
+}  // namespace hapticut::app

@@ -1,0 +1,30 @@
+// --units and --scale: the unit a model file's coordinates are in, for every command that loads one.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <span>
+#include <string>
+
+#include "hapticut/geometry/vec.h"
+
+namespace hapticut::app {
+
+struct UnitOptions {
+    std::string units;  // mm, cm or m; empty: not given
+    double scale = 1;
+    bool scaleGiven = false;
+
+    /// What the model's coordinates are multiplied by: the unit's scale times --scale; nothing when
+    /// neither was given (a scene's own [model] scale then holds).
+    std::optional<double> factor() const;
+};
+
+void addUnitOptions(CLI::App* cmd, UnitOptions& options);
+
+/// Scales `positions` by the options' factor, if any, and prints a warning naming `name` when the
+/// result does not have the size of an organ (scene::sizeWarning).
+void applyUnits(const UnitOptions& options, std::span<Vec3> positions, const std::string& name);
+
+}  // namespace hapticut::app
