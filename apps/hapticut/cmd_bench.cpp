@@ -22,6 +22,7 @@
 #include "hapticut/physics/solver_kernels.h"
 #include "hapticut/scene/bench_scenes.h"
 #include "hapticut/scene/sample_trajectories.h"
+#include "provenance.h"
 #include "terminal.h"
 #ifdef HAPTICUT_WITH_VIEWER
 #include "bench/frame_rate.h"
@@ -291,6 +292,7 @@ int bench(const BenchOptions& o) {
 #endif
     if (!o.json.empty()) {
         nlohmann::ordered_json j;
+        j["provenance"] = provenance();
         j["benchmark"] = "integrator step on the procedural heart, one thread";
         j["simd_target"] = physics::kernels::targetName();
         j["simd_targets_supported"] = physics::kernels::supportedTargets();

@@ -21,6 +21,7 @@
 #include "hapticut/scene/model_size.h"
 #include "hapticut/scene/open_device.h"
 #include "hapticut/scene/scene.h"
+#include "provenance.h"
 #include "terminal.h"
 #include "unit_options.h"
 
@@ -97,6 +98,7 @@ std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
 nlohmann::ordered_json reportHeader(const scene::ModelSource& source, const physics::MassSpringModel& model,
                                     physics::Scheme requested, physics::Scheme scheme) {
     nlohmann::ordered_json j;
+    j["provenance"] = provenance();
     j["model"] = source.name;
     j["vertices"] = source.mesh.positions.size();
     j["faces"] = source.mesh.faces.size();

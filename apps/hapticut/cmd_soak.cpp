@@ -8,6 +8,7 @@
 #include "hapticut/common/stop_signal.h"
 #include "hapticut/cutting/stroke_fuzzer.h"
 #include "hapticut/scene/scene.h"
+#include "provenance.h"
 #include "terminal.h"
 #include "unit_options.h"
 
@@ -59,6 +60,7 @@ int soak(SoakOptions& o) {
               << r.cutAt_us.max << " us max\n";
     if (!o.report.empty()) {
         nlohmann::ordered_json j;
+        j["provenance"] = provenance();
         j["model"] = source->name;
         j["faces"] = source->mesh.faces.size();
         j["seed"] = o.fuzz.seed;

@@ -11,6 +11,7 @@
 
 #include "commands.h"
 #include "hapticut/common/temp_files.h"
+#include "provenance.h"
 
 namespace {
 
@@ -80,6 +81,7 @@ int main(int argc, char** argv) {
     // No setlocale(LC_ALL, ""): output stays in the "C" locale, so numbers always print with a decimal point.
     // A signal that ends a command removes the temporary file it was writing; the target stays as it was.
     hapticut::removeTempFilesOnSignals();
+    hapticut::app::recordCommandLine(argc, argv);
     CLI::App app{"Hapticut: haptic soft-tissue simulator (mass-spring organ models, proxy haptics, cutting)",
                  "hapticut"};
     app.require_subcommand(1);

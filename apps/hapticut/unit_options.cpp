@@ -26,7 +26,8 @@ void addUnitOptions(CLI::App* cmd, UnitOptions& o) {
 void applyUnits(const UnitOptions& o, std::span<Vec3> positions, const std::string& name) {
     if (const auto f = o.factor())
         for (Vec3& p : positions) p *= *f;
-    if (const auto unusual = scene::sizeWarning(positions, name)) std::cerr << "warning: " << unusual->toString() << "\n";
+    if (const auto unusual = scene::sizeWarning(positions, name))
+        std::cerr << "warning: " << unusual->toString() << "\n";
 }
 
 }  // namespace hapticut::app

@@ -54,6 +54,14 @@ TEST_F(Cli, RunWritesAReportWithEveryKey) {
         EXPECT_TRUE(j.contains(key)) << key;
     for (const char* key : {"mean", "p50", "p99", "max"}) EXPECT_TRUE(j["step_us"].contains(key)) << key;
     EXPECT_EQ(j["model"], "heart");
+    // What produced it: the build, the command as given, and the machine.
+    const auto& made = j["provenance"];
+    EXPECT_EQ(made["hapticut"], "0.1.0");
+    EXPECT_FALSE(made["commit"].get<std::string>().empty());
+    EXPECT_NE(made["command"].get<std::string>().find("run --steps 400 --force-at 0,-0.01,0.05"), std::string::npos)
+        << made["command"];
+    EXPECT_FALSE(made["cpu"].get<std::string>().empty());
+    EXPECT_FALSE(made["simd_target"].get<std::string>().empty());
     EXPECT_NEAR(j["faces"].get<double>(), 1619, 0.02 * 1619);
     EXPECT_EQ(j["integrator"], "rk4");
     EXPECT_EQ(j["steps"], 400);

@@ -202,7 +202,9 @@ TEST(Interrupt, ARunOfABillionStepsHoldsConstantMemoryUntilStopped) {
     const auto [early, late] = p.residentThenInterrupt(3s, 10s);
     ASSERT_EQ(p.wait(), 128 + SIGINT) << slurp(dir / "err");
     const auto j = nlohmann::json::parse(slurp(dir / "r.json"));
-    EXPECT_GT(j["steps"].get<long>(), 100'000) << "ten seconds of simulated-time steps";
+    // Far enough to see memory over: after the cut its opened wound keeps tissue awake, so a step costs
+    // some 50 µs, and a loaded machine runs two tests at once.
+    EXPECT_GT(j["steps"].get<long>(), 50'000) << "ten seconds of simulated-time steps";
     EXPECT_GT(early, 0);
     EXPECT_LT(late - early, 4'000) << "kB grown between 3 s and 10 s, over " << j["steps"] << " steps";
     EXPECT_EQ(completeCsvRows(dir / "f.csv"), j["steps"].get<long>());

@@ -50,7 +50,8 @@ std::optional<Warning> sizeWarning(std::span<const Vec3> positions, const std::s
                           lengthText(kSmallestOrgan_m) + " to " + lengthText(kLargestOrgan_m) +
                           " (coordinates are read as metres)";
     if (best)
-        message += "; if the file is in " + std::string(best) + ", give --units " + best + " (it is then " + lengthText(extent_m * bestScale) +
+        message += "; if the file is in " + std::string(best) + ", give --units " + best + " (it is then " +
+                   lengthText(extent_m * bestScale) +
                    " across), or [model] scale = " + (bestScale == 0.001 ? "0.001" : "0.01") + " in a scene";
     else
         message += "; give --scale to bring it to an organ's size";
