@@ -50,6 +50,10 @@ int view(ViewCommandOptions& o) {
         std::cerr << "hapticut view: --screenshot needs --frames: it captures the last frame\n";
         return 2;
     }
+    if (const Status unwritable = checkOutputPaths({o.viewer.record, o.viewer.report})) {
+        std::cerr << "hapticut view: " << unwritable->toString() << "\n";
+        return 2;
+    }
     if (const Status unwritable = checkOutputPath(o.viewer.screenshot, ".png")) {
         std::cerr << "hapticut view: " << unwritable->toString() << "\n";
         return 2;
@@ -97,6 +101,8 @@ Command addViewCommand(CLI::App& app) {
     cmd->add_option("--screenshot", o->viewer.screenshot,
                     "With --frames: write the last frame (panel and all) as a PNG");
     cmd->add_option("--report", o->viewer.report, "Write a JSON report: frames, frame rate, haptic rate, renderer");
+    cmd->add_option("--record", o->viewer.record,
+                    "Record the device path at the haptic loop's rate, with the force, as a trajectory (CSV)");
     cmd->callback([o, cmd] {
         if (cmd->count("--model")) o->viewer.scene.overrides.model = o->model;
         if (cmd->count("--triangles")) o->viewer.scene.overrides.triangles = o->triangles;

@@ -15,7 +15,7 @@
 
 namespace {
 
-/// Exit status for arguments the command cannot take (the README's promise).
+/// Exit status for arguments the command cannot take, as docs/commands.md promises.
 constexpr int kBadArguments = 2;
 
 /// Edits from one word to the other (insert, delete, replace, swap two neighbours).

@@ -101,13 +101,14 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
 
 }  // namespace
 
-void finishRecording(PanelState& state) {
-    if (!state.recorder) return;
-    const std::vector<Error> errors = state.recorder->finish();
-    state.message = !errors.empty()
-                        ? errors.front().toString()
-                        : "wrote " + std::to_string(state.recorder->rowsWritten()) + " samples to " + state.recordPath;
-    state.recorder.reset();
+void finishRecording(scene::Simulation& session, PanelState& state) {
+    if (!session.recording()) return;
+    const std::string file = session.recordingFile();
+    const long rows = session.recordedSteps(), dropped = session.droppedRecordingSteps();
+    const std::vector<Error> errors = session.stopRecording();
+    state.message = !errors.empty() ? errors.front().toString()
+                                    : "wrote " + std::to_string(rows) + " steps to " + file +
+                                          (dropped > 0 ? " (" + std::to_string(dropped) + " dropped)" : "");
 }
 
 void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& s, const Rates& rates,
@@ -220,13 +221,11 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
     }
     ImGui::InputText("##record", &state.recordPath);
     ImGui::SameLine();
-    if (!state.recorder && ImGui::Button("record")) {
-        auto recorder = haptics::StepLogWriter::open({{state.recordPath, haptics::StepLogColumns::Recording}},
-                                                     haptics::StepLogWriter::WhenFull::Drop);
-        state.message = recorder ? "recording the device path" : recorder.error().toString();
-        if (recorder) state.recorder = std::move(*recorder);
-    } else if (state.recorder && ImGui::Button("stop")) {
-        finishRecording(state);
+    if (!session.recording() && ImGui::Button("record")) {
+        const Status failed = session.startRecording(state.recordPath);
+        state.message = failed ? failed->toString() : "recording the device path at the loop's rate";
+    } else if (session.recording() && ImGui::Button("stop")) {
+        finishRecording(session, state);
     }
     ImGui::InputText("##replay", &state.replayPath);
     ImGui::SameLine();

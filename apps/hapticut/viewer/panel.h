@@ -23,12 +23,10 @@ struct PanelState {
     std::string modelPath, toolPath, exportPath = "heart-cut.obj", replayPath, recordPath = "recording.csv";
     std::string message;
     float maxForceScale = 1;  // of the device's maximum force
-    /// While recording: the device path at the display rate, streamed to recordPath as it goes.
-    std::unique_ptr<haptics::StepLogWriter> recorder;
 };
 
-/// Ends a recording, if one runs: its file replaces recordPath; what happened goes to state.message.
-void finishRecording(PanelState& state);
+/// Ends the session's recording, if one runs: its file is complete; what happened goes to state.message.
+void finishRecording(scene::Simulation& session, PanelState& state);
 
 void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& snapshot,
                const Rates& rates, const ForcePlot& plot, PanelState& state);

@@ -283,6 +283,13 @@ int Viewer::run() {
     ImGui_ImplOpenGL3_Init("#version 330 core");
     glfwSwapInterval(options_.frames >= 0 ? 0 : 1);  // scripted runs measure the frame rate, unthrottled
 
+    if (!options_.record.empty()) {  // --record: from the first step
+        if (const Status failed = session_.startRecording(options_.record)) {
+            std::cerr << "hapticut view: " << failed->toString() << "\n";
+            return 1;
+        }
+        panel_.recordPath = options_.record;
+    }
     long frames = 0;
     int fbw = 0, fbh = 0;
     const auto start = Clock::now();
@@ -307,13 +314,6 @@ int Viewer::run() {
         const haptics::HandStep& hand =
             s.hands[static_cast<std::size_t>(std::min(session_.activeHand(), s.handCount - 1))];
         plot_.add(t_s, hand.force_N);
-        if (panel_.recorder) {
-            haptics::StepOutput sample;
-            sample.t_s = t_s;
-            sample.hands[0] = hand;
-            sample.hands[0].buttons = mouse_.engaged() ? 1u : 0u;
-            panel_.recorder->push(sample);
-        }
 
         // A reset (from a key or the panel) starts a new organ whose topology versions count from zero again.
         if (session_.resets() != drawnResets_) {
@@ -362,8 +362,8 @@ int Viewer::run() {
         glfwSwapBuffers(w);
     }
     glFinish();
-    if (panel_.recorder) {  // the window closed while recording: keep what was recorded
-        finishRecording(panel_);
+    if (session_.recording()) {  // the window closed while recording: keep what was recorded
+        finishRecording(session_, panel_);
         std::cout << panel_.message << "\n";
     }
     const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();

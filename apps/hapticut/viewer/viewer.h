@@ -25,6 +25,7 @@ struct ViewerOptions {
     int hands = 1;              // two: a second hand (Tab switches the one the mouse drives)
     bool fitWorkspace = true;   // fit each hardware device's reach to the organ
     std::string report;         // JSON: frames, frame rate, haptic rate, renderer
+    std::string record;         // the active hand's device path at the loop's rate (Simulation::startRecording)
     bool wireframe = false;
     bool hidePanel = false;
 };

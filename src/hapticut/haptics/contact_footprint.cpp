@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 
+#include "hapticut/common/reserve.h"
 #include "hapticut/haptics/proxy.h"
 
 namespace hapticut::haptics {
@@ -25,11 +26,12 @@ struct Piece {
 }  // namespace
 
 void ContactFootprint::fitTo(std::size_t nodes, std::size_t faces) {
+    // With room to grow, like the organ's arrays, so that cuts seldom reallocate these.
     if (nodes > nodeStamp_.size()) {
-        nodeStamp_.resize(nodes, 0);
-        nodeSlot_.resize(nodes, 0);
+        nodeStamp_.resize(roomToGrow(nodes), 0);
+        nodeSlot_.resize(nodeStamp_.size(), 0);
     }
-    if (faces > faceStamp_.size()) faceStamp_.resize(faces, 0);
+    if (faces > faceStamp_.size()) faceStamp_.resize(roomToGrow(faces), 0);
     queue_.reserve(kMaxQueuedFaces);
 }
 

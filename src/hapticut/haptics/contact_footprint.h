@@ -31,7 +31,7 @@ struct FootprintSpread {
 
 class ContactFootprint {
 public:
-    /// Room for an organ of up to this many nodes and faces; call again when cuts grew it.
+    /// Room for an organ of this many nodes and faces, and more to grow into; call again after cuts.
     void fitTo(std::size_t nodes, std::size_t faces);
     /// Fills `tool` with the nodes under a tip of radius_m touching `face` at `bary`, found by walking
     /// the faces round each vertex from the touched face outwards; `anchorStiffness_N_per_m` is the

@@ -103,7 +103,7 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
         startMultiRate(0);
     bvh_.build(surface());
     reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
-    footprint_.fitTo(roomToGrow(model_.nodes.size()), roomToGrow(faces_.size()));
+    footprint_.fitTo(model_.nodes.size(), faces_.size());
     for (HandState& hand : hands_) {
         hand.proxy.setTopology(&organ_.vertexFaces());
         // Start the proxy where the device is, or just outside the surface if the device begins inside.

@@ -36,15 +36,11 @@ std::optional<Warning> sizeWarning(std::span<const Vec3> positions, const std::s
     if (!std::isfinite(extent_m) || extent_m <= 0 || (extent_m >= kSmallestOrgan_m && extent_m <= kLargestOrgan_m))
         return std::nullopt;
     // The file's unit, if the model is in metres now: the one whose factor brings it nearest to 10 cm.
-    const struct {
-        const char* unit;
-        double scale;
-    } units[] = {{"mm", 0.001}, {"cm", 0.01}};  // metres are what it is read as already
     const char* best = nullptr;
     double bestScale = 1, bestMiss = std::abs(std::log(extent_m / 0.1));
-    for (const auto& u : units) {
-        const double miss = std::abs(std::log(extent_m * u.scale / 0.1));
-        if (miss < bestMiss) best = u.unit, bestScale = u.scale, bestMiss = miss;
+    for (const char* unit : {"mm", "cm"}) {  // metres are what it is read as already
+        const double scale = *unitScale(unit), miss = std::abs(std::log(extent_m * scale / 0.1));
+        if (miss < bestMiss) best = unit, bestScale = scale, bestMiss = miss;
     }
     std::string message = "the model is " + lengthText(extent_m) + " across, and organs are " +
                           lengthText(kSmallestOrgan_m) + " to " + lengthText(kLargestOrgan_m) +
@@ -52,7 +48,7 @@ std::optional<Warning> sizeWarning(std::span<const Vec3> positions, const std::s
     if (best)
         message += "; if the file is in " + std::string(best) + ", give --units " + best + " (it is then " +
                    lengthText(extent_m * bestScale) +
-                   " across), or [model] scale = " + (bestScale == 0.001 ? "0.001" : "0.01") + " in a scene";
+                   " across), or [model] scale = " + (bestScale < 0.005 ? "0.001" : "0.01") + " in a scene";
     else
         message += "; give --scale to bring it to an organ's size";
     return Warning{name, 0, message};

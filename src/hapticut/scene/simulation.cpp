@@ -2,8 +2,10 @@
 #include "hapticut/scene/simulation.h"
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <span>
+#include <thread>
 
 #include "hapticut/common/assert.h"
 #include "hapticut/geometry/aabb.h"
@@ -16,6 +18,10 @@
 namespace hapticut::scene {
 
 namespace {
+
+// What the next observed step sets a recording's clock by: nothing, a fresh start at 0, or going on
+// from the last row after the loop restarted.
+constexpr int kKeepClock = 0, kStartClock = 1, kContinueClock = 2;
 
 haptics::LoopCommand::Kind commandFor(MaterialKnob knob) {
     using K = haptics::LoopCommand::Kind;
@@ -42,7 +48,10 @@ Simulation::Simulation(Scene scene) : scene_(std::move(scene)) {
     resetModel();
 }
 
-Simulation::~Simulation() { stopLoop(); }
+Simulation::~Simulation() {
+    stopLoop();
+    if (recorder_) recorder_->finish();  // a recording the window closed on keeps what it has
+}
 
 void Simulation::stopLoop() {
     clock_.reset();
@@ -76,7 +85,56 @@ void Simulation::startLoop() {
     loop_ = std::move(created.value());
     loopError_.clear();
     clock_ = std::make_unique<haptics::RealTimeScheduler>(*loop_);
-    if (const auto error = clock_->start()) loopError_ = error->message;
+    // A recording goes on through the restart: the new loop's time starts at 0 again.
+    if (recorder_) recordingClock_.store(kContinueClock, std::memory_order_release);
+    if (const auto error = clock_->start(-1, [this](const haptics::StepOutput& s) { observeStep(s); }))
+        loopError_ = error->message;
+}
+
+void Simulation::observeStep(const haptics::StepOutput& step) noexcept {
+    if (haptics::StepLogWriter* recorder = recording_.load(std::memory_order_acquire)) {
+        const int clock = recordingClock_.exchange(kKeepClock, std::memory_order_acq_rel);
+        if (clock == kStartClock) recordingOffset_s_ = -step.t_s;
+        if (clock == kContinueClock) recordingOffset_s_ = lastRecorded_s_ + 1 / loop_->rate_hz() - step.t_s;
+        haptics::StepOutput row = step;  // on the stack: nothing allocates here
+        row.hands[0] = step.hands[static_cast<std::size_t>(
+            std::min(recordingHand_.load(std::memory_order_relaxed), step.handCount - 1))];
+        row.handCount = 1;
+        row.t_s = step.t_s + recordingOffset_s_;
+        lastRecorded_s_ = row.t_s;
+        recorder->push(row);
+    }
+    // Counted after the push: once the count has moved on, no step still holds a recorder it loaded.
+    observedSteps_.fetch_add(1, std::memory_order_release);
+}
+
+Status Simulation::startRecording(const std::string& file) {
+    if (recorder_) stopRecording();
+    auto recorder = haptics::StepLogWriter::open({{file, haptics::StepLogColumns::Recording}},
+                                                 haptics::StepLogWriter::WhenFull::Drop);
+    if (!recorder) return recorder.error();
+    recorder_ = std::move(*recorder);
+    recordingFile_ = file;
+    recordingHand_.store(activeHand_, std::memory_order_relaxed);
+    recordingClock_.store(kStartClock, std::memory_order_release);
+    recording_.store(recorder_.get(), std::memory_order_release);
+    return std::nullopt;
+}
+
+std::vector<Error> Simulation::stopRecording() {
+    if (!recorder_) return {};
+    recording_.store(nullptr, std::memory_order_release);
+    // Wait until the loop's thread has finished a step begun before: it no longer holds the recorder.
+    if (clock_) {
+        const long seen = observedSteps_.load(std::memory_order_acquire);
+        const auto giveUp = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
+        while (observedSteps_.load(std::memory_order_acquire) < seen + 2 && std::chrono::steady_clock::now() < giveUp)
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+        if (observedSteps_.load(std::memory_order_acquire) < seen + 2) stopLoop(), startLoop();  // a stuck loop
+    }
+    std::vector<Error> errors = recorder_->finish();
+    recorder_.reset();
+    return errors;
 }
 
 void Simulation::setHandCount(int hands) {

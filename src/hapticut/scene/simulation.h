@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 #include "hapticut/cutting/cut_model.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
+#include "hapticut/haptics/step_log.h"
 #include "hapticut/haptics/virtual_device.h"
 #include "hapticut/scene/scene.h"
 
@@ -74,6 +76,20 @@ public:
     /// Writes the organ as the snapshot shows it (deformed, with every cut).
     WriteStatus exportMesh(const std::string& file, const haptics::Snapshot& snapshot) const;
 
+    /// Records the active hand's device path at the loop's rate: every step, handed off the loop's
+    /// thread through a lock-free ring (haptics::StepLogWriter), as `t,x,y,z,button,fx,fy,fz` with times
+    /// from 0 and the force the hand was sent; it replays as a trajectory. It goes on through loop
+    /// restarts, its times continuing. An error when the file cannot be written.
+    Status startRecording(const std::string& file);
+    /// Ends the recording and completes its file (until then it is a temporary file beside it); the
+    /// errors of writing it, if any.
+    std::vector<Error> stopRecording();
+    bool recording() const { return recorder_ != nullptr; }
+    const std::string& recordingFile() const { return recordingFile_; }
+    /// Rows written so far, and steps the ring had no room for.
+    long recordedSteps() const { return recorder_ ? recorder_->rowsWritten() : 0; }
+    long droppedRecordingSteps() const { return recorder_ ? recorder_->droppedSteps() : 0; }
+
     haptics::HapticLoop& loop() { return *loop_; }
     haptics::LoopConfig& config() { return config_; }
     /// The active hand's mouse device.
@@ -91,6 +107,8 @@ private:
     /// Stops the loop's clock, then the loop, before what they step goes away.
     void stopLoop();
     haptics::Device& deviceOf(int hand);
+    /// Sees every step, on the loop's thread: hands it to the recording, if one is on.
+    void observeStep(const haptics::StepOutput& step) noexcept;
 
     Scene scene_;
     haptics::LoopConfig config_;
@@ -108,6 +126,14 @@ private:
     std::array<std::optional<SceneDevice>, haptics::kMaxHands> handSettings_{};
     std::array<double, kMaterialKnobs> materialScale_{1, 1, 1, 1, 1};
     long resets_ = 0;
+    // The recording: the writer is the UI thread's; the loop's thread sees it through recording_.
+    std::unique_ptr<haptics::StepLogWriter> recorder_;
+    std::string recordingFile_;
+    std::atomic<haptics::StepLogWriter*> recording_{nullptr};
+    std::atomic<int> recordingHand_{0};
+    std::atomic<int> recordingClock_{0};  // what the next observed step sets the clock by (observeStep)
+    std::atomic<long> observedSteps_{0};
+    double recordingOffset_s_ = 0, lastRecorded_s_ = 0;  // the loop's thread's
 };
 
 }  // namespace hapticut::scene
