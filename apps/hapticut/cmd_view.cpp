@@ -46,8 +46,8 @@ int view(ViewCommandOptions& o) {
             return 2;
         }
     o.viewer.hands = std::max(o.viewer.hands, static_cast<int>(o.viewer.devices.size()));
-    if (!o.viewer.screenshot.empty() && o.viewer.frames < 0) {
-        std::cerr << "hapticut view: --screenshot needs --frames: it captures the last frame\n";
+    if (!o.viewer.screenshot.empty() && o.viewer.frames < 0 && o.viewer.quitAfter_s < 0) {
+        std::cerr << "hapticut view: --screenshot needs --frames or --quit-after: it captures the last frame\n";
         return 2;
     }
     if (const Status unwritable = checkOutputPaths({o.viewer.record, o.viewer.report})) {
@@ -99,7 +99,7 @@ Command addViewCommand(CLI::App& app) {
         ->check(CLI::Range(0.0, 1e7));
     addUnitOptions(cmd, o->units);
     cmd->add_option("--screenshot", o->viewer.screenshot,
-                    "With --frames: write the last frame (panel and all) as a PNG");
+                    "With --frames or --quit-after: write the last frame (panel and all) as a PNG");
     cmd->add_option("--report", o->viewer.report, "Write a JSON report: frames, frame rate, haptic rate, renderer");
     cmd->add_option("--record", o->viewer.record,
                     "Record the device path at the haptic loop's rate, with the force, as a trajectory (CSV)");
@@ -108,6 +108,7 @@ Command addViewCommand(CLI::App& app) {
         if (cmd->count("--triangles")) o->viewer.scene.overrides.triangles = o->triangles;
         o->viewer.scene.overrides.scale = o->units.factor();
         o->viewer.devicesGiven = cmd->count("--device") > 0;
+        o->viewer.sizeGiven = cmd->count("--size") > 0;
     });
     return [o] { return view(*o); };
 }

@@ -1,6 +1,8 @@
 // Real OpenGL (Mesa under Xvfb in CI): what the renderer draws, judged from the pixels.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -322,6 +324,28 @@ TEST(ViewCommand, APhantomThroughOpenHapticsDrivesTheLoopFromItsServo) {
     EXPECT_NE(readAll(dir / "err").find("Install the OpenHaptics runtime"), std::string::npos) << readAll(dir / "err");
     EXPECT_EQ(runHapticut("view --device joystick --frames 1", dir), 2);
     EXPECT_NE(readAll(dir / "err").find("hapticut devices"), std::string::npos) << readAll(dir / "err");
+}
+
+// Without --size the window fits the screen (Xvfb's here is 1280x1024, the default size), so an ordinary
+// laptop's screen shows all of it; --quit-after ends a run that --screenshot captures the last frame of;
+// --record writes the device path at the loop's rate.
+TEST(ViewCommand, FitsTheScreenQuitsAfterATimeWithItsLastFrameAndRecordsEveryStep) {
+    test::ScratchDir dir;
+    ASSERT_EQ(runHapticut("view --quit-after 0.8 --no-panel --screenshot " + (dir / "last.png").string() +
+                              " --record " + (dir / "path.csv").string(),
+                          dir),
+              0)
+        << readAll(dir / "err");
+    std::string error;
+    const auto image = loadPng(dir / "last.png", error);
+    ASSERT_TRUE(image) << error;
+    EXPECT_LE(image->width, 1280 * 95 / 100);
+    EXPECT_LE(image->height, 1024 * 90 / 100);
+    const std::string recorded = readAll(dir / "path.csv");
+    EXPECT_EQ(recorded.rfind("t,x,y,z,button,fx,fy,fz\n0,", 0), 0u) << recorded.substr(0, 80);
+    const long rows = static_cast<long>(std::count(recorded.begin(), recorded.end(), '\n')) - 1;
+    EXPECT_GT(rows, 200) << "every step of a 1 kHz loop over 0.8 s, not one a frame";
+    EXPECT_EQ(runHapticut("view --record " + (dir / "missing" / "p.csv").string() + " --frames 1", dir), 2);
 }
 
 TEST(ViewCommand, ReplaysATrajectoryThatCutsTheHeart) {

@@ -5,6 +5,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 namespace hapticut::render {
@@ -38,11 +39,20 @@ std::unique_ptr<GlWindow> GlWindow::open(const WindowOptions& options, std::stri
     glfwWindowHint(GLFW_STEREO, options.quadStereo ? GLFW_TRUE : GLFW_FALSE);
     GLFWmonitor* monitor = options.fullscreen ? glfwGetPrimaryMonitor() : nullptr;
     int width = options.width, height = options.height;
-    if (monitor)
+    if (monitor) {
         if (const GLFWvidmode* mode = glfwGetVideoMode(monitor)) {
             width = mode->width;
             height = mode->height;
         }
+    } else if (options.fitToMonitor) {
+        if (GLFWmonitor* primary = glfwGetPrimaryMonitor()) {
+            int x = 0, y = 0, areaWidth = 0, areaHeight = 0;
+            glfwGetMonitorWorkarea(primary, &x, &y, &areaWidth, &areaHeight);
+            // The title bar takes some of the height the work area offers.
+            if (areaWidth > 0) width = std::min(width, areaWidth * 95 / 100);
+            if (areaHeight > 0) height = std::min(height, areaHeight * 90 / 100);
+        }
+    }
     GLFWwindow* window = glfwCreateWindow(width, height, options.title.c_str(), monitor, nullptr);
     bool stereo = options.quadStereo;
     if (!window && options.quadStereo) {

@@ -12,6 +12,9 @@ struct WindowOptions {
     int width = 1280, height = 1024;
     bool visible = true;
     bool fullscreen = false;  // on the primary monitor, at its current mode
+    /// Shrink the window to fit the primary monitor's work area (less the desktop's bars), so that an
+    /// ordinary 1366x768 screen shows all of it; off when the user asked for a size.
+    bool fitToMonitor = false;
     bool quadStereo = false;  // ask for a stereo (quad-buffer) framebuffer
     int samples = 4;          // multisampling of the window's own framebuffer
     std::string title = "Hapticut";

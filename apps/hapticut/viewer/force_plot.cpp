@@ -21,19 +21,30 @@ void ForcePlot::draw(double maxForce_N, float width, float height) const {
     draw->AddRectFilled(origin, corner, IM_COL32(20, 22, 28, 255));
     const float zeroY = origin.y + height / 2;
     draw->AddLine(ImVec2(origin.x, zeroY), ImVec2(corner.x, zeroY), IM_COL32(70, 70, 80, 255));
+    double shown_s = 0;
     if (count_ >= 2) {
         const auto at = [&](std::size_t i) -> const Sample& {
             return samples_[(next_ + kSamples - count_ + i) % kSamples];
         };
-        const double t0 = at(0).t_s, t1 = std::max(at(count_ - 1).t_s, t0 + 1e-6);
-        const auto x = [&](double t) { return origin.x + static_cast<float>((t - t0) / (t1 - t0)) * width; };
+        // The time axis: the last kWindow_s seconds, now at the right edge, whatever the frame rate.
+        const double t1 = at(count_ - 1).t_s, t0 = t1 - kWindow_s;
+        std::size_t first = 0;
+        while (first + 2 < count_ && at(first + 1).t_s <= t0) ++first;
+        shown_s = t1 - std::max(at(first).t_s, t0);
+        const auto x = [&](double t) {
+            return origin.x + static_cast<float>(std::clamp((t - t0) / kWindow_s, 0.0, 1.0)) * width;
+        };
+        for (int second = 1; second < static_cast<int>(kWindow_s); ++second) {
+            const float tickX = x(t1 - second);
+            draw->AddLine(ImVec2(tickX, corner.y - 5), ImVec2(tickX, corner.y), IM_COL32(90, 90, 100, 255));
+        }
         const auto y = [&](double f) {
             return zeroY - static_cast<float>(std::clamp(f / maxForce_N, -1.0, 1.0)) * (height / 2 - 2);
         };
         const ImU32 colours[4] = {IM_COL32(235, 90, 80, 255), IM_COL32(110, 210, 110, 255),
                                   IM_COL32(100, 150, 255, 255), IM_COL32(240, 240, 240, 255)};
         for (int c = 0; c < 4; ++c)
-            for (std::size_t i = 1; i < count_; ++i) {
+            for (std::size_t i = first + 1; i < count_; ++i) {
                 const Sample &a = at(i - 1), &b = at(i);
                 const double fa = c < 3 ? a.force_N[c] : a.force_N.norm(), fb = c < 3 ? b.force_N[c] : b.force_N.norm();
                 draw->AddLine(ImVec2(x(a.t_s), y(fa)), ImVec2(x(b.t_s), y(fb)), colours[c], c == 3 ? 2.0f : 1.0f);
@@ -51,7 +62,7 @@ void ForcePlot::draw(double maxForce_N, float width, float height) const {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(0.39f, 0.59f, 1.0f, 1), "z");
     ImGui::SameLine();
-    ImGui::TextDisabled("over the last %zu frames", count_);
+    ImGui::TextDisabled("over the last %.0f s (a tick a second)", shown_s);
 }
 
 }  // namespace hapticut::viewer

@@ -28,6 +28,7 @@ const std::vector<KeyHelp> kKeyHelp = {
     {"r", "reset the model (undo every cut)"},
     {"space", "pause / resume the physics"},
     {"f", "frame the organ"},
+    {"Tab", "with two hands (--hands 2): switch the hand the mouse drives"},
     {"h", "this help"},
     {"F1", "the panel"},
     {"Esc, q", "quit"},
@@ -70,12 +71,11 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
     ImGui::Text("step %.1f us (max %.1f us)", s.stepTime_us, s.maxStepTime_us);
     if (s.multiRate) ImGui::Text("physics %.0f Hz on its own thread (multi-rate)", s.physicsRate_hz);
     if (s.scheme == physics::Scheme::BackwardEuler)
-        ImGui::Text("implicit, %d CG iterations   overruns %ld   cut events %ld", s.solverIterations, s.overruns,
-                    s.cutEvents);
+        ImGui::Text("implicit, %d CG iterations", s.solverIterations);
     else
-        ImGui::Text("%s, %d substep%s (stable below %.2f ms)   overruns %ld   cut events %ld",
-                    std::string(physics::schemeName(s.scheme)).c_str(), s.substeps, s.substeps == 1 ? "" : "s",
-                    s.stableStep_s * 1e3, s.overruns, s.cutEvents);
+        ImGui::Text("%s, %d substep%s (stable below %.2f ms)", std::string(physics::schemeName(s.scheme)).c_str(),
+                    s.substeps, s.substeps == 1 ? "" : "s", s.stableStep_s * 1e3);
+    ImGui::Text("overruns %ld   cut events %ld", s.overruns, s.cutEvents);
     if (s.stalls > 0)  // gaps of 3 periods or more, after each of which the force sent ramped back in
         ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "stalls %ld: force ramped back in", s.stalls);
     if (s.watchdogTripped) {

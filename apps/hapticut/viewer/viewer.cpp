@@ -302,8 +302,10 @@ int Viewer::run() {
     };
     // Ctrl-C or SIGTERM closes the window like q: the loop stops and every device is left at zero force.
     const StopSignal stopSignal;
-    while (!glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames) && !timeIsUp() &&
+    bool lastFrame = false;  // decided before the frame is drawn, so that --screenshot captures it
+    while (!lastFrame && !glfwWindowShouldClose(w) && (options_.frames < 0 || frames < options_.frames) &&
            !StopSignal::requested()) {
+        lastFrame = timeIsUp() || (options_.frames >= 0 && frames + 1 == options_.frames);
         glfwPollEvents();
         if (session_.scene().source.name != framedModel_) frameOrgan();  // a model loaded from the panel
         while (renderer_->toolCount() < session_.scene().tools.size())
@@ -346,12 +348,13 @@ int Viewer::run() {
         const double since = std::chrono::duration<double>(Clock::now() - rateClock).count();
         if (since >= 0.5) {
             rates.renderFps = static_cast<double>(rateFrames) / since;
-            rates.hapticRate_hz = static_cast<double>(s.step - rateStep) / since;
+            // A reset starts a new loop whose steps count from zero again.
+            rates.hapticRate_hz = static_cast<double>(s.step >= rateStep ? s.step - rateStep : s.step) / since;
             rateClock = Clock::now();
             rateFrames = 0;
             rateStep = s.step;
         }
-        if (options_.frames >= 0 && frames == options_.frames && !options_.screenshot.empty()) {
+        if (lastFrame && !options_.screenshot.empty()) {
             glFinish();
             if (const auto error = render::savePng(options_.screenshot, render::readWindow(fbw, fbh))) {
                 std::cerr << "hapticut view: " << *error << "\n";
@@ -416,6 +419,7 @@ int runViewer(const ViewerOptions& options) {
     }
     render::WindowOptions windowOptions;
     windowOptions.width = options.width;
+    windowOptions.fitToMonitor = !options.sizeGiven;
     windowOptions.height = options.height;
     windowOptions.fullscreen = options.fullscreen;
     windowOptions.quadStereo = options.stereo == render::StereoMode::QuadBuffer;

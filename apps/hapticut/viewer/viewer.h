@@ -14,6 +14,7 @@ struct ViewerOptions {
     render::StereoMode stereo = render::StereoMode::Off;
     bool fullscreen = false;
     int width = 1280, height = 1024;
+    bool sizeGiven = false;   // --size: exactly that; otherwise at most the monitor's work area
     long frames = -1;         // quit after this many frames (scripted runs, benchmarks); negative: until closed
     double quitAfter_s = -1;  // quit after this long on the wall clock; negative: until closed
     std::string screenshot;   // with frames: the last frame, panel and all, as a PNG
