@@ -85,8 +85,10 @@ void Simulation::startLoop() {
     loop_ = std::move(created.value());
     loopError_.clear();
     clock_ = std::make_unique<haptics::RealTimeScheduler>(*loop_);
-    // A recording goes on through the restart: the new loop's time starts at 0 again.
-    if (recorder_) recordingClock_.store(kContinueClock, std::memory_order_release);
+    // A recording goes on through the restart: the new loop's time starts at 0 again. One that has no
+    // row yet still starts at 0.
+    int recorded = kKeepClock;
+    if (recorder_) recordingClock_.compare_exchange_strong(recorded, kContinueClock, std::memory_order_acq_rel);
     if (const auto error = clock_->start(-1, [this](const haptics::StepOutput& s) { observeStep(s); }))
         loopError_ = error->message;
 }
