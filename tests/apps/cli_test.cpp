@@ -131,7 +131,7 @@ TEST_F(Cli, EveryMistakeInTheArgumentsExitsWithTwoAndSaysWhat) {
     const struct {
         std::string command, says;
     } cases[] = {
-        {"viwe", "'viwe' is not a command; did you mean 'view'?"},
+        {"rnu --steps 1", "'rnu' is not a command; did you mean 'run'?"},
         {"sok --strokes 1", "did you mean 'soak'?"},
         {"frobnicate", "'frobnicate' is not a command\ncommands: "},
         {"run --dt abc", "--dt: expected a number, found 'abc'"},
@@ -145,6 +145,10 @@ TEST_F(Cli, EveryMistakeInTheArgumentsExitsWithTwoAndSaysWhat) {
         EXPECT_EQ(r.exitCode, 2) << c.command << ": " << r.err;
         EXPECT_NE(r.err.find(c.says), std::string::npos) << c.command << ": " << r.err;
     }
+    const CliResult viwe = run("viwe");
+    EXPECT_EQ(viwe.exitCode, 2);
+    if (viwe.err.find("commands: view") != std::string::npos)  // built with the viewer
+        EXPECT_NE(viwe.err.find("did you mean 'view'?"), std::string::npos) << viwe.err;
     EXPECT_EQ(run("--version").exitCode, 0);
     EXPECT_EQ(run("run --help").exitCode, 0);
 }
