@@ -147,8 +147,9 @@ TEST_F(Cli, EveryMistakeInTheArgumentsExitsWithTwoAndSaysWhat) {
     }
     const CliResult viwe = run("viwe");
     EXPECT_EQ(viwe.exitCode, 2);
-    if (viwe.err.find("commands: view") != std::string::npos)  // built with the viewer
+    if (viwe.err.find("commands: view") != std::string::npos) {  // built with the viewer
         EXPECT_NE(viwe.err.find("did you mean 'view'?"), std::string::npos) << viwe.err;
+    }
     EXPECT_EQ(run("--version").exitCode, 0);
     EXPECT_EQ(run("run --help").exitCode, 0);
 }
