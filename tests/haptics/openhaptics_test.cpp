@@ -186,8 +186,10 @@ TEST_F(OpenHaptics, TheServoLoopDrivesTheHapticLoopAtItsRateAndTheForceIsClamped
             << s.hands[0].device_m.transpose();
         clock.stop();
         const long ticks = emu.ticks() - ticks0;
-        // One loop step per servo tick: the servo's clock is the loop's.
-        EXPECT_NEAR(static_cast<double>(loop.stats().steps), static_cast<double>(ticks), 3);
+        // One loop step per servo tick: the servo's clock is the loop's. The ticks are counted from
+        // before the scheduler hooks into the servo to after it lets go, and a tick or two at each end
+        // falls outside the loop (more under the sanitizers, whose ticks are slower).
+        EXPECT_NEAR(static_cast<double>(loop.stats().steps), static_cast<double>(ticks), 6);
         EXPECT_GT(loop.stats().steps, 200);  // 400 ms at 1 kHz, on a machine that may be running other tests
         EXPECT_LT(loop.stats().steps, 450);
         // 8 mm through a 400 N/m coupling is 3.2 N: clamped to the device's 0.9 N.
