@@ -134,6 +134,9 @@ std::optional<scene::ToolTip> toolTip(const scene::SceneFile& settings, const st
     return std::nullopt;
 }
 
+/// Organs from this size on take long enough to build and prepare that each phase gets a line.
+constexpr std::size_t kTrianglesWorthAPhaseLine = 150'000;
+
 int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, scene::SceneFile settings) {
     // The hands: the trajectory (--trajectory, or the scene's replay device) is the first hand's replay;
     // each --device adds one. Without either, the scene's [[devices]] are the hands.
@@ -187,6 +190,11 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         std::cerr << "hapticut run: --sdl-control takes position or rate, found '" << o.sdlControl << "'\n";
         return 2;
     }
+    // A large organ takes seconds to build and prepare (about 15 s and 8 s at a million triangles): each
+    // phase says so as it starts, instead of a silent wait.
+    const bool slowToBuild =
+        settings.model == "heart" && static_cast<std::size_t>(settings.triangles) >= kTrianglesWorthAPhaseLine;
+    if (slowToBuild) std::cerr << "hapticut run: building the heart of " << settings.triangles << " triangles\n";
     const auto scene = app::assembleScene(sceneFile, std::move(settings));
     if (!scene) return 1;
     const scene::ModelSource* source = &scene->source;
@@ -239,9 +247,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     config.realtime = o.realtime || live;
     StopSignal stopSignal;
     config.stopRequested = [] { return StopSignal::requested(); };
-    config.progress = [&](long steps) {
-        std::cerr << "\rhapticut run: " << steps << " steps (Ctrl-C ends the run)" << std::flush;
-    };
+    Progress progress("hapticut run: steps (Ctrl-C ends the run)");
+    config.progress = [&](long steps) { progress.update(steps, config.steps); };
     config.tool = firstTool;
     config.loop.cutThreshold_N = tipOf[0].threshold_N;
     config.loop.tipRadius_m = tipOf[0].radius_m;
@@ -249,6 +256,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
               << (hands.size() > 1 ? " and " + toolOf[1] : "") << ", "
               << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at "
               << rate_hz << " Hz, " << (config.realtime ? "real time" : "simulated time") << "\n";
+    if (organ.mesh().faces.size() >= kTrianglesWorthAPhaseLine)
+        std::cerr << "hapticut run: preparing the collision tree and the integrator for " << organ.mesh().faces.size()
+                  << " triangles\n";
     // The force log and the recording are written as the run goes, so a run of any length holds
     // constant memory; they replace their targets only when the run has ended.
     std::vector<haptics::StepLogWriter::Target> logTargets;
@@ -267,13 +277,14 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         config.stepLog = stepLog.get();
     }
     auto run = scene::runHaptic(organ, hands, config);
+    progress.finish();
     if (!run) {
         std::cerr << "hapticut run: " << run.error().toString() << "\n";
         return 1;
     }
     const scene::HapticRunResult& r = *run;
     if (StopSignal::requested())
-        std::cerr << "\nhapticut run: stopped by signal " << StopSignal::signalNumber() << " after " << r.steps
+        std::cerr << "hapticut run: stopped by signal " << StopSignal::signalNumber() << " after " << r.steps
                   << " steps; the devices were left at zero force\n";
 
     std::cout << r.steps << " haptic steps (" << r.simTime_s << " s simulated) in " << r.wallTime_s

@@ -13,16 +13,50 @@
 
 namespace hapticut::app {
 
-Progress::Progress(std::string label) : label_(std::move(label)), enabled_(isatty(STDERR_FILENO) != 0) {}
+Progress::Progress(std::string label) : label_(std::move(label)), terminal_(isatty(STDERR_FILENO) != 0) {}
+
+namespace {
+
+/// "42 s", "3 min 10 s", "2 h 05 min".
+std::string duration(double s) {
+    char text[32];
+    const long t = static_cast<long>(s + 0.5);
+    if (t < 60)
+        std::snprintf(text, sizeof text, "%ld s", t);
+    else if (t < 3600)
+        std::snprintf(text, sizeof text, "%ld min %02ld s", t / 60, t % 60);
+    else
+        std::snprintf(text, sizeof text, "%ld h %02ld min", t / 3600, t / 60 % 60);
+    return text;
+}
+
+}  // namespace
 
 void Progress::update(long done, long total) {
-    if (!enabled_ || total <= 0) return;
-    std::fprintf(stderr, "\r%s %3ld%%  (%ld/%ld)", label_.c_str(), 100 * done / total, done, total);
+    const auto now = Clock::now();
+    const double since = std::chrono::duration<double>(now - lastLine_).count();
+    const long tenth = total > 0 ? 10 * done / total : 0;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    // A log gets lines only from runs long enough to wonder about.
+    if (terminal_ ? since < 0.2 && done < total : elapsed < 5 || (drawn_ && since < 30 && tenth == lastTenth_)) return;
+    lastLine_ = now;
+    lastTenth_ = tenth;
+    std::string left;
+    if (done > 0 && done < total && elapsed > 2)
+        left = ", about " + duration(elapsed * static_cast<double>(total - done) / static_cast<double>(done)) + " left";
+    std::fputs(terminal_ ? "\r" : "", stderr);
+    if (total > 0)
+        std::fprintf(stderr, "%s %3ld%%  (%ld/%ld)  %s%s", label_.c_str(), 100 * done / total, done, total,
+                     duration(elapsed).c_str(), left.c_str());
+    else
+        std::fprintf(stderr, "%s %ld  %s", label_.c_str(), done, duration(elapsed).c_str());
+    std::fputs(terminal_ ? "\033[K" : "\n", stderr);
     std::fflush(stderr);
+    drawn_ = true;
 }
 
 void Progress::finish() {
-    if (enabled_) std::fprintf(stderr, "\r\033[K");
+    if (terminal_ && drawn_) std::fprintf(stderr, "\r\033[K");
 }
 
 std::optional<Vec3> parseVec3(const std::string& text) {

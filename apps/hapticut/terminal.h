@@ -1,6 +1,7 @@
 // Terminal helpers: a progress line for long runs, vector and size arguments, JSON files.
 #pragma once
 
+#include <chrono>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -15,16 +16,23 @@
 
 namespace hapticut::app {
 
-/// Progress on stderr, only when it is a terminal: "label  42%  (420/1000)".
+/// Progress on stderr with the time taken and the time left: on a terminal one line redrawn in place
+/// (five times a second at most); into a file or a pipe (a log, CI, nohup), from 5 s on, a line for each
+/// tenth done and at least one every 30 s, so a long run's log shows it alive and how far it got.
 class Progress {
 public:
     explicit Progress(std::string label);
+    /// `total` <= 0: no end known (a live run); the count and the time taken.
     void update(long done, long total);
     void finish();
 
 private:
+    using Clock = std::chrono::steady_clock;
     std::string label_;
-    bool enabled_;
+    bool terminal_;
+    Clock::time_point start_ = Clock::now(), lastLine_ = start_;
+    long lastTenth_ = 0;
+    bool drawn_ = false;
 };
 
 /// Parses "X,Y,Z" (locale-independent); empty on anything else.

@@ -368,6 +368,24 @@ TEST_F(Cli, RealTimeRunsLongerThanASecondLogEveryStepWhileTheProgressLineRuns) {
 
 // A material so stiff that RK4 would need tens of thousands of substeps a step: refused up front with
 // the way out, instead of a run that crawls for hours (one such ran 14 minutes without a word).
+// A large organ's build and preparation each say so as they start, in order, before the run's summary,
+// so a log of a million-triangle run (15 s and 8 s of them) is never silent; a small one's run is not
+// cluttered with them.
+TEST_F(Cli, ALargeOrgansSlowPhasesEachSayWhenTheyStart) {
+    const std::string press = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/press-front.csv";
+    const CliResult large = run("run --triangles 200000 --steps 5 --trajectory " + press);
+    ASSERT_EQ(large.exitCode, 0) << large.err;
+    const auto building = large.err.find("building the heart of 200000 triangles");
+    const auto preparing = large.err.find("preparing the collision tree and the integrator for");
+    ASSERT_NE(building, std::string::npos) << large.err;
+    ASSERT_NE(preparing, std::string::npos) << large.err;
+    EXPECT_LT(building, preparing);
+    const CliResult small = run("run --steps 5 --trajectory " + press);
+    ASSERT_EQ(small.exitCode, 0) << small.err;
+    EXPECT_EQ(small.err.find("building the heart"), std::string::npos) << small.err;
+    EXPECT_EQ(small.err.find("preparing the collision tree"), std::string::npos) << small.err;
+}
+
 TEST_F(Cli, AnExplicitRunThatWouldCrawlIsRefusedWithTheWayOut) {
     std::ofstream(path("stiff.toml"))
         << "[material]\nstructural_stiffness_N = 1e9\n[simulation]\nintegrator = \"rk4\"\n";
