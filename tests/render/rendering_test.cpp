@@ -302,6 +302,9 @@ TEST(ViewCommand, StartsRendersFramesWithTheLoopRunningAndQuitsCleanly) {
     EXPECT_GT(report["fps"].get<double>(), 0);
     EXPECT_GT(report["haptic_steps"].get<long>(), 0) << "the haptic loop ran beside the window";
     EXPECT_EQ(report["size"][0], 640);
+    EXPECT_NE(report["provenance"]["command"].get<std::string>().find("view --frames 12"), std::string::npos)
+        << "the viewer's report says what made it, like the other commands'";
+    EXPECT_FALSE(report["provenance"]["simd_target"].get<std::string>().empty());
     std::string error;
     const auto image = loadPng(dir / "view.png", error);
     ASSERT_TRUE(image) << error;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "render/camera.h"
 #include "render/stereo.h"
@@ -100,6 +101,24 @@ TEST(Camera, TheCentreRayIsTheViewDirectionAndHitsThePlaneThroughTheTarget) {
     // The top edge of the image is half the field of view up.
     const Ray top = rayThrough(c, 0, 1, 1.5);
     EXPECT_NEAR(std::acos(top.direction.dot(c.forward())), c.fovY_rad / 2, 1e-12);
+}
+
+// A point on any pixel's ray projects back to that pixel, at any distance along it; a point behind the
+// eye has no pixel.
+TEST(Camera, APointProjectsBackToThePixelWhoseRayItLiesOn) {
+    OrbitCamera c;
+    c.target = Vec3(0.01, -0.02, 0.03);
+    c.yaw_rad = 0.7;
+    c.pitch_rad = -0.3;
+    for (const auto& [x, y] : {std::pair{0.0, 0.0}, std::pair{-0.8, 0.5}, std::pair{0.99, -0.99}})
+        for (const double along : {0.05, 0.4, 3.0}) {
+            const Ray ray = rayThrough(c, x, y, 1.6);
+            const auto ndc = projectToNdc(c, ray.origin + along * ray.direction, 1.6);
+            ASSERT_TRUE(ndc);
+            EXPECT_NEAR(ndc->x(), x, 1e-9);
+            EXPECT_NEAR(ndc->y(), y, 1e-9);
+        }
+    EXPECT_FALSE(projectToNdc(c, c.eye() - 0.1 * c.forward(), 1.6));
 }
 
 TEST(Camera, FramingFitsTheSphereInTheViewAndZoomIsMultiplicative) {

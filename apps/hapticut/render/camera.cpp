@@ -54,6 +54,14 @@ Ray rayThrough(const OrbitCamera& camera, double ndcX, double ndcY, double aspec
     return {camera.eye(), d.normalized()};
 }
 
+std::optional<Eigen::Vector2d> projectToNdc(const OrbitCamera& camera, const Vec3& point, double aspect) {
+    const Vec3 d = point - camera.eye();
+    const double depth = d.dot(camera.forward());
+    if (depth <= 1e-12) return std::nullopt;
+    const double h = std::tan(camera.fovY_rad / 2);
+    return Eigen::Vector2d(d.dot(camera.right()) / (depth * h * aspect), d.dot(camera.up()) / (depth * h));
+}
+
 Vec3 onPlaneFacingCamera(const OrbitCamera& camera, const Ray& ray, const Vec3& point) {
     const Vec3 n = camera.forward();
     const double denom = ray.direction.dot(n);

@@ -3,6 +3,8 @@
 
 #include <Eigen/Core>
 
+#include <optional>
+
 #include "hapticut/geometry/vec.h"
 
 namespace hapticut::render {
@@ -36,6 +38,10 @@ struct Ray {
 /// The ray from the camera through a point given in normalised device coordinates (-1..1, y up),
 /// for an image of the given aspect (width / height).
 Ray rayThrough(const OrbitCamera& camera, double ndcX, double ndcY, double aspect);
+
+/// Where a point shows in normalised device coordinates (-1..1, y up), the inverse of rayThrough;
+/// nothing for a point at or behind the eye.
+std::optional<Eigen::Vector2d> projectToNdc(const OrbitCamera& camera, const Vec3& point, double aspect);
 
 /// The way a hand-held tool's handle points as this camera sees it: up and toward the viewer, as a hand
 /// holds a pen. Tools of devices without an orientation are drawn so.

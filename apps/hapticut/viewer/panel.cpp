@@ -106,9 +106,10 @@ void finishRecording(scene::Simulation& session, PanelState& state) {
     const std::string file = session.recordingFile();
     const long rows = session.recordedSteps(), dropped = session.droppedRecordingSteps();
     const std::vector<Error> errors = session.stopRecording();
-    state.message = !errors.empty() ? errors.front().toString()
-                                    : "wrote " + std::to_string(rows) + " steps to " + file +
-                                          (dropped > 0 ? " (" + std::to_string(dropped) + " dropped)" : "");
+    state.notice.say(!errors.empty() ? errors.front().toString()
+                                     : "wrote " + std::to_string(rows) + " steps to " + file +
+                                           (dropped > 0 ? " (" + std::to_string(dropped) + " dropped)" : ""),
+                     !errors.empty());
 }
 
 void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& s, const Rates& rates,
@@ -116,6 +117,7 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin("Hapticut");
+    state.rightEdge_px = ImGui::GetWindowPos().x + ImGui::GetWindowSize().x;
     loopSection(session, s, rates);
 
     section("Force");
@@ -205,25 +207,26 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
     ImGui::SameLine();
     if (ImGui::Button("load model")) {
         const auto error = session.loadModel(state.modelPath);
-        state.message = error ? error->toString() : "loaded " + state.modelPath;
+        state.notice.say(error ? error->toString() : "loaded " + state.modelPath, error.has_value());
     }
     ImGui::InputText("##tool", &state.toolPath);
     ImGui::SameLine();
     if (ImGui::Button("load tool")) {
         const auto error = session.loadTool(state.toolPath);
-        state.message = error ? error->toString() : "holding " + state.toolPath;
+        state.notice.say(error ? error->toString() : "holding " + state.toolPath, error.has_value());
     }
     ImGui::InputText("##export", &state.exportPath);
     ImGui::SameLine();
     if (ImGui::Button("export mesh")) {
         const auto error = session.exportMesh(state.exportPath, s);
-        state.message = error ? error->toString() : "wrote " + state.exportPath;
+        state.notice.say(error ? error->toString() : "wrote " + state.exportPath, error.has_value());
     }
     ImGui::InputText("##record", &state.recordPath);
     ImGui::SameLine();
     if (!session.recording() && ImGui::Button("record")) {
         const Status failed = session.startRecording(state.recordPath);
-        state.message = failed ? failed->toString() : "recording the device path at the loop's rate";
+        state.notice.say(failed ? failed->toString() : "recording the device path at the loop's rate",
+                         failed.has_value());
     } else if (session.recording() && ImGui::Button("stop")) {
         finishRecording(session, state);
     }
@@ -234,11 +237,10 @@ void drawPanel(scene::Simulation& session, render::ViewSettings& view, const hap
             session.useMouse();
         } else {
             const auto error = session.replay(state.replayPath);
-            state.message = error ? error->toString() : "replaying " + state.replayPath;
+            state.notice.say(error ? error->toString() : "replaying " + state.replayPath, error.has_value());
         }
     }
     if (ImGui::Button("reset model (r)")) session.resetModel();
-    if (!state.message.empty()) ImGui::TextWrapped("%s", state.message.c_str());
     ImGui::End();
 }
 

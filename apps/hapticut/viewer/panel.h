@@ -10,6 +10,7 @@
 #include "hapticut/scene/simulation.h"
 #include "render/renderer.h"
 #include "viewer/force_plot.h"
+#include "viewer/overlay.h"
 
 namespace hapticut::viewer {
 
@@ -21,11 +22,12 @@ struct Rates {
 /// What the panel keeps between frames: text fields, a recording, the last message.
 struct PanelState {
     std::string modelPath, toolPath, exportPath = "heart-cut.obj", replayPath, recordPath = "recording.csv";
-    std::string message;
+    Notice notice;            // shown over the scene (overlay.h), so it is read wherever the panel is scrolled
     float maxForceScale = 1;  // of the device's maximum force
+    float rightEdge_px = 0;   // where the panel ends, so the overlay centres in the view beside it
 };
 
-/// Ends the session's recording, if one runs: its file is complete; what happened goes to state.message.
+/// Ends the session's recording, if one runs: its file is complete; what happened goes to state.notice.
 void finishRecording(scene::Simulation& session, PanelState& state);
 
 void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& snapshot,

@@ -21,12 +21,14 @@
 #include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/scene/open_device.h"
 #include "hapticut/scene/simulation.h"
+#include "provenance.h"
 #include "render/gl_context.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 #include "render/snapshot_frame.h"
 #include "viewer/force_plot.h"
 #include "viewer/mouse_device.h"
+#include "viewer/overlay.h"
 #include "viewer/panel.h"
 
 namespace hapticut::viewer {
@@ -44,6 +46,10 @@ public:
         view_.quadBufferAvailable = window_->hasQuadStereo();
         view_.wireframe = options.wireframe || session_.scene().settings.wireframe;
         showPanel_ = !options.hidePanel;
+        // Half-right and a little above, not head-on: a press straight into the front then shows as a
+        // dent with the force arrow beside it instead of a shading change and a dot.
+        view_.camera.yaw_rad = 0.55;
+        view_.camera.pitch_rad = 0.3;
         frameOrgan();
         if (const auto tool = session_.scene().toolIndex(options.tool)) session_.setTool(*tool);
     }
@@ -58,6 +64,7 @@ private:
     void onCursor(double x, double y);
     void updateDevice(const haptics::Snapshot& snapshot);
     render::Ray cursorRay() const;
+    void drawOverlay(const haptics::Snapshot& s);
 
     static Viewer& of(GLFWwindow* w) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
 
@@ -73,6 +80,7 @@ private:
     double bladeTurn_deg_ = 0;  // the mouse's blade, about its handle ([ and ])
     bool bladeTurned_ = false;
     bool orbiting_ = false, panning_ = false;
+    bool engagedOnce_ = false;  // the start hint shows until the mouse first takes hold
     std::string framedModel_;
     long drawnResets_ = -1;
     double cursorX_ = 0, cursorY_ = 0, lastX_ = 0, lastY_ = 0;
@@ -129,9 +137,10 @@ void Viewer::onKey(int key, int mods) {
                            : view_.stereo == StereoMode::SideBySide ? StereoMode::QuadBuffer
                                                                     : StereoMode::Off;
             if (view_.stereo == StereoMode::QuadBuffer && !view_.quadBufferAvailable)
-                panel_.message =
+                panel_.notice.say(
                     "no quad-buffer stereo on this display: showing anaglyph (start with --stereo quad on a "
-                    "stereo-capable GPU)";
+                    "stereo-capable GPU)",
+                    false);
             break;
         case GLFW_KEY_4: view_.eyeSeparation_m = std::max(0.0, view_.eyeSeparation_m * 0.9); break;
         case GLFW_KEY_5: view_.eyeSeparation_m = std::max(1e-4, view_.eyeSeparation_m * 1.1); break;
@@ -156,6 +165,22 @@ void Viewer::onKey(int key, int mods) {
     (void)mods;
 }
 
+void Viewer::drawOverlay(const haptics::Snapshot& s) {
+    const float left = showPanel_ ? panel_.rightEdge_px : 0.0f;
+    drawNotice(panel_.notice, ImGui::GetTime(), left);
+    if (!engagedOnce_ && !showHelp_ && session_.mouseDrives()) drawStartHint(session_.handCount() == 2, left);
+    std::array<HandMark, haptics::kMaxHands> marks;
+    const int count = std::min(s.handCount, static_cast<int>(marks.size()));
+    for (int h = 0; h < count; ++h) {
+        const haptics::HandStep& hand = s.hands[static_cast<std::size_t>(h)];
+        marks[static_cast<std::size_t>(h)] = {hand.proxy_m, hand.device_m, hand.force_N.norm(), hand.contact};
+    }
+    // ImGui draws in window coordinates, which differ from the framebuffer's on a scaled display.
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    drawForceMarks(std::span(marks.data(), static_cast<std::size_t>(count)), session_.scene().settings.maxForce_N,
+                   view_.camera, view_.stereo, display.x, display.y);
+}
+
 void Viewer::onMouseButton(int button, int action, int mods) {
     const bool down = action == GLFW_PRESS;
     if (button == GLFW_MOUSE_BUTTON_LEFT) {
@@ -163,6 +188,7 @@ void Viewer::onMouseButton(int button, int action, int mods) {
             const haptics::Snapshot& s = session_.loop().snapshots().readLatest();
             const render::Ray ray = cursorRay();
             mouse_.engage(view_.camera, ray, pickSurface(ray, s.positions, s.faces));
+            engagedOnce_ = true;
         } else if (!down) {
             mouse_.release();
         }
@@ -279,6 +305,10 @@ int Viewer::run() {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the user's folder
     ImGui::StyleColorsDark();
+    // Thin, see-through slider grabs: the value is printed across the slider and a solid grab hid digits.
+    ImGui::GetStyle().GrabMinSize = 4;
+    ImGui::GetStyle().Colors[ImGuiCol_SliderGrab] = ImVec4(0.45f, 0.7f, 1.0f, 0.55f);
+    ImGui::GetStyle().Colors[ImGuiCol_SliderGrabActive] = ImVec4(0.6f, 0.8f, 1.0f, 0.8f);
     ImGui_ImplGlfw_InitForOpenGL(w, true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
     glfwSwapInterval(options_.frames >= 0 ? 0 : 1);  // scripted runs measure the frame rate, unthrottled
@@ -332,6 +362,7 @@ int Viewer::run() {
         ImGui::NewFrame();
         if (showPanel_) drawPanel(session_, view_, s, rates, plot_, panel_);
         if (showHelp_) drawHelp();
+        drawOverlay(s);
         if (!showPanel_ && !showHelp_) {
             ImGui::SetNextWindowPos(ImVec2(10, 10));
             ImGui::SetNextWindowBgAlpha(0.5f);
@@ -367,7 +398,7 @@ int Viewer::run() {
     glFinish();
     if (session_.recording()) {  // the window closed while recording: keep what was recorded
         finishRecording(session_, panel_);
-        std::cout << panel_.message << "\n";
+        std::cout << panel_.notice.text << "\n";
     }
     const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     const haptics::Snapshot& last = session_.loop().snapshots().readLatest();
@@ -393,6 +424,7 @@ int Viewer::run() {
         j["stalls"] = last.stalls;
         j["cut_events"] = last.cutEvents;
         j["renderer"] = window_->rendererDescription();
+        j["provenance"] = app::provenance();
         if (const auto error = writeTextFileAtomically(options_.report, j.dump(2) + "\n")) {
             std::cerr << error->toString() << "\n";
             return 1;
