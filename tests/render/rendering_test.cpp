@@ -305,6 +305,16 @@ TEST(ViewCommand, StartsRendersFramesWithTheLoopRunningAndQuitsCleanly) {
     EXPECT_NE(report["provenance"]["command"].get<std::string>().find("view --frames 12"), std::string::npos)
         << "the viewer's report says what made it, like the other commands'";
     EXPECT_FALSE(report["provenance"]["simd_target"].get<std::string>().empty());
+    // The driver's threads yield to the haptic loop: Mesa's software renderer runs a worker per core.
+    const auto& yielding = report["renderer_threads_yielding"];
+    ASSERT_TRUE(yielding.is_array());
+    if (report["renderer"].get<std::string>().find("llvmpipe") != std::string::npos) {
+        EXPECT_TRUE(std::any_of(yielding.begin(), yielding.end(), [](const auto& name) {
+            return name.template get<std::string>().rfind("llvmpipe", 0) == 0;
+        })) << yielding;
+    }
+    EXPECT_TRUE(report["loop_priority"] == "real-time" || report["loop_priority"] == "normal")
+        << report["loop_priority"];
     std::string error;
     const auto image = loadPng(dir / "view.png", error);
     ASSERT_TRUE(image) << error;

@@ -81,9 +81,8 @@ TEST(Overlay, TheForceMarkSitsOnTheProxyInEachViewAndOnlyInContact) {
     HandMark free{proxy, proxy, 0.0, false};
     const int none = ui.frame(0.1, [&] { drawForceMarks(std::span(&free, 1), 3.3, camera, {}, 1280, 720); });
     const int one = ui.frame(0.1, [&] { drawForceMarks(std::span(&pressing, 1), 3.3, camera, {}, 1280, 720); });
-    const int two = ui.frame(0.1, [&] {
-        drawForceMarks(std::span(&pressing, 1), 3.3, camera, render::StereoMode::SideBySide, 1280, 720);
-    });
+    const int two = ui.frame(
+        0.1, [&] { drawForceMarks(std::span(&pressing, 1), 3.3, camera, render::StereoMode::SideBySide, 1280, 720); });
     EXPECT_EQ(none, 0);
     EXPECT_GT(one, 0);
     EXPECT_EQ(two, 2 * one);

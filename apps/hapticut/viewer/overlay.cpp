@@ -21,8 +21,7 @@ namespace {
 bool beginBottomBox(const char* id, float lift, float left) {
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     if (display.x - left < 0.5f * display.x) left = 0;
-    ImGui::SetNextWindowPos(ImVec2(0.5f * (left + display.x), display.y - lift), ImGuiCond_Always,
-                            ImVec2(0.5f, 1.0f));
+    ImGui::SetNextWindowPos(ImVec2(0.5f * (left + display.x), display.y - lift), ImGuiCond_Always, ImVec2(0.5f, 1.0f));
     ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(0.95f * (display.x - left), display.y * 0.5f));
     ImGui::SetNextWindowBgAlpha(0.75f);
     return ImGui::Begin(id, nullptr,

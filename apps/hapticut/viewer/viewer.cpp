@@ -17,6 +17,7 @@
 
 #include "hapticut/common/stop_signal.h"
 #include "hapticut/common/text_file.h"
+#include "hapticut/common/thread_priority.h"
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/haptics/openhaptics_device.h"
 #include "hapticut/scene/open_device.h"
@@ -37,6 +38,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// The nice value the renderer's own threads get (the haptic loop keeps the default, 0).
+constexpr int kRendererNiceness = 10;
+
 class Viewer {
 public:
     Viewer(const ViewerOptions& options, std::unique_ptr<render::GlWindow> window,
@@ -56,6 +60,7 @@ public:
 
     int run();
     void frameOrgan();
+    std::vector<std::string> yieldingThreads;  // the driver's threads that yield to the haptic loop, for the report
 
 private:
     void onKey(int key, int mods);
@@ -424,6 +429,8 @@ int Viewer::run() {
         j["stalls"] = last.stalls;
         j["cut_events"] = last.cutEvents;
         j["renderer"] = window_->rendererDescription();
+        j["renderer_threads_yielding"] = yieldingThreads;
+        j["loop_priority"] = session_.loopPriority();
         j["provenance"] = app::provenance();
         if (const auto error = writeTextFileAtomically(options_.report, j.dump(2) + "\n")) {
             std::cerr << error->toString() << "\n";
@@ -472,7 +479,10 @@ int runViewer(const ViewerOptions& options) {
         return 1;
     }
     renderer->setOrganRims(scene->source.mesh.faces);
+    // The driver's threads exist now and ours do not yet: they yield to the haptic loop from here on.
+    const std::vector<std::string> yielding = deprioritiseOtherThreads(kRendererNiceness);
     Viewer viewer(options, std::move(window), std::move(renderer), std::move(*scene));
+    viewer.yieldingThreads = yielding;
     return viewer.run();
 }
 

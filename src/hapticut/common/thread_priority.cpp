@@ -1,0 +1,48 @@
+// Nice values of the other threads of the process, read and set through /proc and setpriority.
+#include "hapticut/common/thread_priority.h"
+
+#include <pthread.h>
+#include <sched.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+namespace hapticut {
+
+bool requestRealtimePriority(int priority) {
+    sched_param param{};
+    param.sched_priority = priority;
+    return pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0;
+}
+
+int threadNiceness(long tid) {
+    errno = 0;
+    const int nice = getpriority(PRIO_PROCESS, static_cast<id_t>(tid));
+    return errno == 0 ? nice : 0;
+}
+
+std::vector<std::string> deprioritiseOtherThreads(int niceness) {
+    std::vector<std::string> names;
+    const long self = syscall(SYS_gettid);
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc/self/task", ec)) {
+        const std::string id = entry.path().filename().string();
+        long tid = 0;
+        if (std::from_chars(id.data(), id.data() + id.size(), tid).ec != std::errc()) continue;
+        if (tid == self || threadNiceness(tid) >= niceness) continue;
+        // On Linux a thread's nice value is its own; setpriority with a thread id sets that thread's.
+        if (setpriority(PRIO_PROCESS, static_cast<id_t>(tid), niceness) != 0) continue;
+        std::string name;
+        std::getline(std::ifstream(entry.path() / "comm"), name);
+        names.push_back(name);
+    }
+    return names;
+}
+
+}  // namespace hapticut
