@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <string>
 
 namespace hapticut {
@@ -29,9 +31,10 @@ Status checkOutputPath(const std::filesystem::path& file, std::string_view exten
     if (!fs::is_directory(folder, ec)) return fail("cannot write it: " + folder.string() + " is not a folder");
     // Written through a temporary file beside the target (AtomicFile), so the folder must take new files.
     if (::access(folder.c_str(), W_OK | X_OK) != 0)
-        return fail("cannot write it: the folder " + folder.string() + " is not writable");
+        return fail("cannot write it: the folder " + folder.string() + " is not writable (" + std::strerror(errno) +
+                    ")");
     if (fs::exists(file, ec) && ::access(file.c_str(), W_OK) != 0)
-        return fail("cannot write it: the file exists and is not writable");
+        return fail("cannot write it: the file exists and is not writable (" + std::string(std::strerror(errno)) + ")");
     return std::nullopt;
 }
 
