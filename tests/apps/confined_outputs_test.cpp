@@ -30,13 +30,15 @@ Confined runConfined(const fs::path& scratch, Place place, const std::string& ar
     std::string command = args;
     for (std::size_t at; (at = command.find("{T}")) != std::string::npos;) command.replace(at, 3, "\"$T\"");
     const std::string s = scratch.string();
-    const std::string script =
-        "T=" + s + "/mnt; mkdir -p \"$T\"; mount -t tmpfs -o size=64k tmpfs \"$T\" || exit 97; "
-        "printf \"old contents\\n\" > \"$T/" + existing + "\"; " +
-        (place == Place::FullDisk ? "dd if=/dev/zero of=\"$T/filler\" bs=4k 2>/dev/null; "
-                                  : "mount -o remount,ro \"$T\" || exit 97; ") +
-        HAPTICUT_EXE + " " + command + " >" + s + "/out 2>" + s + "/err; echo $? >" + s + "/code; " +
-        "cat \"$T/" + existing + "\" >" + s + "/after; ls -A \"$T\" >" + s + "/listing";
+    const std::string script = "T=" + s +
+                               "/mnt; mkdir -p \"$T\"; mount -t tmpfs -o size=64k tmpfs \"$T\" || exit 97; "
+                               "printf \"old contents\\n\" > \"$T/" +
+                               existing + "\"; " +
+                               (place == Place::FullDisk ? "dd if=/dev/zero of=\"$T/filler\" bs=4k 2>/dev/null; "
+                                                         : "mount -o remount,ro \"$T\" || exit 97; ") +
+                               HAPTICUT_EXE + " " + command + " >" + s + "/out 2>" + s + "/err; echo $? >" + s +
+                               "/code; " + "cat \"$T/" + existing + "\" >" + s + "/after; ls -A \"$T\" >" + s +
+                               "/listing";
     const std::string shell = "unshare --mount --map-root-user sh -c '" + script + "' 2>" + s + "/unshare-err";
     const int status = std::system(shell.c_str());
     Confined r;
@@ -71,8 +73,7 @@ TEST(ConfinedOutputs, EveryOutputOnAFullDiskOrAReadOnlyFolderFailsClearlyAndKeep
             SCOPED_TRACE(what);
             hapticut::test::ScratchDir dir;
             const Confined r = runConfined(dir.path(), place, o.args, o.file);
-            if (r.exitCode == -1)
-                GTEST_SKIP() << "no mount namespace for a tmpfs here: " << slurp(dir / "unshare-err");
+            if (r.exitCode == -1) GTEST_SKIP() << "no mount namespace for a tmpfs here: " << slurp(dir / "unshare-err");
             EXPECT_NE(r.exitCode, 0) << r.err;
             EXPECT_NE(r.exitCode, 128 + 6) << "aborted:\n" << r.err;
             EXPECT_NE(r.err.find(o.file), std::string::npos) << "the message names the file:\n" << r.err;

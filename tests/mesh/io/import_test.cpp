@@ -2,12 +2,15 @@
 // broken meshes, and clear errors for malformed files.
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 #include <assimp/scene.h>
 #include <assimp/Exporter.hpp>
 
 #include <filesystem>
 #include <fstream>
 
+#include "hapticut/mesh/io/assimp_import.h"
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/primitives.h"
@@ -103,6 +106,24 @@ TEST_F(Import, MalformedFilesOfEachFormatGiveClearErrors) {
     const auto empty = io::loadMesh(dir_ / "empty.gltf");
     ASSERT_FALSE(empty.has_value());
     EXPECT_NE(empty.error().message.find("no mesh in the file"), std::string::npos) << empty.error().toString();
+}
+
+// A file past the importer's limit is refused by its size before Assimp reads it into memory (a sparse
+// file: no disk is used), and so is one past our own readers' limit.
+TEST_F(Import, AFileTooLargeToImportIsRefusedByItsSizeBeforeItIsRead) {
+    for (const char* name : {"huge.stl", "huge.obj"}) {
+        const fs::path file = dir_ / name;
+        std::ofstream(file) << "solid huge\n";
+        fs::resize_file(file,
+                        std::string(name) == "huge.stl" ? io::kMaxImportBytes + 1 : (std::uintmax_t{4} << 30) + 1);
+        const auto start = std::chrono::steady_clock::now();
+        const auto loaded = io::loadMesh(file);
+        ASSERT_FALSE(loaded.has_value());
+        EXPECT_EQ(loaded.error().file, file);
+        EXPECT_NE(loaded.error().message.find("bytes, more than the"), std::string::npos) << loaded.error().toString();
+        EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5)
+            << "refused by its size, not after reading gigabytes";
+    }
 }
 
 TEST(Repair, WeldsDuplicateVerticesAndDropsDuplicateAndDegenerateFaces) {

@@ -19,6 +19,13 @@ bool assimpCanImport(const std::filesystem::path& file) {
 Result<ImportedMesh, Error> importWithAssimp(const std::filesystem::path& file) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec)) return unexpected(Error{file, 0, "cannot open: no such file"});
+    // Assimp reads the whole file into memory and then builds its scene beside it: a file larger than our
+    // own readers take is refused before it starts, with its size, not after minutes of swapping.
+    if (const std::uintmax_t bytes = std::filesystem::file_size(file, ec); !ec && bytes > kMaxImportBytes)
+        return unexpected(Error{file, 0,
+                                "file is " + std::to_string(bytes) + " bytes, more than the " +
+                                    std::to_string(kMaxImportBytes) +
+                                    " this importer accepts (about 40 million triangles of binary STL)"});
     try {
         Assimp::Importer importer;
         // No vertex joining here: welding is ours, with a tolerance the user controls.

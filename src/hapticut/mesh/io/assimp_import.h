@@ -2,6 +2,7 @@
 // the file is merged, triangulated and placed by its node transforms; corner UVs are kept.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 
 #include "hapticut/common/result.h"
@@ -12,6 +13,10 @@ namespace hapticut::mesh::io {
 
 /// True for extensions Assimp can import here (case-insensitive, with the dot: ".stl").
 bool assimpCanImport(const std::filesystem::path& file);
+
+/// The largest file handed to Assimp: 2 GiB, some 40 million triangles of binary STL (the command line
+/// takes 20 million).
+inline constexpr std::uintmax_t kMaxImportBytes = std::uintmax_t{2} << 30;
 
 /// Imports every triangle of the file. Assimp gives each mesh its own vertices (STL even one per
 /// corner), so the result is not welded yet: see repair.h.
