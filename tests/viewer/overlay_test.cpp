@@ -77,8 +77,8 @@ TEST(Overlay, TheForceMarkSitsOnTheProxyInEachViewAndOnlyInContact) {
     EXPECT_FALSE(toWindow(camera, render::StereoMode::Off, camera.eye() - camera.forward(), 1280, 720).at[0])
         << "behind the eye";
 
-    HandMark pressing{proxy, proxy - 0.005 * camera.forward(), 1.3, true};
-    HandMark free{proxy, proxy, 0.0, false};
+    HandMark pressing{proxy, 1.3, true};
+    HandMark free{proxy, 0.0, false};
     const int none = ui.frame(0.1, [&] { drawForceMarks(std::span(&free, 1), 3.3, camera, {}, 1280, 720); });
     const int one = ui.frame(0.1, [&] { drawForceMarks(std::span(&pressing, 1), 3.3, camera, {}, 1280, 720); });
     const int two = ui.frame(

@@ -190,11 +190,19 @@ struct Renderer::Impl {
         glDisable(GL_DEPTH_TEST);
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        for (int i = 0; i < handCount; ++i)
-            drawFlat(*sphere,
-                     placement(frame.hands[static_cast<std::size_t>(i)].device_m, Eigen::Quaterniond::Identity(),
-                               Vec3::Constant(r * 0.8)),
-                     Eigen::Vector4f(0.3f, 0.8f, 1.0f, 0.55f));
+        for (int i = 0; i < handCount; ++i) {
+            const SceneFrame::Hand& hand = frame.hands[static_cast<std::size_t>(i)];
+            const Eigen::Vector4f cyan(0.3f, 0.8f, 1.0f, 0.55f);
+            drawFlat(*sphere, placement(hand.device_m, Eigen::Quaterniond::Identity(), Vec3::Constant(r * 0.8)), cyan);
+            // The coupling spring the hand feels, from the tool on the surface to the device inside: without
+            // it the device's marker reads as a ball come loose from the tool.
+            const Vec3 spring = hand.device_m - hand.proxy_m;
+            if (spring.norm() > r)
+                drawFlat(*shaft,
+                         placement(hand.proxy_m, Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), spring),
+                                   Vec3(r * 0.2, r * 0.2, spring.norm())),
+                         cyan);
+        }
         glDisable(GL_BLEND);
         glEnable(GL_DEPTH_TEST);
     }

@@ -79,14 +79,12 @@ void drawForceMarks(std::span<const HandMark> hands, double maxForce_N, const re
     for (const HandMark& hand : hands) {
         if (!hand.contact && hand.force_N < 0.05) continue;
         const ScreenPoints proxy = toWindow(camera, mode, hand.proxy_m, width, height);
-        const ScreenPoints device = toWindow(camera, mode, hand.device_m, width, height);
         const float ring = 8.0f + 28.0f * static_cast<float>(std::clamp(hand.force_N / maxForce_N, 0.0, 1.0));
         char label[32];
         std::snprintf(label, sizeof label, "%.2f N", hand.force_N);
         for (std::size_t v = 0; v < proxy.at.size(); ++v) {
             if (!proxy.at[v]) continue;
             const ImVec2 p = px(*proxy.at[v]);
-            if (device.at[v]) draw->AddLine(p, px(*device.at[v]), IM_COL32(80, 200, 255, 170), 1.5f);
             draw->AddCircle(p, ring, forceColour(hand.force_N, maxForce_N, 0.9f), 40, 2.0f);
             const ImVec2 at(p.x + ring + 6, p.y - ImGui::GetFontSize() * 0.5f);
             draw->AddText(ImVec2(at.x + 1, at.y + 1), IM_COL32(0, 0, 0, 200), label);

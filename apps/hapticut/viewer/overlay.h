@@ -42,15 +42,14 @@ ScreenPoints toWindow(const render::OrbitCamera& camera, render::StereoMode mode
 
 /// One hand as the overlay shows it.
 struct HandMark {
-    Vec3 proxy_m, device_m;
+    Vec3 proxy_m;
     double force_N = 0;
     bool contact = false;
 };
 
 /// Beside each tool in contact: |F| in newtons and a ring that grows with it toward the device's maximum,
 /// green to red like the arrow. The mouse presses along the view, so the arrow points at the eye and the
-/// dent faces it; the ring and the number show the press from any angle. A thin line joins the proxy to
-/// the device inside the tissue: the coupling spring the hand feels.
+/// dent faces it; the ring and the number show the press from any angle.
 void drawForceMarks(std::span<const HandMark> hands, double maxForce_N, const render::OrbitCamera& camera,
                     render::StereoMode mode, double width, double height);
 

@@ -178,7 +178,7 @@ void Viewer::drawOverlay(const haptics::Snapshot& s) {
     const int count = std::min(s.handCount, static_cast<int>(marks.size()));
     for (int h = 0; h < count; ++h) {
         const haptics::HandStep& hand = s.hands[static_cast<std::size_t>(h)];
-        marks[static_cast<std::size_t>(h)] = {hand.proxy_m, hand.device_m, hand.force_N.norm(), hand.contact};
+        marks[static_cast<std::size_t>(h)] = {hand.proxy_m, hand.force_N.norm(), hand.contact};
     }
     // ImGui draws in window coordinates, which differ from the framebuffer's on a scaled display.
     const ImVec2 display = ImGui::GetIO().DisplaySize;
