@@ -2,6 +2,7 @@
 // format, OBJ or PLY.
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 #include <iostream>
 #include <optional>
 
@@ -11,6 +12,7 @@
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/mesh/mesh_report.h"
+#include "hapticut/mesh/remesh.h"
 #include "hapticut/mesh/repair.h"
 #include "hapticut/physics/material.h"
 #include "terminal.h"
@@ -20,11 +22,20 @@ namespace hapticut::app {
 
 namespace {
 
+/// Three significant digits, for figures a person reads.
+std::string threeDigits(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+}
+
 struct ConvertOptions {
     std::string in, out;
     int triangles = 1619;
     UnitOptions units;
-    std::optional<double> mass, ks, kd, kp, kdp, weld;
+    std::optional<double> mass, ks, kd, kp, kdp, weld, targetEdge;
+    double featureAngle_deg = 0;
+    std::optional<long> remeshTriangles;
     bool fitUnitBox = false, repair = false;
 };
 
@@ -56,6 +67,30 @@ int convert(const ConvertOptions& o) {
                       << "; " << o.out << " was not written\n";
             return 1;
         }
+        if (!source->fromThesisFile) source->physics = physics::thesisPhysicsFor(m, physics::Material{});
+    }
+    if (o.remeshTriangles || o.targetEdge) {
+        const mesh::MeshReport before = mesh::validateMesh(m);
+        mesh::RemeshOptions options;
+        options.featureAngle_deg = o.featureAngle_deg;
+        options.targetEdge_m = o.targetEdge
+                                   ? *o.targetEdge
+                                   : mesh::targetEdgeForTriangles(m, static_cast<std::size_t>(*o.remeshTriangles));
+        auto remeshed = mesh::remeshIsotropic(m, options);
+        if (!remeshed) {
+            std::cerr << "hapticut convert: " << o.in << ": cannot remesh: " << remeshed.error() << "; " << o.out
+                      << " was not written\n";
+            return 1;
+        }
+        const mesh::MeshReport after = mesh::validateMesh(remeshed->mesh);
+        const auto mm = [](double metres) { return threeDigits(metres * 1e3) + " mm"; };
+        std::cout << "  remeshed to " << mm(options.targetEdge_m) << " edges: " << before.faces << " -> " << after.faces
+                  << " faces; smallest angle " << threeDigits(before.minAngleDeg) << " -> "
+                  << threeDigits(after.minAngleDeg) << " deg; shortest edge " << mm(before.shortestEdge_m) << " -> "
+                  << mm(after.shortestEdge_m) << "; " << remeshed->featureEdges
+                  << " sharp or boundary edges kept; distance to the input " << mm(remeshed->distanceMean_m)
+                  << " mean, " << mm(remeshed->distanceMax_m) << " max\n";
+        m = std::move(remeshed->mesh);
         if (!source->fromThesisFile) source->physics = physics::thesisPhysicsFor(m, physics::Material{});
     }
     if (o.fitUnitBox) {
@@ -116,6 +151,17 @@ Command addConvertCommand(CLI::App& app) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--repair", o->repair,
                   "Orient faces consistently and outward, split non-manifold edges, remove small fragments");
+    auto* remesh = cmd->add_option("--remesh", o->remeshTriangles,
+                                   "Remesh isotropically to about this many triangles (after --repair): even edges, "
+                                   "no slivers, sharp edges and boundaries kept")
+                       ->check(CLI::Range(4L, 20'000'000L));
+    cmd->add_option("--target-edge", o->targetEdge, "Remesh isotropically to this edge length, m (after --units)")
+        ->check(CLI::PositiveNumber)
+        ->excludes(remesh);
+    cmd->add_option("--feature-angle", o->featureAngle_deg,
+                    "With --remesh: keep edges where faces meet at more than this many degrees (a tool or a "
+                    "machined part; organs have none, and noise would count)")
+        ->check(CLI::Range(0.0, 180.0));
     return [o] { return convert(*o); };
 }
 

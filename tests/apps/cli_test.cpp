@@ -256,6 +256,29 @@ TEST_F(Cli, ConvertsAnStlWithRepairUnitBoxAndPhysics) {
     EXPECT_EQ(run("run --model " + path("t.stl") + " --steps 10").exitCode, 0);
 }
 
+// A mesh remeshed on the way through: about the triangles asked for, closed and oriented, no sliver, and
+// the figures printed; a target length works the same; the two together, or nonsense, are refused.
+TEST_F(Cli, ConvertRemeshesToATriangleCountOrAnEdgeLength) {
+    const CliResult r = run("convert heart --triangles 9714 --remesh 3000 " + path("r.obj"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("remeshed to"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("distance to the input"), std::string::npos) << r.out;
+    const auto j = nlohmann::json::parse(run("info " + path("r.obj") + " --json").out);
+    EXPECT_NEAR(j["faces"].get<double>(), 3000, 450);
+    EXPECT_EQ(j["closed"], true);
+    EXPECT_EQ(j["oriented"], true);
+    EXPECT_GT(j["min_angle_deg"].get<double>(), 15);
+
+    ASSERT_EQ(run("convert heart --target-edge 0.004 " + path("e.obj")).exitCode, 0);
+    const auto e = nlohmann::json::parse(run("info " + path("e.obj") + " --json").out);
+    EXPECT_NEAR(e["mean_edge_length_m"].get<double>(), 0.004, 0.0006);
+
+    EXPECT_EQ(run("convert heart --remesh 3000 --target-edge 0.004 " + path("x.obj")).exitCode, 2);
+    EXPECT_EQ(run("convert heart --target-edge -1 " + path("x.obj")).exitCode, 2);
+    EXPECT_EQ(run("convert heart --remesh 2 " + path("x.obj")).exitCode, 2);
+    EXPECT_FALSE(fs::exists(path("x.obj")));
+}
+
 TEST_F(Cli, ASceneReproducesAnExperimentAndTheCommandLineOverridesIt) {
     const std::string scene = std::string(HAPTICUT_SOURCE_DIR) + "/assets/scenes/press-front.toml";
     ASSERT_EQ(run("run --scene " + scene + " --triangles 1619 --force-log " + path("a.csv")).exitCode, 0);
