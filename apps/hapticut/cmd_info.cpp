@@ -46,6 +46,8 @@ int info(const InfoOptions& o) {
         j["bbox_min"] = toJson(r.bboxMin);
         j["bbox_max"] = toJson(r.bboxMax);
         j["min_angle_deg"] = r.minAngleDeg;
+        const auto advice = mesh::shapeAdvice(r);
+        j["shape_advice"] = advice ? nlohmann::ordered_json(*advice) : nlohmann::ordered_json(nullptr);
         j["mean_edge_length_m"] = r.meanEdgeLength_m;
         j["shortest_edge_m"] = r.shortestEdge_m;
         j["area_m2"] = r.area_m2;

@@ -273,6 +273,16 @@ TEST_F(Cli, ConvertRemeshesToATriangleCountOrAnEdgeLength) {
     const auto e = nlohmann::json::parse(run("info " + path("e.obj") + " --json").out);
     EXPECT_NEAR(e["mean_edge_length_m"].get<double>(), 0.004, 0.0006);
 
+    // A flattened tetrahedron: one face all but a line. Loading it says so and offers the remeshing;
+    // the heart, well shaped, gets no such advice.
+    std::ofstream(path("flat.obj")) << "v 0 0 0\nv 0.05 0 0\nv 0 0.05 0\nv 0.025 0.025 0.0002\n"
+                                       "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+    const CliResult flat = run("info " + path("flat.obj") + " --json");
+    EXPECT_NE(flat.err.find("badly shaped for simulation"), std::string::npos) << flat.err;
+    EXPECT_NE(flat.err.find("--remesh"), std::string::npos) << flat.err;
+    EXPECT_TRUE(nlohmann::json::parse(flat.out)["shape_advice"].is_string());
+    EXPECT_TRUE(nlohmann::json::parse(run("info heart --json").out)["shape_advice"].is_null());
+
     EXPECT_EQ(run("convert heart --remesh 3000 --target-edge 0.004 " + path("x.obj")).exitCode, 2);
     EXPECT_EQ(run("convert heart --target-edge -1 " + path("x.obj")).exitCode, 2);
     EXPECT_EQ(run("convert heart --remesh 2 " + path("x.obj")).exitCode, 2);

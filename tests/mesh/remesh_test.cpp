@@ -122,7 +122,8 @@ TEST(Remesh, RefusesANonManifoldMeshAndANonsenseTarget) {
     ASSERT_FALSE(nonManifold);
     EXPECT_NE(nonManifold.error().find("repair it first"), std::string::npos);
     const SurfaceMesh sphere = procedural::makeSphere(Vec3::Zero(), 0.05, 16, 8);
-    for (const double target : {0.0, -1.0, std::nan("")}) EXPECT_FALSE(remeshIsotropic(sphere, {.targetEdge_m = target}));
+    for (const double target : {0.0, -1.0, std::nan("")})
+        EXPECT_FALSE(remeshIsotropic(sphere, {.targetEdge_m = target}));
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // Validation report of a mesh.
 #include "hapticut/mesh/mesh_report.h"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -85,6 +87,17 @@ MeshReport validateMesh(const SurfaceMesh& mesh) {
     r.shortestEdge_m = shortest;
     r.meanEdgeLength_m = adj.edges.empty() ? 0 : sum / static_cast<double>(adj.edges.size());
     return r;
+}
+
+std::optional<std::string> shapeAdvice(const MeshReport& r) {
+    if (r.faces == 0 || (r.minAngleDeg >= 5 && r.shortestEdge_m * 20 >= r.meanEdgeLength_m)) return std::nullopt;
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "badly shaped for simulation: smallest angle %.2g deg, shortest edge %.3g mm against a mean of "
+                  "%.3g mm (slivers make contact rough and the physics stiff); hapticut convert --remesh %zu gives "
+                  "even triangles on the same surface",
+                  r.minAngleDeg, r.shortestEdge_m * 1e3, r.meanEdgeLength_m * 1e3, r.faces);
+    return std::string(text);
 }
 
 }  // namespace hapticut::mesh

@@ -1,6 +1,9 @@
 // Validation report of a mesh: counts, boundary, manifoldness, orientation, components, quality.
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include <cstddef>
 
 #include "hapticut/geometry/vec.h"
@@ -25,5 +28,10 @@ struct MeshReport {
 };
 
 MeshReport validateMesh(const SurfaceMesh& mesh);
+
+/// For a mesh badly shaped for simulation and contact (a smallest angle under 5 degrees, or a shortest
+/// edge under a twentieth of the mean: the slivers segmentation and decimation leave), what is wrong
+/// and the remeshing that fixes it; nothing for a well-shaped one.
+std::optional<std::string> shapeAdvice(const MeshReport& report);
 
 }  // namespace hapticut::mesh

@@ -383,8 +383,7 @@ private:
         const int va = valence(a), vb = valence(b), vc = valence(c), vd = valence(d);
         const int ta = target(a), tb = target(b), tc = target(c), td = target(d);
         const int before = std::abs(va - ta) + std::abs(vb - tb) + std::abs(vc - tc) + std::abs(vd - td);
-        const int after =
-            std::abs(va - 1 - ta) + std::abs(vb - 1 - tb) + std::abs(vc + 1 - tc) + std::abs(vd + 1 - td);
+        const int after = std::abs(va - 1 - ta) + std::abs(vb - 1 - tb) + std::abs(vc + 1 - tc) + std::abs(vd + 1 - td);
         if (after >= before) return false;
         // Only across nearly flat edges, and never into a folded pair.
         const Vec3 n = (normalOf(f1).normalized() + normalOf(f2).normalized()).normalized();

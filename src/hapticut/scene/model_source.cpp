@@ -38,6 +38,7 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles) 
     if (report.nonManifoldEdges > 0)
         warn(std::to_string(report.nonManifoldEdges) + " non-manifold edges (hapticut convert --repair splits them)");
     if (report.misorientedEdges > 0) warn("inconsistently oriented faces (hapticut convert --repair orients them)");
+    if (const auto advice = mesh::shapeAdvice(report)) warn(*advice);
     return source;
 }
 
