@@ -302,10 +302,6 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
                   << r.periodError_us.max << " us max; overruns " << r.overruns << " (" << r.missedPeriods
                   << (r.missedPeriods == 1 ? " period" : " periods") << " missed, " << r.stalls << " stall"
                   << (r.stalls == 1 ? "" : "s") << " after which the force ramped back in)\n";
-    if (r.realtimePriority && !*r.realtimePriority && r.overruns > 0)
-        std::cerr << "hapticut run: the loop's thread ran at normal priority (the system allows this user no "
-                     "real-time scheduling), so other busy threads could delay it: docs/devices.md says how to allow "
-                     "it\n";
     std::cout << "contact in " << r.contactSteps << " steps; max force " << r.maxForce_N << " N; max proxy penetration "
               << r.maxProxyPenetration_m << " m (measured in " << r.penetrationMeasuredSteps
               << " steps); max tissue displacement " << r.maxDisplacement_m * 1e3 << " mm, "
@@ -411,7 +407,6 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["overruns"] = r.overruns;
         j["missed_periods"] = r.missedPeriods;
         j["stalls"] = r.stalls;
-        j["realtime_priority"] = r.realtimePriority ? nlohmann::ordered_json(*r.realtimePriority) : nullptr;
         j["contact_steps"] = r.contactSteps;
         j["max_force_N"] = r.maxForce_N;
         j["max_proxy_penetration_m"] = r.maxProxyPenetration_m;

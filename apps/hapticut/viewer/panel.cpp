@@ -76,13 +76,6 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
         ImGui::Text("%s, %d substep%s (stable below %.2f ms)", std::string(physics::schemeName(s.scheme)).c_str(),
                     s.substeps, s.substeps == 1 ? "" : "s", s.stableStep_s * 1e3);
     ImGui::Text("overruns %ld   cut events %ld", s.overruns, s.cutEvents);
-    if (session.loopPriority() == "normal") {
-        ImGui::TextDisabled("loop thread at normal priority (?)");
-        if (ImGui::IsItemHovered())
-            ImGui::SetTooltip(
-                "The system allows no real-time scheduling, so other busy threads can delay the\n"
-                "haptic loop; docs/devices.md says how to allow it.");
-    }
     if (s.stalls > 0)  // gaps of 3 periods or more, after each of which the force sent ramped back in
         ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "stalls %ld: force ramped back in", s.stalls);
     if (s.watchdogTripped) {

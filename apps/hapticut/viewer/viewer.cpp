@@ -430,7 +430,6 @@ int Viewer::run() {
         j["cut_events"] = last.cutEvents;
         j["renderer"] = window_->rendererDescription();
         j["renderer_threads_yielding"] = yieldingThreads;
-        j["loop_priority"] = session_.loopPriority();
         j["provenance"] = app::provenance();
         if (const auto error = writeTextFileAtomically(options_.report, j.dump(2) + "\n")) {
             std::cerr << error->toString() << "\n";

@@ -1,8 +1,6 @@
 // Nice values of the other threads of the process, read and set through /proc and setpriority.
 #include "hapticut/common/thread_priority.h"
 
-#include <pthread.h>
-#include <sched.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -14,12 +12,6 @@
 #include <system_error>
 
 namespace hapticut {
-
-bool requestRealtimePriority(int priority) {
-    sched_param param{};
-    param.sched_priority = priority;
-    return pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0;
-}
 
 int threadNiceness(long tid) {
     errno = 0;

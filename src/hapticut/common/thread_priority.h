@@ -14,11 +14,6 @@ namespace hapticut {
 /// threads started later by the calling thread keep its priority.
 std::vector<std::string> deprioritiseOtherThreads(int niceness);
 
-/// Asks for real-time scheduling (SCHED_FIFO at `priority`, 1-99) for the calling thread, as haptic
-/// device drivers run their servo loops; false where the system does not allow it (an ordinary user
-/// without an rtprio limit: see docs/devices.md), and the thread keeps its priority.
-bool requestRealtimePriority(int priority);
-
 /// The nice value of a thread of this process, by its kernel id; 0 where it cannot be read.
 int threadNiceness(long tid);
 

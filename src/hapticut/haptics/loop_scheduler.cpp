@@ -3,8 +3,6 @@
 
 #include <algorithm>
 
-#include "hapticut/common/thread_priority.h"
-
 namespace hapticut::haptics {
 
 void runSimulated(HapticLoop& loop, long steps, const StepObserver& observer, const std::function<bool()>& keepGoing) {
@@ -86,7 +84,6 @@ void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
     // Sleep until shortly before each deadline, then spin: sleeping alone wakes up late, by more than
     // 150 us in 1% of wake-ups on a virtual machine. The spin costs CPU on the haptic thread only.
     const auto spinMargin = std::chrono::microseconds(400);
-    realtimePriority_.store(requestRealtimePriority(kLoopPriority), std::memory_order_release);
     const auto begin = Clock::now();
     auto deadline = begin;
     Clock::duration dropped{0};  // how late the next step already is when missed deadlines were dropped

@@ -41,14 +41,6 @@ public:
     /// Stops stepping and leaves the devices at zero force.
     void stop();
     bool running() const { return running_.load(std::memory_order_acquire); }
-    /// Whether our stepping thread got real-time scheduling (SCHED_FIFO), which keeps other busy
-    /// threads (a software renderer, a physics thread, other programs) from delaying its steps; false
-    /// where the system does not allow it and for a device's servo thread, which its driver schedules.
-    bool realtimePriority() const { return realtimePriority_.load(std::memory_order_acquire); }
-    /// Whether a device's servo thread steps the loop (until stop()).
-    bool servoDriven() const { return !servos_.empty(); }
-    /// The SCHED_FIFO priority asked for: above ordinary threads, below the kernel's own (99).
-    static constexpr int kLoopPriority = 80;
 
 private:
     using Clock = std::chrono::steady_clock;
@@ -56,7 +48,7 @@ private:
     void threadMain(long max_steps, StepObserver observer);
 
     HapticLoop& loop_;
-    std::atomic<bool> running_{false}, stopRequested_{false}, realtimePriority_{false};
+    std::atomic<bool> running_{false}, stopRequested_{false};
     std::thread thread_;
     std::vector<ServoClock*> servos_;  // set while devices' servos run: the first drives the loop
     // The servo-driven loop's own bookkeeping (what threadMain keeps on its stack).

@@ -117,7 +117,6 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
                 config.progress(stepsDone.load(std::memory_order_relaxed));
             }
         }
-        if (!clock.servoDriven()) r.realtimePriority = clock.realtimePriority();
         clock.stop();
         r.stoppedEarly = config.stopRequested && config.stopRequested();
     } else {

@@ -52,9 +52,6 @@ struct HapticRunResult {
     long overruns = 0, contactSteps = 0, nonFiniteEvents = 0;
     long contactNodesMax = 0, footprintCutSteps = 0;  // LoopStats': how far the tools' loads spread
     long missedPeriods = 0, stalls = 0;               // LoopStats'
-    /// Real time in a thread of ours: whether it got real-time scheduling; empty on simulated time or
-    /// when a device's servo thread stepped the loop.
-    std::optional<bool> realtimePriority;
     bool watchdogTripped = false;
     double maxForce_N = 0;
     double maxProxyPenetration_m = 0;   // by the ray-parity test on the current surface, in every step it is closed

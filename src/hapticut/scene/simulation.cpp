@@ -279,9 +279,4 @@ WriteStatus Simulation::exportMesh(const std::string& file, const haptics::Snaps
     return mesh::io::saveMesh(file, m, scene_.source.physics);
 }
 
-std::string Simulation::loopPriority() const {
-    if (!clock_ || clock_->servoDriven()) return "device servo";
-    return clock_->realtimePriority() ? "real-time" : "normal";
-}
-
 }  // namespace hapticut::scene

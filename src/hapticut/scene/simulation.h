@@ -85,9 +85,6 @@ public:
     /// errors of writing it, if any.
     std::vector<Error> stopRecording();
     bool recording() const { return recorder_ != nullptr; }
-    /// The loop's stepping thread: "real-time" (it got SCHED_FIFO), "normal" (the system allows none),
-    /// or "device servo" (a device's driver steps it).
-    std::string loopPriority() const;
     const std::string& recordingFile() const { return recordingFile_; }
     /// Rows written so far, and steps the ring had no room for.
     long recordedSteps() const { return recorder_ ? recorder_->rowsWritten() : 0; }
