@@ -211,7 +211,10 @@ StepOutput HapticLoop::step() noexcept {
     const auto start = Clock::now();
     frameNodes_.clear();
     applyPendingCommands();
-    if (std::exchange(stalled_, false)) stallRampStart_s_ = time_s();
+    if (std::exchange(stalled_, false)) {
+        stallRampStart_s_ = time_s();
+        stallToShow_ = true;  // published with this step, so a reader never lags the count by a stall
+    }
     StepOutput out;
     out.t_s = time_s();
     out.handCount = handCount();
@@ -675,7 +678,7 @@ void HapticLoop::finishStep(StepOutput& out, double elapsed_us) noexcept {
     maxStepSinceSnapshot_us_ = std::max(maxStepSinceSnapshot_us_, elapsed_us);
     stats_.contactSteps += anyContact;
     ++stats_.steps;
-    if (stepIndex_ % config_.snapshotEvery == 0 || out.cut) publishSnapshot(out);
+    if (stepIndex_ % config_.snapshotEvery == 0 || out.cut || std::exchange(stallToShow_, false)) publishSnapshot(out);
     ++stepIndex_;
 }
 

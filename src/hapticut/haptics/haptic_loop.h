@@ -334,7 +334,8 @@ private:
     double rampStart_s_ = 0;  // forces fade in from here: the start, or a watchdog reset
     // The force sent fades back in from here after a stall (LoopConfig::stallRampTime_s).
     double stallRampStart_s_ = -std::numeric_limits<double>::infinity();
-    bool stalled_ = false;  // recordLateness saw a stall before the coming step
+    bool stalled_ = false;      // recordLateness saw a stall before the coming step
+    bool stallToShow_ = false;  // the coming snapshot carries a new stall: published whatever snapshotEvery says
     LoopStats stats_;
     SnapshotPublisher snapshots_;
     SpscQueue<LoopCommand, 64> commands_;
