@@ -210,7 +210,11 @@ TEST_F(OpenHaptics, ADeviceLostMidRunTripsTheWatchdogAndSendsNoForce) {
     HapticLoop loop(h.organ, *device, config);
     RealTimeScheduler clock(loop);
     ASSERT_FALSE(clock.start());
-    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    // Until the press has built up (150 ms in a release build; a sanitizer's slower steps stall the
+    // loop, and each stall ramps the force in again), at most two seconds.
+    const auto pressStart = std::chrono::steady_clock::now();
+    while (emu.lastForce().norm() <= 0.1 && std::chrono::steady_clock::now() - pressStart < std::chrono::seconds(2))
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
     EXPECT_GT(emu.lastForce().norm(), 0.1) << "pressing 3 mm in before the loss";
     emu.failAfterTicks(10, hd::kCommError);
     std::this_thread::sleep_for(std::chrono::milliseconds(150));
