@@ -5,10 +5,10 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <unordered_map>
 #include <unordered_set>
 
 #include "hapticut/geometry/aabb.h"
+#include "hapticut/geometry/triangle.h"
 #include "hapticut/geometry/triangle_queries.h"
 #include "hapticut/mesh/adjacency.h"
 #include "hapticut/mesh/edge_flip.h"
@@ -16,8 +16,6 @@
 namespace hapticut::mesh {
 
 namespace {
-
-Vec3 faceNormal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cross(c - a); }
 
 /// The sine of a triangle's smallest angle (0 for a degenerate one): twice the area over the product of
 /// the two edges beside that angle, which are the two longest.
@@ -135,7 +133,6 @@ public:
     }
 
     std::size_t featureEdgeCount() const { return featureEdges_.size(); }
-    std::vector<Vec3>& positions() { return x_; }
     std::size_t vertexCount() const { return x_.size(); }
     const Vec3& position(std::uint32_t v) const { return x_[v]; }
 
@@ -149,7 +146,7 @@ public:
             std::array<Vec3, 3> q{x_[g[0]], x_[g[1]], x_[g[2]]};
             for (int k = 0; k < 3; ++k)
                 if (g[k] == v) q[k] = p;
-            const Vec3 after = faceNormal(q[0], q[1], q[2]);
+            const Vec3 after = geometry::areaNormal(q[0], q[1], q[2]);
             if (after.norm() < 0.1 * before.norm() || after.normalized().dot(before.normalized()) < 0.8) return false;
         }
         x_[v] = p;
@@ -178,7 +175,9 @@ public:
     }
 
 private:
-    Vec3 normalOf(std::uint32_t f) const { return faceNormal(x_[faces_[f][0]], x_[faces_[f][1]], x_[faces_[f][2]]); }
+    Vec3 normalOf(std::uint32_t f) const {
+        return geometry::areaNormal(x_[faces_[f][0]], x_[faces_[f][1]], x_[faces_[f][2]]);
+    }
     bool isFeature(std::uint32_t a, std::uint32_t b) const { return featureEdges_.count(edgeKey(a, b)) != 0; }
 
     std::size_t facesOfEdgeCount(std::uint32_t a, std::uint32_t b) const {
@@ -306,12 +305,12 @@ private:
                 if (std::find(scratchC_.begin(), scratchC_.end(), f) != scratchC_.end()) continue;
                 const Face g0 = faces_[f];
                 Face g = g0;
-                const Vec3 before = faceNormal(x_[g[0]], x_[g[1]], x_[g[2]]);
+                const Vec3 before = geometry::areaNormal(x_[g[0]], x_[g[1]], x_[g[2]]);
                 for (std::uint32_t& c : g)
                     if (c == a || c == b) c = ~std::uint32_t{0};
                 std::array<Vec3, 3> p;
                 for (int k = 0; k < 3; ++k) p[k] = g[k] == ~std::uint32_t{0} ? target : x_[g[k]];
-                const Vec3 after = faceNormal(p[0], p[1], p[2]);
+                const Vec3 after = geometry::areaNormal(p[0], p[1], p[2]);
                 if (after.norm() < 1e-12 * before.norm() || after.normalized().dot(before.normalized()) < 0.8)
                     return false;
                 // Nor a new sliver: thin triangles left by collapses on a fine input outlived every flip.
@@ -387,7 +386,7 @@ private:
         if (after >= before) return false;
         // Only across nearly flat edges, and never into a folded pair.
         const Vec3 n = (normalOf(f1).normalized() + normalOf(f2).normalized()).normalized();
-        const Vec3 m1 = faceNormal(x_[a], x_[d], x_[c]), m2 = faceNormal(x_[d], x_[b], x_[c]);
+        const Vec3 m1 = geometry::areaNormal(x_[a], x_[d], x_[c]), m2 = geometry::areaNormal(x_[d], x_[b], x_[c]);
         if (m1.norm() < 1e-14 || m2.norm() < 1e-14) return false;
         if (m1.normalized().dot(n) < 0.5 || m2.normalized().dot(n) < 0.5) return false;
         const double was = std::min(smallestAngleSine(x_[a], x_[b], x_[c]), smallestAngleSine(x_[b], x_[a], x_[d]));
