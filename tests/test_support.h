@@ -40,11 +40,11 @@ Vec3 wobble(std::size_t i, double size_m);
 /// The signed volume enclosed by a closed mesh: positive when the faces point outward.
 double signedVolume(const mesh::SurfaceMesh& mesh);
 
-/// A fresh folder of the test's own, named after the running test and the process, removed again at the end.
-/// ctest runs tests in parallel processes, so a folder shared between tests would be deleted under another's feet.
 /// A file's bytes as a string; empty when it cannot be read.
 std::string slurp(const std::filesystem::path& file);
 
+/// A fresh folder of the test's own, named after the running test and the process, removed again at the end.
+/// ctest runs tests in parallel processes, so a folder shared between tests would be deleted under another's feet.
 class ScratchDir {
 public:
     ScratchDir();

@@ -4,20 +4,18 @@
 
 #include <random>
 
+#include "cutting/cuttable.h"
 #include "hapticut/cutting/cut_model.h"
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"
 #include "hapticut/physics/integrators.h"
-#include "hapticut/physics/material.h"
 
 namespace hapticut::cutting {
 namespace {
 
-CutModel cuttable(const mesh::SurfaceMesh& mesh) {
-    return CutModel(mesh, physics::buildModel(mesh, physics::Material{}));
-}
+using test::cuttable;
 
 TEST(CutModel, SplittingAFaceAddsAVertexTwoFacesAndThreeSprings) {
     CutModel cut = cuttable(mesh::procedural::makeGrid(4, 0.01));

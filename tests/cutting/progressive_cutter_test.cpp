@@ -5,6 +5,7 @@
 #include <map>
 #include <random>
 
+#include "cutting/cuttable.h"
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/cutting/progressive_cutter.h"
 #include "hapticut/cutting/stroke_fuzzer.h"
@@ -12,14 +13,11 @@
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"
 #include "hapticut/physics/integrators.h"
-#include "hapticut/physics/material.h"
 
 namespace hapticut::cutting {
 namespace {
 
-CutModel cuttable(const mesh::SurfaceMesh& mesh) {
-    return CutModel(mesh, physics::buildModel(mesh, physics::Material{}));
-}
+using test::cuttable;
 
 /// Where the scalpel touches: the rest surface's closest face and barycentrics.
 std::pair<std::uint32_t, Vec3> touch(const CutModel& cut, const Vec3& p) {
