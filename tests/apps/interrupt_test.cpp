@@ -129,20 +129,30 @@ struct LongCommand {
     std::string args;
     const char* report;  // written when the command ends on its own or by a signal it caught
     const char* stepsKey;
+    const char* started;  // a line on stderr saying that the command has begun its work (nullptr: none)
 };
+
+/// Waits until `file` holds `text`, up to 60 s (a sanitizer's build loads the organ slowly).
+bool waitForText(const fs::path& file, const std::string& text) {
+    for (const auto until = std::chrono::steady_clock::now() + 60s; std::chrono::steady_clock::now() < until;
+         std::this_thread::sleep_for(10ms))
+        if (slurp(file).find(text) != std::string::npos) return true;
+    return false;
+}
 
 // Each command runs long enough that the signal comes while it works: a headless run, a replayed
 // scalpel stroke with its force log and recording, the cutting soak, and a conversion of a large heart
 // (which a signal ends at once, removing what it was writing).
 TEST(Interrupt, EveryLongCommandStoppedAtARandomMomentLeavesCompleteFilesOrNone) {
     const std::vector<LongCommand> commands = {
-        {"run", "run --steps 100000000 --report r.json --export-mesh m.obj", "r.json", "steps"},
+        {"run", "run --steps 100000000 --report r.json --export-mesh m.obj", "r.json", "steps",
+         " springs, integrator "},
         {"replay",
          "run --trajectory " + kCutFront +
              " --tool scalpel --steps 100000000 --force-log f.csv --record rec.csv --report r.json",
-         "r.json", "steps"},
-        {"soak", "soak --strokes 10000000 --report s.json", "s.json", "strokes"},
-        {"convert", "convert heart big.ply --triangles 1000000", nullptr, nullptr},
+         "r.json", "steps", "hand 1:"},
+        {"soak", "soak --strokes 10000000 --report s.json", "s.json", "strokes", "hapticut soak:"},
+        {"convert", "convert heart big.ply --triangles 1000000", nullptr, nullptr, nullptr},
     };
     std::mt19937 rng(20261123);
     for (const LongCommand& c : commands)
@@ -153,6 +163,9 @@ TEST(Interrupt, EveryLongCommandStoppedAtARandomMomentLeavesCompleteFilesOrNone)
             hapticut::test::ScratchDir dir;
             std::ofstream(dir / "big.ply") << "what the user had before\n";
             Process p(c.args, dir.path());
+            // The moment is random within the command's work, not its start-up: a signal while it still
+            // loads the organ ends it before it has anything to write (a loaded machine once took 400 ms).
+            if (c.started) ASSERT_TRUE(waitForText(dir / "err", c.started)) << slurp(dir / "err");
             std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
             p.signal(number);
             const int status = p.wait();

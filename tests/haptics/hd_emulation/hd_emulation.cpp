@@ -38,7 +38,8 @@ struct Emulation {
     long failAfterTicks = -1;
     HDerror failWith = kSuccess;
     std::atomic<long> ticks{0};
-    std::atomic<long> stallMs{0};  // the scheduler's next tick is held back this long (a stalled servo)
+    std::atomic<long> ticksWithCallbacks{0};  // the ticks that ran at least one scheduled callback
+    std::atomic<long> stallMs{0};             // the scheduler's next tick is held back this long (a stalled servo)
     long frameErrors = 0, forcesOutsideFrame = 0;
     double position[3] = {0, 0, 0}, velocity[3] = {0, 0, 0};
     int buttons = 0;
@@ -66,6 +67,7 @@ void schedulerMain() {
         std::lock_guard lock(e.mutex);
         ++e.ticks;
         if (e.failAfterTicks >= 0 && e.ticks > e.failAfterTicks) pushError(e.failWith, 5);
+        if (!e.scheduled.empty()) ++e.ticksWithCallbacks;
         for (std::size_t i = 0; i < e.scheduled.size();) {
             if (e.scheduled[i].callback(e.scheduled[i].data) == kCallbackDone)
                 e.scheduled.erase(e.scheduled.begin() + static_cast<std::ptrdiff_t>(i));
@@ -235,6 +237,7 @@ void hdEmu_reset() {
     e.calibrationUpdates = 0;
     e.failAfterTicks = -1;
     e.ticks = 0;
+    e.ticksWithCallbacks = 0;
     e.frameErrors = e.forcesOutsideFrame = 0;
     std::fill(std::begin(e.position), std::end(e.position), 0.0);
     std::fill(std::begin(e.force), std::end(e.force), 0.0);
@@ -259,6 +262,7 @@ void hdEmu_lastForce(double out[3]) {
 }
 double hdEmu_maxForceSent() { return emu().maxForceSent; }
 long hdEmu_ticks() { return emu().ticks; }
+long hdEmu_ticksWithCallbacks() { return emu().ticksWithCallbacks; }
 void hdEmu_stallScheduler(long ms) { emu().stallMs = ms; }
 long hdEmu_calibrationUpdates() { return emu().calibrationUpdates; }
 long hdEmu_frameErrors() { return emu().frameErrors + emu().forcesOutsideFrame; }
