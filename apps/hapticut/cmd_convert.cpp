@@ -76,6 +76,7 @@ int convert(const ConvertOptions& o) {
         options.targetEdge_m = o.targetEdge
                                    ? *o.targetEdge
                                    : mesh::targetEdgeForTriangles(m, static_cast<std::size_t>(*o.remeshTriangles));
+        if (o.remeshTriangles) options.targetTriangles = static_cast<std::size_t>(*o.remeshTriangles);
         auto remeshed = mesh::remeshIsotropic(m, options);
         if (!remeshed) {
             std::cerr << "hapticut convert: " << o.in << ": cannot remesh: " << remeshed.error() << "; " << o.out
@@ -84,12 +85,12 @@ int convert(const ConvertOptions& o) {
         }
         const mesh::MeshReport after = mesh::validateMesh(remeshed->mesh);
         const auto mm = [](double metres) { return threeDigits(metres * 1e3) + " mm"; };
-        std::cout << "  remeshed to " << mm(options.targetEdge_m) << " edges: " << before.faces << " -> " << after.faces
-                  << " faces; smallest angle " << threeDigits(before.minAngleDeg) << " -> "
+        std::cout << "  remeshed to " << mm(remeshed->targetEdge_m) << " edges: " << before.faces << " -> "
+                  << after.faces << " faces; smallest angle " << threeDigits(before.minAngleDeg) << " -> "
                   << threeDigits(after.minAngleDeg) << " deg; shortest edge " << mm(before.shortestEdge_m) << " -> "
-                  << mm(after.shortestEdge_m) << "; " << remeshed->featureEdges
-                  << " sharp or boundary edges kept; distance to the input " << mm(remeshed->distanceMean_m)
-                  << " mean, " << mm(remeshed->distanceMax_m) << " max\n";
+                  << mm(after.shortestEdge_m) << "; " << remeshed->featureEdges << " sharp or boundary edges kept; "
+                  << remeshed->sliversMended << " edits mended thin or folded triangles; distance to the input "
+                  << mm(remeshed->distanceMean_m) << " mean, " << mm(remeshed->distanceMax_m) << " max\n";
         m = std::move(remeshed->mesh);
         if (!source->fromThesisFile) source->physics = physics::thesisPhysicsFor(m, physics::Material{});
     }

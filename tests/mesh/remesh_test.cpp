@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <random>
 
@@ -94,19 +95,63 @@ TEST(Remesh, SharpEdgesStaySharp) {
     EXPECT_GT(result->mesh.faces.size(), 12u * 20);
 }
 
-// The procedural heart coarsened to a third of its triangles stays closed, oriented and close.
+/// Edges whose two faces face opposite ways: pleats folded into the surface.
+std::size_t foldedEdges(const SurfaceMesh& m) {
+    std::vector<Vec3> normals;
+    for (const Face& f : m.faces)
+        normals.push_back(
+            (m.positions[f[1]] - m.positions[f[0]]).cross(m.positions[f[2]] - m.positions[f[0]]).normalized());
+    std::map<std::uint64_t, std::size_t> firstFace;
+    std::size_t folded = 0;
+    for (std::size_t f = 0; f < m.faces.size(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint64_t e = edgeKey(m.faces[f][k], m.faces[f][(k + 1) % 3]);
+            if (const auto [it, fresh] = firstFace.emplace(e, f); !fresh)
+                folded += normals[it->second].dot(normals[f]) < 0;
+        }
+    return folded;
+}
+
+// The procedural heart coarsened to a third of its triangles stays closed, oriented and close, at the
+// count asked.
 TEST(Remesh, TheHeartCoarsenedStaysClosedAndClose) {
     const SurfaceMesh heart = procedural::makeHeart({.triangles = 9714});
     const double target = targetEdgeForTriangles(heart, 3000);
-    const auto result = remeshIsotropic(heart, {.targetEdge_m = target});
+    const auto result = remeshIsotropic(heart, {.targetEdge_m = target, .targetTriangles = 3000});
     ASSERT_TRUE(result) << result.error();
     const MeshReport after = validateMesh(result->mesh);
     EXPECT_TRUE(after.closed && after.manifold && after.oriented);
     EXPECT_EQ(after.eulerCharacteristic, validateMesh(heart).eulerCharacteristic);
-    EXPECT_NEAR(static_cast<double>(result->mesh.faces.size()), 3000, 900);
-    EXPECT_GT(after.minAngleDeg, 15);
+    EXPECT_NEAR(static_cast<double>(result->mesh.faces.size()), 3000, 0.05 * 3000);
+    EXPECT_GT(after.minAngleDeg, 25);
     EXPECT_LT(result->distanceMean_m, 0.05 * target) << "max " << result->distanceMax_m;
     EXPECT_LT(result->distanceMax_m, 0.5 * target) << "where a 4 mm triangle spans a vessel of 5 mm radius";
+}
+
+// A segmentation's surface is noisy at the scale of its triangles: a heart whose every vertex is moved
+// up to 0.9 mm along each axis at random (2 mm edges) has slivers of under a degree and faces folded against their
+// neighbours. Remeshed to a count, it is even (no angle under 25 degrees), unfolded, closed, at the
+// count asked within 5%, and within 1% of its size of the input.
+TEST(Remesh, ANoisyHeartBecomesEvenAndUnfoldedAtTheCountAsked) {
+    SurfaceMesh heart = procedural::makeHeart({.triangles = 20000});
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> jitter(-0.0009, 0.0009);
+    for (Vec3& p : heart.positions) p += Vec3(jitter(rng), jitter(rng), jitter(rng));
+    const MeshReport before = validateMesh(heart);
+    ASSERT_LT(before.minAngleDeg, 2);
+    ASSERT_GT(foldedEdges(heart), 100u);
+    const auto result =
+        remeshIsotropic(heart, {.targetEdge_m = targetEdgeForTriangles(heart, 6000), .targetTriangles = 6000});
+    ASSERT_TRUE(result) << result.error();
+    const MeshReport after = validateMesh(result->mesh);
+    EXPECT_TRUE(after.closed && after.manifold && after.oriented);
+    EXPECT_EQ(after.components, 1u);
+    EXPECT_EQ(after.eulerCharacteristic, before.eulerCharacteristic);
+    EXPECT_GE(after.minAngleDeg, 25);
+    EXPECT_EQ(foldedEdges(result->mesh), 0u);
+    EXPECT_NEAR(static_cast<double>(result->mesh.faces.size()), 6000, 0.05 * 6000);
+    EXPECT_LT(result->distanceMax_m, 0.01 * (before.bboxMax - before.bboxMin).norm());
+    EXPECT_GT(result->sliversMended, 0);
 }
 
 TEST(Remesh, RefusesANonManifoldMeshAndANonsenseTarget) {

@@ -1,6 +1,8 @@
 // Isotropic remeshing to a target edge length (Botsch & Kobbelt 2004, "A remeshing approach to
 // multiresolution modeling"): split long edges, collapse short ones, flip toward valence six, relax
-// tangentially, project back onto the input surface. Boundaries and sharp features are kept.
+// tangentially, project back onto the input surface. Boundaries and sharp features are kept. Then the
+// thin and folded triangles that a noisy input leaves are mended by flips, collapses and smart Laplacian
+// moves (Freitag, Jones and Plassmann 1995) judged against the input's normal smoothed over two edges.
 #pragma once
 
 #include <cstddef>
@@ -13,8 +15,10 @@
 namespace hapticut::mesh {
 
 struct RemeshOptions {
-    double targetEdge_m = 0;  // the edge length aimed at; > 0
-    int iterations = 8;       // Botsch and Kobbelt use 5-10
+    double targetEdge_m = 0;  // the edge length aimed at (the first, with targetTriangles); > 0
+    /// A triangle count to steer the edge length toward, pass by pass; 0 keeps targetEdge_m.
+    std::size_t targetTriangles = 0;
+    int iterations = 8;  // Botsch and Kobbelt use 5-10
     /// Edges whose faces meet at more than this dihedral angle (degrees) are features: they stay, and so
     /// do their vertices' places on them; 0 (the default) keeps none. Boundary edges always stay. Organs
     /// have no sharp edges, and a segmented or jittered surface bends sharply at every step of its noise:
@@ -25,6 +29,8 @@ struct RemeshOptions {
 struct RemeshResult {
     SurfaceMesh mesh;
     long splits = 0, collapses = 0, flips = 0;
+    long sliversMended = 0;        // thin triangles mended after the passes (an edit each)
+    double targetEdge_m = 0;       // the edge length of the last pass
     std::size_t featureEdges = 0;  // of the input, kept
     /// How far the result lies from the input: the largest and mean distance of the result's vertices
     /// and face centres to the input surface (a sampled one-sided Hausdorff distance).
