@@ -98,7 +98,49 @@ void flip(SurfaceMesh& m, std::size_t f) {
     std::swap(m.uvs[f][1], m.uvs[f][2]);
 }
 
-/// Faces beyond the first two on an edge get their own copies of the edge's two vertices.
+/// Pieces that touch at non-manifold edges or vertices (an atlas's chambers, valves and vessels, each
+/// closed on its own) are parted: a piece is the faces joined across edges that exactly two faces
+/// share, and at each vertex every piece but the first gets its own copy. Splitting an edge's faces
+/// beyond the first two instead would pair faces of different pieces, open both, and orient one by
+/// the other (inward). Returns the vertices copied.
+std::size_t separateTouchingPieces(SurfaceMesh& m) {
+    const MeshAdjacency adj = buildAdjacency(m.faces);
+    std::vector<std::uint32_t> parent(m.faces.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](std::uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    for (std::size_t e = 0; e < adj.edges.size(); ++e)
+        if (const auto faces = adj.facesOfEdge(e); faces.size() == 2) parent[root(faces[0])] = root(faces[1]);
+    const VertexFaces around = buildVertexFaces(m.faces, m.positions.size());
+    const std::size_t vertexCount = m.positions.size();
+    std::size_t copies = 0;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pieceCopy;  // (piece, its vertex) at this vertex
+    for (std::uint32_t v = 0; v < vertexCount; ++v) {
+        pieceCopy.clear();
+        for (const std::uint32_t f : around.of(v)) {
+            const std::uint32_t piece = root(f);
+            auto it = std::find_if(pieceCopy.begin(), pieceCopy.end(), [&](const auto& p) { return p.first == piece; });
+            if (it == pieceCopy.end()) {
+                std::uint32_t copy = v;
+                if (!pieceCopy.empty()) {
+                    copy = static_cast<std::uint32_t>(m.positions.size());
+                    m.positions.push_back(m.positions[v]);
+                    ++copies;
+                }
+                pieceCopy.emplace_back(piece, copy);
+                it = pieceCopy.end() - 1;
+            }
+            for (std::uint32_t& corner : m.faces[f])
+                if (corner == v) corner = it->second;
+        }
+    }
+    return copies;
+}
+
+/// Faces beyond the first two on an edge get their own copies of the edge's two vertices: what is left
+/// after separateTouchingPieces, three or more faces of one piece on an edge (a fin).
 std::size_t splitNonManifoldEdges(SurfaceMesh& m) {
     const MeshAdjacency adj = buildAdjacency(m.faces);
     std::size_t split = 0;
@@ -238,6 +280,9 @@ RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
     if (r.duplicateFaces > 0) r.notes.push_back("dropped " + count(r.duplicateFaces, "duplicate faces"));
 
     if (options.repair) {
+        if ((r.separatedVertices = separateTouchingPieces(m)) > 0)
+            r.notes.push_back("parted pieces that touched at non-manifold edges or vertices (" +
+                              count(r.separatedVertices, "vertices copied") + ")");
         if ((r.splitNonManifoldEdges = splitNonManifoldEdges(m)) > 0)
             r.notes.push_back("split " + count(r.splitNonManifoldEdges, "non-manifold edges"));
         if ((r.splitNonManifoldVertices = splitNonManifoldVertices(m)) > 0)

@@ -22,6 +22,7 @@ struct RepairOptions {
 
 struct RepairReport {
     std::size_t weldedVertices = 0, degenerateFaces = 0, duplicateFaces = 0, unusedVertices = 0;
+    std::size_t separatedVertices = 0;  // copies made to part pieces that touched at an edge or a vertex
     std::size_t flippedFaces = 0, splitNonManifoldEdges = 0, splitNonManifoldVertices = 0, removedComponents = 0,
                 removedComponentFaces = 0;
     bool generatedUvs = false;

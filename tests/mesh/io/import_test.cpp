@@ -161,7 +161,7 @@ TEST(Repair, OrientsFlippedFacesOutward) {
     EXPECT_GT(test::signedVolume(m), 0) << "outward";
 }
 
-TEST(Repair, SplitsANonManifoldEdge) {
+TEST(Repair, PartsAFinFromTheEdgeItSharesWithAClosedPiece) {
     SurfaceMesh m = test::tetrahedron();
     m.positions.push_back(Vec3(2, 2, -2));
     m.faces.push_back({1, 0, 4});  // a fin on edge (0, 1): three faces share it
@@ -169,13 +169,14 @@ TEST(Repair, SplitsANonManifoldEdge) {
     m.edges = edgesOfFaces(m.faces);
     ASSERT_EQ(validateMesh(m).nonManifoldEdges, 1u);
     const RepairReport r = cleanMesh(m, {.repair = true, .minComponentShare = 0});
-    EXPECT_EQ(r.splitNonManifoldEdges, 1u);
+    EXPECT_EQ(r.separatedVertices, 2u) << "the fin is a piece of its own, parted at both ends of the edge";
     const MeshReport after = validateMesh(m);
     EXPECT_TRUE(after.manifold);
     EXPECT_EQ(after.faces, 5u);
+    EXPECT_EQ(after.boundaryEdges, 3u) << "the tetrahedron stays closed; only the fin is open";
 }
 
-TEST(Repair, SplitsANonManifoldVertex) {
+TEST(Repair, PartsPiecesTouchingAtAVertex) {
     // Two tetrahedra touching at one corner (a bowtie vertex): after the split, two separate pieces.
     SurfaceMesh m = test::tetrahedron();
     SurfaceMesh other = test::tetrahedron();
@@ -188,7 +189,7 @@ TEST(Repair, SplitsANonManifoldVertex) {
     m.edges = edgesOfFaces(m.faces);
     ASSERT_EQ(validateMesh(m).vertices - validateMesh(m).unusedVertices, 7u) << "joined at one shared vertex";
     const RepairReport r = cleanMesh(m, {.repair = true, .minComponentShare = 0});
-    EXPECT_EQ(r.splitNonManifoldVertices, 1u);
+    EXPECT_EQ(r.separatedVertices, 1u);
     const MeshReport after = validateMesh(m);
     EXPECT_EQ(after.vertices, 8u);
     EXPECT_EQ(after.eulerCharacteristic, 4) << "two spheres";
