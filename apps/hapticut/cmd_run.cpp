@@ -335,7 +335,13 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     else if (std::isfinite(config.loop.cutThreshold_N))
         std::cout << "no cut: the " << firstTool << " never pressed harder than its " << config.loop.cutThreshold_N
                   << " N threshold\n";
-    if (!r.invariantProblems.empty()) std::cout << "the cut broke the organ: " << r.invariantProblems.front() << "\n";
+    if (!r.defectsAtLoad.empty())
+        std::cout << "the model had " << r.defectsAtLoad.size() << (r.defectsAtLoad.size() >= 20 ? " or more" : "")
+                  << " defects before the run (not from cutting; hapticut convert --repair fixes them): "
+                  << r.defectsAtLoad.front() << "\n";
+    if (!r.invariantProblems.empty())
+        std::cout << (r.cutEvents > 0 ? "the cut broke the organ: " : "the run broke the organ: ")
+                  << r.invariantProblems.front() << "\n";
 
     int status = r.watchdogTripped ? 3 : 0;
     // Ctrl-C is how a run with a live device and no --steps ends; a run with a set length (--steps, a
@@ -441,6 +447,7 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["physics_sync_us"] = r.syncTime_us.count > 0 ? toJson(r.syncTime_us) : nlohmann::ordered_json(nullptr);
         j["invariants_ok"] = r.invariantProblems.empty();
         j["invariant_problems"] = r.invariantProblems;
+        j["defects_at_load"] = r.defectsAtLoad;
         j["boundary_edges"] = after.boundaryEdges;
         j["min_angle_deg"] = after.minAngleDeg;
         j["shortest_edge_m"] = after.shortestEdge_m;

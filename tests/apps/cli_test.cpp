@@ -350,6 +350,53 @@ TEST_F(Cli, AScalpelStrokeCutsTheHeartWithWallsThatTheExportedMeshKeepsAndAProbe
     EXPECT_EQ(run("run --trajectory " + trajectory + " --tool chisel").exitCode, 2);
 }
 
+// A model with a defect of its own (two faces turned against their neighbours, as an unrepaired import
+// has): the load says so, a probe that never cut reports it as the model's and not a cut's, and a
+// scalpel's cuts are judged by what they broke beyond it. Repaired, nothing is left to report.
+TEST_F(Cli, AModelsOwnDefectsAreReportedAtLoadAndNeverBlamedOnACut) {
+    ASSERT_EQ(run("convert heart " + path("heart.obj")).exitCode, 0);
+    std::string obj = slurp(path("heart.obj")), turned;
+    std::istringstream lines(obj);
+    int faces = 0;
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("f ", 0) == 0 && (++faces == 40 || faces == 900)) {
+            std::istringstream corners(line.substr(2));
+            std::string a, b, c;
+            corners >> a >> b >> c;
+            line = "f " + a + " " + c + " " + b;
+        }
+        turned += line + "\n";
+    }
+    std::ofstream(path("turned.obj")) << turned;
+    const std::string trajectory = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv";
+
+    const CliResult probe = run("run --model " + path("turned.obj") + " --trajectory " + trajectory +
+                                " --tool probe --report " + path("probe.json"));
+    ASSERT_EQ(probe.exitCode, 0) << probe.err;
+    EXPECT_NE(probe.err.find("inconsistently oriented faces"), std::string::npos) << probe.err;
+    EXPECT_EQ(probe.out.find("broke the organ"), std::string::npos) << probe.out;
+    EXPECT_NE(probe.out.find("defects before the run (not from cutting"), std::string::npos) << probe.out;
+    const auto p = nlohmann::json::parse(slurp(path("probe.json")));
+    EXPECT_EQ(p["invariants_ok"], true) << p["invariant_problems"];
+    ASSERT_FALSE(p["defects_at_load"].empty());
+    EXPECT_NE(p["defects_at_load"][0].get<std::string>().find("disagree in orientation"), std::string::npos);
+
+    const CliResult cut = run("run --model " + path("turned.obj") + " --trajectory " + trajectory +
+                              " --tool scalpel --report " + path("cut.json"));
+    ASSERT_EQ(cut.exitCode, 0) << cut.err;
+    const auto c = nlohmann::json::parse(slurp(path("cut.json")));
+    EXPECT_GT(c["cut_points"].get<int>(), 0);
+    EXPECT_EQ(c["invariants_ok"], true) << c["invariant_problems"];
+    EXPECT_EQ(c["defects_at_load"], p["defects_at_load"]);
+
+    ASSERT_EQ(run("convert " + path("turned.obj") + " " + path("repaired.obj") + " --repair").exitCode, 0);
+    const CliResult repaired = run("run --model " + path("repaired.obj") + " --trajectory " + trajectory +
+                                   " --tool probe --report " + path("repaired.json"));
+    ASSERT_EQ(repaired.exitCode, 0) << repaired.err;
+    EXPECT_EQ(repaired.err.find("inconsistently oriented"), std::string::npos) << repaired.err;
+    EXPECT_TRUE(nlohmann::json::parse(slurp(path("repaired.json")))["defects_at_load"].empty());
+}
+
 // An empty result is an error, not a file: a weld as large as the model, coordinates so large that the
 // default weld tolerance once overflowed and joined every vertex, a model without faces.
 TEST_F(Cli, EmptyResultsAreErrorsAndModelsWithoutFacesAreRefused) {

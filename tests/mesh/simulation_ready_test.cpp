@@ -105,7 +105,8 @@ TEST(SimulationReady, TouchingPartsOneInwardBecomeTwoClosedOutwardEvenPieces) {
     for (const auto& piece : pieces) EXPECT_GT(signedVolumeOf(m, piece), 0) << "every closed piece outward";
 
     const std::size_t asked = 3000;
-    const auto remeshed = remeshIsotropic(m, {.targetEdge_m = targetEdgeForTriangles(m, asked), .targetTriangles = asked});
+    const auto remeshed =
+        remeshIsotropic(m, {.targetEdge_m = targetEdgeForTriangles(m, asked), .targetTriangles = asked});
     ASSERT_TRUE(remeshed) << remeshed.error();
     const SurfaceMesh& r = remeshed->mesh;
     const MeshReport after = validateMesh(r);

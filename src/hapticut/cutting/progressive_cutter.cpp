@@ -229,13 +229,19 @@ std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlad
 }
 
 ProgressiveCutter::ProgressiveCutter(CutModel& model, CutterParams params)
-    : model_(model), params_(params), expectedMass_kg_(physics::totalMass(model.model())) {}
+    : model_(model), params_(params), expectedMass_kg_(physics::totalMass(model.model())) {
+#if !defined(NDEBUG) || defined(HAPTICUT_ENABLE_ASSERTS)
+    // A model broken before any cut (an unrepaired import's orientation or non-manifold edges) would
+    // fail the check after every cut and blame it; such a model is cut unchecked.
+    wholeAtStart_ = checkInvariants(model_, expectedMass_kg_, model_.closedBeforeCuts() && params_.walls).ok();
+#endif
+}
 
 bool ProgressiveCutter::cutAt(std::uint32_t face, const Vec3& bary, double depth_m) {
     bladeDepth_m_ = std::isfinite(depth_m) ? std::max(depth_m, 0.0) : 0.0;
     const bool changed = cutAtUnchecked(face, bary);
 #if !defined(NDEBUG) || defined(HAPTICUT_ENABLE_ASSERTS)
-    if (changed) {
+    if (changed && wholeAtStart_) {
         const InvariantReport report =
             checkInvariants(model_, expectedMass_kg_, model_.closedBeforeCuts() && params_.walls);
         if (!report.ok()) {

@@ -99,7 +99,8 @@ private:
     std::vector<std::uint32_t> points_;
     std::vector<std::uint32_t> lipVertices_;  // the current cut's points and their opened copies
     CutStats stats_;
-    double expectedMass_kg_ = 0;                     // cutting conserves the organ's mass exactly
+    double expectedMass_kg_ = 0;  // cutting conserves the organ's mass exactly
+    bool wholeAtStart_ = true;    // with asserts: every invariant held before the first cut (else an unrepaired import)
     std::vector<std::uint32_t> nearbyFaces_, ring_;  // scratch for projectBlade
     double bladeDepth_m_ = 0;                        // the latest cutAt's
 };

@@ -1,6 +1,7 @@
 // A haptic run driven by a replayed trajectory.
 #include "hapticut/scene/haptic_run.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -35,6 +36,10 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     if (steps < 0 && !(config.realtime && config.stopRequested))
         return unexpected(Error{{}, 0, "an open-ended haptic run needs real time and a way to stop"});
     const double mass_kg = physics::totalMass(organ.model());
+    // What the organ breaks before anything cuts it is the model's own (an unrepaired import), not a
+    // cut's: the report tells the two apart.
+    const bool checkClosed = organ.closedBeforeCuts() && config.loop.cutter.walls;
+    const std::vector<std::string> atLoad = cutting::checkInvariants(organ, mass_kg, checkClosed).problems;
     physics::MassSpringModel& model = organ.model();
     auto created = haptics::HapticLoop::create(organ, hands, config.loop);
     if (!created) return unexpected(created.error());
@@ -156,8 +161,10 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.cuttingForce_N = {cutting.mean / 1e3, cutting.p50 / 1e3, cutting.p99 / 1e3, cutting.max / 1e3, 0, cutting.count};
     r.minCuttingForce_N = r.cuttingSteps > 0 ? minCuttingForce_N : 0;
     r.syncTime_us = st.syncTime_us.summary();
-    r.invariantProblems =
-        cutting::checkInvariants(organ, mass_kg, organ.closedBeforeCuts() && config.loop.cutter.walls).problems;
+    r.defectsAtLoad = atLoad;
+    for (std::string& problem : cutting::checkInvariants(organ, mass_kg, checkClosed).problems)
+        if (std::find(atLoad.begin(), atLoad.end(), problem) == atLoad.end())
+            r.invariantProblems.push_back(std::move(problem));
     r.scheme = loop.scheme();
     r.substeps = loop.substeps();
     r.solver = st.solver;

@@ -78,7 +78,10 @@ struct HapticRunResult {
     Summary cuttingForce_N;
     double minCuttingForce_N = 0;
     Summary syncTime_us;  // multi-rate: cuts and edits copied into the physics' copy, a step after each
-    std::vector<std::string> invariantProblems;  // empty: every cutting invariant holds at the end
+    /// Broken invariants at the end that were not broken before the run: what the run (its cuts) broke.
+    std::vector<std::string> invariantProblems;
+    /// Broken before the run began: the model's own defects (an unrepaired import), never a cut's.
+    std::vector<std::string> defectsAtLoad;
     std::array<HandSummary, haptics::kMaxHands> hands{};
     int handCount = 1;
     std::vector<haptics::StepOutput> keptSteps;  // the first HapticRunConfig::keepSteps steps
