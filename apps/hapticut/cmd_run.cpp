@@ -62,7 +62,7 @@ std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
     scene::SceneRequest request;
     request.file = o.scene;
     scene::SceneOverrides& over = request.overrides;
-    over.scale = o.units.factor();
+    o.units.applyTo(over);
     auto given = [&](const char* option) { return o.given.count(option) > 0; };
     if (given("--model")) over.model = o.model;
     if (given("--triangles")) over.triangles = o.triangles;

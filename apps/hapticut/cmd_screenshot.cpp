@@ -190,7 +190,7 @@ Command addScreenshotCommand(CLI::App& app) {
     cmd->callback([o, cmd] {
         if (cmd->count("--model")) o->scene.overrides.model = o->model;
         if (cmd->count("--triangles")) o->scene.overrides.triangles = o->triangles;
-        o->scene.overrides.scale = o->units.factor();
+        o->units.applyTo(o->scene.overrides);
     });
     return [o] { return screenshot(*o); };
 }

@@ -32,7 +32,7 @@ int soak(SoakOptions& o) {
     scene::SceneRequest request;
     request.overrides.model = o.model;
     request.overrides.triangles = o.triangles;
-    request.overrides.scale = o.units.factor();
+    o.units.applyTo(request.overrides);
     const auto scene = app::loadScene(request);
     if (!scene) return 1;
     const scene::ModelSource* source = &scene->source;

@@ -106,7 +106,7 @@ Command addViewCommand(CLI::App& app) {
     cmd->callback([o, cmd] {
         if (cmd->count("--model")) o->viewer.scene.overrides.model = o->model;
         if (cmd->count("--triangles")) o->viewer.scene.overrides.triangles = o->triangles;
-        o->viewer.scene.overrides.scale = o->units.factor();
+        o->units.applyTo(o->viewer.scene.overrides);
         o->viewer.devicesGiven = cmd->count("--device") > 0;
         o->viewer.sizeGiven = cmd->count("--size") > 0;
     });

@@ -1,4 +1,5 @@
-// --units and --scale: the unit a model file's coordinates are in, for every command that loads one.
+// --units, --scale, --center and --fit-size: the unit a model file's coordinates are in and where the
+// model goes, for every command that loads one.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "hapticut/geometry/vec.h"
+#include "hapticut/scene/scene.h"
 
 namespace hapticut::app {
 
@@ -15,16 +17,20 @@ struct UnitOptions {
     std::string units;  // mm, cm or m; empty: not given
     double scale = 1;
     bool scaleGiven = false;
+    bool center = false;
+    std::optional<double> fitSize_m;
 
     /// What the model's coordinates are multiplied by: the unit's scale times --scale; nothing when
     /// neither was given (a scene's own [model] scale then holds).
     std::optional<double> factor() const;
+    /// The same as a scene's overrides (what was not given is left to the scene).
+    void applyTo(scene::SceneOverrides& overrides) const;
 };
 
 void addUnitOptions(CLI::App* cmd, UnitOptions& options);
 
-/// Scales `positions` by the options' factor, if any, and prints a warning naming `name` when the
-/// result does not have the size of an organ (scene::sizeWarning).
+/// Scales `positions` by the options' factor, if any, centres and fits them as asked, and prints a warning naming
+/// `name` when the result does not have the size of an organ (scene::sizeWarning).
 void applyUnits(const UnitOptions& options, std::span<Vec3> positions, const std::string& name);
 
 }  // namespace hapticut::app

@@ -397,6 +397,58 @@ TEST_F(Cli, AModelsOwnDefectsAreReportedAtLoadAndNeverBlamedOnACut) {
     EXPECT_TRUE(nlohmann::json::parse(slurp(path("repaired.json")))["defects_at_load"].empty());
 }
 
+// A segmentation in body coordinates: millimetres, half a metre from the origin. Loading it says where
+// it is and what moves it; --center puts it where the trajectories press, on every command and in a
+// scene; --fit-size scales it to a size.
+TEST_F(Cli, AModelInBodyCoordinatesIsCentredAndFittedOnEveryCommandAndInScenes) {
+    ASSERT_EQ(run("convert heart " + path("heart.obj")).exitCode, 0);
+    std::istringstream lines(slurp(path("heart.obj")));
+    std::string body;
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("v ", 0) == 0) {
+            std::istringstream xyz(line.substr(2));
+            double x, y, z;
+            xyz >> x >> y >> z;
+            line = "v " + std::to_string(1000 * x + 310) + " " + std::to_string(1000 * y - 420) + " " +
+                   std::to_string(1000 * z + 180);
+        }
+        body += line + "\n";
+    }
+    std::ofstream(path("body.obj")) << body;
+    const std::string press = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/press-front.csv";
+
+    const CliResult far =
+        run("run --model " + path("body.obj") + " --units mm --trajectory " + press + " --report " + path("far.json"));
+    ASSERT_EQ(far.exitCode, 0) << far.err;
+    EXPECT_NE(far.err.find("from the origin, where tools, the mouse and trajectories begin; --center"),
+              std::string::npos)
+        << far.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(path("far.json")))["max_force_N"], 0.0) << "the press met nothing";
+
+    const CliResult centred = run("run --model " + path("body.obj") + " --units mm --center --trajectory " + press +
+                                  " --report " + path("centred.json"));
+    ASSERT_EQ(centred.exitCode, 0) << centred.err;
+    EXPECT_EQ(centred.err.find("from the origin"), std::string::npos) << centred.err;
+    const double felt = nlohmann::json::parse(slurp(path("centred.json")))["max_force_N"].get<double>();
+    EXPECT_GT(felt, 0.5);
+
+    std::ofstream(path("body.toml")) << "[model]\nsource = \"body.obj\"\nscale = 0.001\ncenter = true\n";
+    ASSERT_EQ(
+        run("run --scene " + path("body.toml") + " --trajectory " + press + " --report " + path("scene.json")).exitCode,
+        0);
+    EXPECT_DOUBLE_EQ(nlohmann::json::parse(slurp(path("scene.json")))["max_force_N"].get<double>(), felt);
+
+    const CliResult fitted =
+        run("convert " + path("body.obj") + " " + path("fitted.obj") + " --units mm --center --fit-size 0.1");
+    ASSERT_EQ(fitted.exitCode, 0) << fitted.err;
+    const auto info = nlohmann::json::parse(run("info " + path("fitted.obj") + " --json").out);
+    const hapticut::Vec3 lo(info["bbox_min"][0], info["bbox_min"][1], info["bbox_min"][2]);
+    const hapticut::Vec3 hi(info["bbox_max"][0], info["bbox_max"][1], info["bbox_max"][2]);
+    EXPECT_NEAR((hi - lo).maxCoeff(), 0.1, 1e-6);
+    EXPECT_LT(((hi + lo) / 2).norm(), 1e-6);
+    EXPECT_EQ(run("run --fit-size 0").exitCode, 2) << "a size must be positive";
+}
+
 // An empty result is an error, not a file: a weld as large as the model, coordinates so large that the
 // default weld tolerance once overflowed and joined every vertex, a model without faces.
 TEST_F(Cli, EmptyResultsAreErrorsAndModelsWithoutFacesAreRefused) {

@@ -54,6 +54,17 @@ std::optional<Warning> sizeWarning(std::span<const Vec3> positions, const std::s
     return Warning{name, 0, message};
 }
 
+std::optional<Warning> offCentreWarning(std::span<const Vec3> positions, const std::string& name) {
+    if (positions.empty()) return std::nullopt;
+    const geometry::Aabb box = geometry::boundsOf(positions);
+    const double away_m = box.center().norm(), extent_m = (box.max - box.min).maxCoeff();
+    if (!std::isfinite(away_m) || away_m <= std::max(0.05, extent_m)) return std::nullopt;
+    return Warning{name, 0,
+                   "the model's centre is " + lengthText(away_m) +
+                       " from the origin, where tools, the mouse and trajectories begin; --center (or [model] "
+                       "center = true in a scene) moves it there"};
+}
+
 std::optional<Warning> farFromModelWarning(std::span<const Vec3> model, std::span<const Vec3> points,
                                            const std::string& what, const std::string& file) {
     if (model.empty() || points.empty()) return std::nullopt;

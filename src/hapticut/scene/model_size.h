@@ -23,6 +23,11 @@ std::optional<double> unitScale(std::string_view unit);
 /// model of an organ's size, or an empty one.
 std::optional<Warning> sizeWarning(std::span<const Vec3> positions, const std::string& name);
 
+/// A warning naming `name` when the model's centre is farther from the origin than its own size and
+/// 5 cm: tools, the mouse and the shipped trajectories start at the origin, and a segmentation in
+/// body (scanner) coordinates sits half a metre away. It names --center.
+std::optional<Warning> offCentreWarning(std::span<const Vec3> positions, const std::string& name);
+
 /// A warning naming `file` when none of `points` comes near the model: within a quarter of its
 /// largest extent (at least 2 cm) of its bounding box. `what` says what the points are ("the device's
 /// path"). A millimetre trajectory on a metre model presses nothing, and nothing else would say so.

@@ -53,6 +53,8 @@ void applyOverrides(const SceneOverrides& o, SceneFile& s) {
     if (o.model) s.model = *o.model;
     if (o.triangles) s.triangles = *o.triangles;
     if (o.scale) s.scale = *o.scale;
+    if (o.center) s.center = *o.center;
+    if (o.fitSize_m) s.fitSize_m = *o.fitSize_m;
     if (o.scheme) s.scheme = *o.scheme;
     if (o.solverTolerance) s.solver.tolerance = *o.solverTolerance;
     if (o.solverMaxIterations) s.solver.maxIterations = *o.solverMaxIterations;
@@ -88,6 +90,8 @@ Result<Scene, Error> assembleScene(std::filesystem::path file, SceneFile setting
     applyPlacement(scene.settings, scene.source.mesh.positions);
     if (auto unusual = sizeWarning(scene.source.mesh.positions, scene.source.name))
         scene.source.warnings.push_back(std::move(*unusual));
+    if (auto away = offCentreWarning(scene.source.mesh.positions, scene.source.name))
+        scene.source.warnings.push_back(std::move(*away));
     mesh::computeFaceNormals(scene.source.mesh);
     for (const SceneTool& t : scene.settings.tools) {
         Tool tool{t.name, {}, t.threshold_N, t.tipRadius_m};

@@ -28,6 +28,8 @@ struct SceneOverrides {
     std::optional<std::array<double, 2>> friction;  // static, dynamic
     std::optional<std::string> trajectory;          // the first device replays it
     std::optional<double> scale;                    // the model's scale ([model] scale): --units, --scale
+    std::optional<bool> center;                     // [model] center: --center
+    std::optional<double> fitSize_m;                // [model] fit_size_m: --fit-size
 };
 
 struct SceneRequest {

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "hapticut/geometry/aabb.h"
 #include "hapticut/mesh/procedural/tools.h"
 
 namespace hapticut::scene {
@@ -224,12 +225,15 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
         SceneFile s = defaultScene();
         allowOnly(root, "", {"model", "material", "tools", "device", "devices", "simulation", "rendering"});
         if (const toml::table* m = subTable(root, "model")) {
-            allowOnly(*m, "model", {"source", "triangles", "translate_m", "rotate_deg", "scale"});
+            allowOnly(*m, "model",
+                      {"source", "triangles", "translate_m", "rotate_deg", "scale", "center", "fit_size_m"});
             s.model = resolve(text(*m, "model", "source", s.model), directory);
             s.triangles = static_cast<int>(wholeNumber(*m, "model", "triangles", s.triangles, 12, 20'000'000));
             s.translate_m = vector3(*m, "model", "translate_m", s.translate_m, 100);
             s.rotate_deg = vector3(*m, "model", "rotate_deg", s.rotate_deg, 3600);
             s.scale = number(*m, "model", "scale", s.scale, 1e-6, 1e6);
+            s.center = boolean(*m, "model", "center", s.center);
+            if (m->contains("fit_size_m")) s.fitSize_m = number(*m, "model", "fit_size_m", 0.1, 1e-4, 100);
         }
         if (const toml::table* m = subTable(root, "material")) {
             allowOnly(*m, "material",
@@ -343,9 +347,20 @@ Result<SceneFile, Error> readScene(const std::filesystem::path& file) {
     return parseScene(*contents, file, file.parent_path());
 }
 
+void centerAndFit(std::span<Vec3> positions, bool center, std::optional<double> fitSize_m) {
+    if ((!center && !fitSize_m) || positions.empty()) return;
+    const geometry::Aabb box = geometry::boundsOf(positions);
+    const Vec3 from = box.center(), to = center ? Vec3::Zero() : from;
+    const double extent = box.extent().maxCoeff();
+    const double factor = fitSize_m && extent > 0 ? *fitSize_m / extent : 1.0;
+    for (Vec3& p : positions) p = to + factor * (p - from);
+}
+
 void applyPlacement(const SceneFile& scene, std::span<Vec3> positions) {
+    for (Vec3& p : positions) p *= scene.scale;
+    centerAndFit(positions, scene.center, scene.fitSize_m);
     const Eigen::Quaterniond r = rotationFromDegrees(scene.rotate_deg);
-    for (Vec3& p : positions) p = r * (scene.scale * p) + scene.translate_m;
+    for (Vec3& p : positions) p = r * p + scene.translate_m;
 }
 
 }  // namespace hapticut::scene

@@ -44,6 +44,8 @@ struct SceneFile {
     Vec3 translate_m = Vec3::Zero();
     Vec3 rotate_deg = Vec3::Zero();  // about x, then y, then z
     double scale = 1;
+    bool center = false;              // the bounding box's centre moved to the origin (after scale)
+    std::optional<double> fitSize_m;  // scaled about its centre so that its largest extent is this
     // [material]: resolution-independent; applied to thesis files too when given
     physics::Material material;
     bool materialGiven = false;
@@ -84,7 +86,13 @@ Result<SceneFile, Error> parseScene(std::string_view text, const std::filesystem
                                     const std::filesystem::path& directory);
 Result<SceneFile, Error> readScene(const std::filesystem::path& file);
 
-/// Moves, turns and scales positions by the scene's placement (scale, then rotation, then translation).
+/// Moves, turns and scales positions by the scene's placement: scale, centre, fit, then rotation, then
+/// translation.
 void applyPlacement(const SceneFile& scene, std::span<Vec3> positions);
+
+/// Moves the bounding box's centre to the origin (`center`) and scales about that centre so that the
+/// largest extent is `fitSize_m` (if given): a model in body coordinates, half a metre from the origin,
+/// placed where tools and trajectories expect an organ.
+void centerAndFit(std::span<Vec3> positions, bool center, std::optional<double> fitSize_m);
 
 }  // namespace hapticut::scene
