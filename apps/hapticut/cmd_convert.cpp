@@ -48,7 +48,7 @@ int convert(const ConvertOptions& o) {
         std::cerr << "hapticut convert: " << unwritable->toString() << "\n";
         return 2;
     }
-    auto source = loadModelSource(o.in, o.triangles);
+    auto source = loadModelSource(o.in, o.triangles, o.units.parts);
     if (!source) return 1;
     mesh::SurfaceMesh& m = source->mesh;
     applyUnits(o.units, m.positions, source->name);

@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "hapticut/mesh/mesh_report.h"
+#include "hapticut/mesh/parts.h"
 #include "terminal.h"
 #include "unit_options.h"
 
@@ -21,7 +22,7 @@ struct InfoOptions {
 };
 
 int info(const InfoOptions& o) {
-    auto source = loadModelSource(o.model, o.triangles);
+    auto source = loadModelSource(o.model, o.triangles, o.units.parts);
     if (!source) return 1;
     applyUnits(o.units, source->mesh.positions, source->name);
     const mesh::MeshReport r = mesh::validateMesh(source->mesh);
@@ -51,6 +52,13 @@ int info(const InfoOptions& o) {
         j["mean_edge_length_m"] = r.meanEdgeLength_m;
         j["shortest_edge_m"] = r.shortestEdge_m;
         j["area_m2"] = r.area_m2;
+        j["parts"] = nlohmann::ordered_json::array();
+        for (const mesh::PartSummary& p : mesh::summariseParts(source->mesh))
+            j["parts"].push_back({{"name", p.name},
+                                  {"faces", p.faces},
+                                  {"vertices", p.vertices},
+                                  {"boundary_edges", p.boundaryEdges},
+                                  {"closed", p.closed()}});
         if (source->toolThreshold_N)
             j["tool_threshold_N"] = *source->toolThreshold_N;
         else
@@ -75,6 +83,9 @@ int info(const InfoOptions& o) {
                 r.bboxMin.z(), r.bboxMax.x(), r.bboxMax.y(), r.bboxMax.z());
     std::printf("  min angle %.2f deg, mean edge %.4g m, shortest edge %.4g m, area %.4g m^2\n", r.minAngleDeg,
                 r.meanEdgeLength_m, r.shortestEdge_m, r.area_m2);
+    for (const mesh::PartSummary& p : mesh::summariseParts(source->mesh))
+        std::printf("  part '%s': %zu faces, %zu vertices, %s\n", p.name.c_str(), p.faces, p.vertices,
+                    p.closed() ? "closed" : (std::to_string(p.boundaryEdges) + " boundary edges").c_str());
     if (source->toolThreshold_N)
         std::printf("  tool cut threshold %g N\n", *source->toolThreshold_N);
     else

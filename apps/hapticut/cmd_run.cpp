@@ -448,6 +448,13 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         j["invariants_ok"] = r.invariantProblems.empty();
         j["invariant_problems"] = r.invariantProblems;
         j["defects_at_load"] = r.defectsAtLoad;
+        j["parts"] = nlohmann::ordered_json::array();
+        for (const scene::HapticRunResult::Part& p : r.parts)
+            j["parts"].push_back({{"name", p.name},
+                                  {"faces_at_start", p.facesAtStart},
+                                  {"faces", p.faces},
+                                  {"boundary_edges", p.boundaryEdges},
+                                  {"max_displacement_m", p.maxDisplacement_m}});
         j["boundary_edges"] = after.boundaryEdges;
         j["min_angle_deg"] = after.minAngleDeg;
         j["shortest_edge_m"] = after.shortestEdge_m;

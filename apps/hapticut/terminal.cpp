@@ -140,9 +140,10 @@ std::optional<T> printed(Result<T, Error> loaded, const std::vector<Warning>& (*
 }
 }  // namespace
 
-std::optional<scene::ModelSource> loadModelSource(const std::string& model, int triangles) {
+std::optional<scene::ModelSource> loadModelSource(const std::string& model, int triangles,
+                                                  std::span<const std::string> parts) {
     return printed<scene::ModelSource>(
-        scene::loadModelSource(model, triangles),
+        scene::loadModelSource(model, triangles, parts),
         [](const scene::ModelSource& s) -> const std::vector<Warning>& { return s.warnings; });
 }
 

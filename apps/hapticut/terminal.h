@@ -51,7 +51,8 @@ std::string solverLine(physics::Scheme scheme, const physics::SolverStats& stats
 
 /// The model (`heart` or a file), with its warnings printed; on failure prints "file:line: message" and
 /// returns nothing.
-std::optional<scene::ModelSource> loadModelSource(const std::string& model, int triangles);
+std::optional<scene::ModelSource> loadModelSource(const std::string& model, int triangles,
+                                                  std::span<const std::string> parts = {});
 /// The scene, with its model's warnings printed; on failure prints "file:line: message" and returns nothing.
 std::optional<scene::Scene> loadScene(const scene::SceneRequest& request);
 /// The same, for settings already read (scene::assembleScene).

@@ -17,6 +17,7 @@ void UnitOptions::applyTo(scene::SceneOverrides& overrides) const {
     overrides.scale = factor();
     if (center) overrides.center = true;
     if (fitSize_m) overrides.fitSize_m = fitSize_m;
+    if (!parts.empty()) overrides.parts = parts;
 }
 
 void addUnitOptions(CLI::App* cmd, UnitOptions& o) {
@@ -35,6 +36,10 @@ void addUnitOptions(CLI::App* cmd, UnitOptions& o) {
                     "Scale the model about its centre so that its largest extent is this many metres (after "
                     "--units and --scale)")
         ->check(CLI::Range(1e-4, 100.0));
+    cmd->add_option("--part", o.parts,
+                    "Only this named part of the model file (an OBJ group, a glTF or FBX mesh; `hapticut info` "
+                    "lists them); repeat it for several")
+        ->allow_extra_args(false);  // one name each: `--part valve out.obj` must leave out.obj alone
 }
 
 void applyUnits(const UnitOptions& o, std::span<Vec3> positions, const std::string& name) {

@@ -7,6 +7,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "hapticut/geometry/vec.h"
 #include "hapticut/scene/scene.h"
@@ -19,6 +20,7 @@ struct UnitOptions {
     bool scaleGiven = false;
     bool center = false;
     std::optional<double> fitSize_m;
+    std::vector<std::string> parts;  // --part, repeatable
 
     /// What the model's coordinates are multiplied by: the unit's scale times --scale; nothing when
     /// neither was given (a scene's own [model] scale then holds).

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <sstream>
 
@@ -447,6 +448,86 @@ TEST_F(Cli, AModelInBodyCoordinatesIsCentredAndFittedOnEveryCommandAndInScenes) 
     EXPECT_NEAR((hi - lo).maxCoeff(), 0.1, 1e-6);
     EXPECT_LT(((hi + lo) / 2).norm(), 1e-6);
     EXPECT_EQ(run("run --fit-size 0").exitCode, 2) << "a size must be positive";
+}
+
+// A model of named parts (OBJ objects here; glTF and FBX meshes the same): info lists them, --part and
+// a scene's [model] parts choose some, and a run presses and cuts each as a piece of its own, reported
+// and exported part by part.
+TEST_F(Cli, NamedPartsAreListedChosenAndSimulatedAsSeparatePieces) {
+    ASSERT_EQ(run("convert heart " + path("heart.obj")).exitCode, 0);
+    // The heart twice, the second 0.2 m to the side: two objects of one file.
+    std::istringstream lines(slurp(path("heart.obj")));
+    std::vector<hapticut::Vec3> vertices;
+    std::vector<std::array<int, 3>> faces;
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream in(line.substr(std::min<std::size_t>(2, line.size())));
+        if (line.rfind("v ", 0) == 0) {
+            hapticut::Vec3 p;
+            in >> p.x() >> p.y() >> p.z();
+            vertices.push_back(p);
+        } else if (line.rfind("f ", 0) == 0) {
+            std::array<int, 3> f{};
+            for (int& c : f) {
+                std::string corner;
+                in >> corner;
+                c = std::stoi(corner.substr(0, corner.find('/')));
+            }
+            faces.push_back(f);
+        }
+    }
+    std::ostringstream two;
+    two << std::setprecision(17);
+    for (const double dx : {0.0, 0.2})
+        for (const hapticut::Vec3& p : vertices) two << "v " << p.x() + dx << " " << p.y() << " " << p.z() << "\n";
+    for (const auto& [name, offset] :
+         {std::pair{"ventricle", 0}, std::pair{"atrium", static_cast<int>(vertices.size())}}) {
+        two << "o " << name << "\n";
+        for (const auto& f : faces)
+            two << "f " << f[0] + offset << " " << f[1] + offset << " " << f[2] + offset << "\n";
+    }
+    std::ofstream(path("two.obj")) << two.str();
+
+    const auto info = nlohmann::json::parse(run("info " + path("two.obj") + " --json").out);
+    ASSERT_EQ(info["parts"].size(), 2u) << info.dump();
+    EXPECT_EQ(info["parts"][0]["name"], "ventricle");
+    EXPECT_EQ(info["parts"][1]["name"], "atrium");
+    for (const auto& part : info["parts"]) EXPECT_EQ(part["closed"], true);
+    const int perPart = info["parts"][0]["faces"].get<int>();
+    EXPECT_EQ(info["faces"].get<int>(), 2 * perPart);
+
+    const auto one = nlohmann::json::parse(run("info " + path("two.obj") + " --part atrium --json").out);
+    EXPECT_EQ(one["faces"].get<int>(), perPart);
+    EXPECT_TRUE(one["parts"].empty()) << "one part left is a model of one part";
+    const CliResult unknown = run("info " + path("two.obj") + " --part valve");
+    EXPECT_NE(unknown.exitCode, 0);
+    EXPECT_NE(unknown.err.find("no part named 'valve': the model's parts are 'ventricle' and 'atrium'"),
+              std::string::npos)
+        << unknown.err;
+
+    const std::string cut = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv";
+    const CliResult r = run("run --model " + path("two.obj") + " --trajectory " + cut + " --tool scalpel --report " +
+                            path("r.json") + " --export-mesh " + path("cut.obj"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(path("r.json")));
+    EXPECT_EQ(j["invariants_ok"], true) << j["invariant_problems"];
+    ASSERT_EQ(j["parts"].size(), 2u);
+    const auto& ventricle = j["parts"][0];
+    const auto& atrium = j["parts"][1];
+    EXPECT_GT(ventricle["faces"].get<int>(), ventricle["faces_at_start"].get<int>()) << "the blade cut it";
+    EXPECT_GT(ventricle["max_displacement_m"].get<double>(), 1e-4);
+    EXPECT_EQ(atrium["faces"], atrium["faces_at_start"]) << "a piece of its own, 0.2 m away";
+    EXPECT_LT(atrium["max_displacement_m"].get<double>(), 1e-9) << "nothing joins it to the cut part";
+    const std::string exported = slurp(path("cut.obj"));
+    EXPECT_NE(exported.find("g ventricle\n"), std::string::npos);
+    EXPECT_NE(exported.find("g atrium\n"), std::string::npos);
+    const auto after = nlohmann::json::parse(run("info " + path("cut.obj") + " --json").out);
+    ASSERT_EQ(after["parts"].size(), 2u);
+    EXPECT_EQ(after["parts"][0]["faces"], ventricle["faces"]);
+    EXPECT_EQ(after["parts"][0]["closed"], true) << "the cut's walls are the ventricle's";
+
+    std::ofstream(path("atrium.toml")) << "[model]\nsource = \"two.obj\"\nparts = [\"atrium\"]\n";
+    ASSERT_EQ(run("run --scene " + path("atrium.toml") + " --steps 10 --report " + path("s.json")).exitCode, 0);
+    EXPECT_EQ(nlohmann::json::parse(slurp(path("s.json")))["faces"].get<int>(), perPart);
 }
 
 // An empty result is an error, not a file: a weld as large as the model, coordinates so large that the

@@ -165,7 +165,9 @@ TEST(Interrupt, EveryLongCommandStoppedAtARandomMomentLeavesCompleteFilesOrNone)
             Process p(c.args, dir.path());
             // The moment is random within the command's work, not its start-up: a signal while it still
             // loads the organ ends it before it has anything to write (a loaded machine once took 400 ms).
-            if (c.started) ASSERT_TRUE(waitForText(dir / "err", c.started)) << slurp(dir / "err");
+            if (c.started) {
+                ASSERT_TRUE(waitForText(dir / "err", c.started)) << slurp(dir / "err");
+            }
             std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
             p.signal(number);
             const int status = p.wait();

@@ -45,10 +45,9 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     };
     expectError("[modle]\n", 1,
                 "modle: unknown key; allowed here: device, devices, material, model, rendering, simulation, tools");
-    expectError(
-        "[model]\ntriangle = 5\n", 2,
-        "model.triangle: unknown key; allowed here: center, fit_size_m, rotate_deg, scale, source, translate_m, "
-        "triangles");
+    expectError("[model]\ntriangle = 5\n", 2,
+                "model.triangle: unknown key; allowed here: center, fit_size_m, parts, rotate_deg, scale, source, "
+                "translate_m, triangles");
     expectError("[device]\nstiffness_N_per_m = \"hard\"\n", 2, "device.stiffness_N_per_m: expected a number");
     expectError("[simulation]\nrate_hz = 50\n", 2, "simulation.rate_hz: 50 is out of range; allowed: 100 to 10000");
     expectError("[simulation]\nintegrator = \"verlet\"\n", 2,

@@ -57,6 +57,7 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model)
     reserveTouched(mesh_.faces, faces);
     reserveTouched(mesh_.uvs, faces);
     reserveTouched(mesh_.normals, faces);
+    if (mesh_.hasParts()) reserveTouched(mesh_.faceParts, faces);
     reserveTouched(wall_, faces);
     wall_.assign(mesh_.faces.size(), 0);
     reserveTouched(floorUnder_, nodes);
@@ -159,11 +160,12 @@ void CutModel::replaceFace(std::uint32_t face, const mesh::Face& corners, const 
     changes_.faces.push_back(face);
 }
 
-std::uint32_t CutModel::appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs, bool wall) {
+std::uint32_t CutModel::appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs, bool wall, std::uint32_t part) {
     const auto face = static_cast<std::uint32_t>(mesh_.faces.size());
     mesh_.faces.push_back(corners);
     wall_.push_back(wall ? 1 : 0);
     mesh_.uvs.push_back(uvs);
+    if (mesh_.hasParts()) mesh_.faceParts.push_back(part);
     mesh_.normals.push_back(
         geometry::unitNormal(mesh_.positions[corners[0]], mesh_.positions[corners[1]], mesh_.positions[corners[2]]));
     for (std::uint32_t v : corners) facesAround_.around[v].push_back(face);
@@ -191,8 +193,8 @@ std::uint32_t CutModel::splitFace(std::uint32_t face, const Vec3& bary) {
     const Vec2 uvk = bary.x() * uv[0] + bary.y() * uv[1] + bary.z() * uv[2];
     replaceFace(face, {f[0], f[1], k}, {uv[0], uv[1], uvk});
     const bool wall = isWall(face);  // a split wall stays wall
-    appendFace({f[1], f[2], k}, {uv[1], uv[2], uvk}, wall);
-    appendFace({f[2], f[0], k}, {uv[2], uv[0], uvk}, wall);
+    appendFace({f[1], f[2], k}, {uv[1], uv[2], uvk}, wall, mesh_.partOf(face));
+    appendFace({f[2], f[0], k}, {uv[2], uv[0], uvk}, wall, mesh_.partOf(face));
     for (std::uint32_t v : f) addSpring(v, k);
     return k;
 }
@@ -231,7 +233,7 @@ std::uint32_t CutModel::splitEdge(std::uint32_t a, std::uint32_t b, double u) {
         const double t = x == a ? u : 1 - u;  // where p lies from x toward y
         const Vec2 up = (1 - t) * ux + t * uy;
         replaceFace(face, {x, p, c}, {ux, up, uc});
-        appendFace({p, y, c}, {up, uy, uc}, isWall(face));
+        appendFace({p, y, c}, {up, uy, uc}, isWall(face), mesh_.partOf(face));
         addSpring(p, c);
     }
     return p;
@@ -419,10 +421,12 @@ std::optional<std::uint32_t> CutModel::closeOpening(std::uint32_t v, std::uint32
     std::array<Vec2, 4> uv{};
     for (std::size_t i = 0; i < 4; ++i) uv[i] = uvOf(hole[i]);
     const Vec2 uvq = uvOf(q);
-    // Each hole edge x -> y runs so in its one face; the wall face on its other side runs y -> x.
+    // Each hole edge x -> y runs so in its one face; the wall face on its other side runs y -> x. The
+    // walls are of the part the hole opened.
+    const std::uint32_t part = mesh_.partOf(facesAround_.around[hole[0]].front());
     for (std::size_t i = 0; i < 4; ++i) {
         const std::size_t j = (i + 1) % 4;
-        appendFace({hole[j], hole[i], q}, {uv[j], uv[i], uvq}, true);
+        appendFace({hole[j], hole[i], q}, {uv[j], uv[i], uvq}, true, part);
     }
     for (std::uint32_t x : hole) addSpring(q, x);
     return q;

@@ -124,7 +124,7 @@ private:
     void touchSpring(std::uint32_t k);
     void replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs);
     /// A new face; `wall`: a wound's wall.
-    std::uint32_t appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs, bool wall = false);
+    std::uint32_t appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs, bool wall, std::uint32_t part);
     /// The unit normal of the rest surface round v and its copies `others`, over the organ's own faces
     /// (walls would tilt it); over all faces when v has only walls; zero when they cancel out.
     Vec3 restNormalAround(std::uint32_t v, std::initializer_list<std::uint32_t> others) const;

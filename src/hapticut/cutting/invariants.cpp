@@ -22,6 +22,7 @@ InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_
         problem("the model has " + std::to_string(model.nodes.size()) + " nodes for " +
                 std::to_string(m.positions.size()) + " vertices");
     if (m.uvs.size() != m.faces.size()) problem("UVs and faces differ in count");
+    if (m.hasParts() && m.faceParts.size() != m.faces.size()) problem("parts and faces differ in count");
 
     const mesh::MeshAdjacency adj = mesh::buildAdjacency(m.faces);
     for (std::size_t e = 0; e < adj.edges.size(); ++e) {

@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "hapticut/geometry/aabb.h"
@@ -609,6 +610,37 @@ private:
 
 }  // namespace
 
+namespace {
+
+/// Each connected piece of `m` in the part most of its faces lie nearest to: remeshing never joins
+/// pieces, and a face near where two parts touch may lie nearest to the other one.
+std::vector<std::uint32_t> partsByPiece(const SurfaceMesh& m, const std::vector<std::uint32_t>& nearestPart) {
+    std::vector<std::uint32_t> parent(m.faces.size());
+    for (std::uint32_t f = 0; f < parent.size(); ++f) parent[f] = f;
+    auto root = [&](std::uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    const MeshAdjacency adjacency = buildAdjacency(m.faces);
+    for (std::size_t e = 0; e < adjacency.edges.size(); ++e) {
+        const auto faces = adjacency.facesOfEdge(e);
+        for (std::size_t i = 1; i < faces.size(); ++i) parent[root(faces[i])] = root(faces[0]);
+    }
+    std::unordered_map<std::uint64_t, std::size_t> votes;  // (piece, part) -> faces
+    for (std::uint32_t f = 0; f < m.faces.size(); ++f) ++votes[(std::uint64_t{root(f)} << 32) | nearestPart[f]];
+    std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::size_t>> winner;  // piece -> (part, votes)
+    for (const auto& [key, count] : votes) {
+        auto& w = winner[static_cast<std::uint32_t>(key >> 32)];
+        const auto part = static_cast<std::uint32_t>(key & 0xffffffffu);
+        if (count > w.second || (count == w.second && part < w.first)) w = {part, count};
+    }
+    std::vector<std::uint32_t> parts(m.faces.size());
+    for (std::uint32_t f = 0; f < m.faces.size(); ++f) parts[f] = winner[root(f)].first;
+    return parts;
+}
+
+}  // namespace
+
 double targetEdgeForTriangles(const SurfaceMesh& mesh, std::size_t triangles) {
     // An equilateral triangle of edge L has area sqrt(3)/4 L^2. Remeshed edges settle between 4/5 and
     // 4/3 of the target, longer than it on average: 0.9 of that length gives the count asked for (the
@@ -661,6 +693,7 @@ Result<RemeshResult, std::string> remeshIsotropic(const SurfaceMesh& input, cons
     // UVs from the input face nearest each new face's centre, through that face's affine map, so that a
     // face across a texture seam takes one side's coordinates rather than a mix.
     out.uvs.resize(out.faces.size());
+    std::vector<std::uint32_t> nearestPart(out.faces.size(), 0);
     double sum = 0;
     std::size_t samples = 0;
     for (std::size_t f = 0; f < out.faces.size(); ++f) {
@@ -670,6 +703,7 @@ Result<RemeshResult, std::string> remeshIsotropic(const SurfaceMesh& input, cons
         result.distanceMax_m = std::max(result.distanceMax_m, near.distance);
         sum += near.distance;
         ++samples;
+        nearestPart[f] = input.partOf(near.face);
         const Face& t = input.faces[near.face];
         const Vec3 &p0 = input.positions[t[0]], &p1 = input.positions[t[1]], &p2 = input.positions[t[2]];
         const Vec3 e1 = p1 - p0, e2 = p2 - p0;
@@ -693,6 +727,10 @@ Result<RemeshResult, std::string> remeshIsotropic(const SurfaceMesh& input, cons
         ++samples;
     }
     result.distanceMean_m = samples > 0 ? sum / static_cast<double>(samples) : 0;
+    if (input.hasParts()) {
+        out.partNames = input.partNames;
+        out.faceParts = partsByPiece(out, nearestPart);
+    }
     out.edges = edgesOfFaces(out.faces);
     computeFaceNormals(out);
     return result;

@@ -61,22 +61,6 @@ std::size_t weld(SurfaceMesh& m, double eps) {
     return welded;
 }
 
-/// Keeps the faces for which keep(i) is true, with their UVs.
-template <class Keep>
-std::size_t filterFaces(SurfaceMesh& m, Keep&& keep) {
-    std::size_t out = 0;
-    for (std::size_t i = 0; i < m.faces.size(); ++i)
-        if (keep(i)) {
-            m.faces[out] = m.faces[i];
-            m.uvs[out] = m.uvs[i];
-            ++out;
-        }
-    const std::size_t removed = m.faces.size() - out;
-    m.faces.resize(out);
-    m.uvs.resize(out);
-    return removed;
-}
-
 std::size_t dropUnusedVertices(SurfaceMesh& m) {
     std::vector<std::uint32_t> remap(m.positions.size(), kNoFace);
     std::vector<Vec3> kept;
@@ -259,7 +243,7 @@ RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
     if ((r.weldedVertices = weld(m, eps)) > 0)
         r.notes.push_back("welded " + count(r.weldedVertices, "duplicate vertices"));
 
-    r.degenerateFaces = filterFaces(m, [&](std::size_t i) {
+    r.degenerateFaces = keepFaces(m, [&](std::size_t i) {
         const Face& f = m.faces[i];
         return f[0] != f[1] && f[1] != f[2] && f[0] != f[2] &&
                geometry::areaNormal(m.positions[f[0]], m.positions[f[1]], m.positions[f[2]]).squaredNorm() > 0;
@@ -276,7 +260,7 @@ RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
     for (std::size_t i = 1; i < sorted.size(); ++i)
         if (sorted[i][0] == sorted[i - 1][0] && sorted[i][1] == sorted[i - 1][1] && sorted[i][2] == sorted[i - 1][2])
             duplicate[sorted[i][3]] = 1;
-    r.duplicateFaces = filterFaces(m, [&](std::size_t i) { return !duplicate[i]; });
+    r.duplicateFaces = keepFaces(m, [&](std::size_t i) { return !duplicate[i]; });
     if (r.duplicateFaces > 0) r.notes.push_back("dropped " + count(r.duplicateFaces, "duplicate faces"));
 
     if (options.repair) {
@@ -302,7 +286,7 @@ RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
                 ++r.removedComponents;
                 r.removedComponentFaces += size[c];
             }
-        filterFaces(m, [&](std::size_t i) { return !drop[component[i]]; });
+        keepFaces(m, [&](std::size_t i) { return !drop[component[i]]; });
         if (r.removedComponents > 0)
             r.notes.push_back("removed " + count(r.removedComponents, "small fragments") + " (" +
                               count(r.removedComponentFaces, "faces") + ")");

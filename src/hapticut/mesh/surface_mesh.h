@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "hapticut/geometry/vec.h"
@@ -21,10 +22,38 @@ struct SurfaceMesh {
     std::vector<FaceUvs> uvs;   // per face, same length as faces
     std::vector<Vec3> normals;  // per face, unit length
     std::vector<Edge> edges;    // structural springs; normally every face edge exactly once
+    /// Named parts (an atlas's chambers and valves: OBJ groups, the meshes of glTF, FBX and the rest):
+    /// face f is in partNames[faceParts[f]]. Both empty for a model of one part.
+    std::vector<std::string> partNames;
+    std::vector<std::uint32_t> faceParts;
 
     std::size_t vertexCount() const { return positions.size(); }
     std::size_t faceCount() const { return faces.size(); }
+    bool hasParts() const { return !faceParts.empty(); }
+    std::uint32_t partOf(std::size_t face) const { return faceParts.empty() ? 0 : faceParts[face]; }
 };
+
+/// Keeps the faces for which keep(f) is true, with their UVs, normals and parts; returns how many went.
+template <class Keep>
+std::size_t keepFaces(SurfaceMesh& m, Keep&& keep) {
+    const bool normals = m.normals.size() == m.faces.size(), uvs = m.uvs.size() == m.faces.size();
+    const bool parts = m.faceParts.size() == m.faces.size();
+    std::size_t out = 0;
+    for (std::size_t f = 0; f < m.faces.size(); ++f) {
+        if (!keep(f)) continue;
+        m.faces[out] = m.faces[f];
+        if (uvs) m.uvs[out] = m.uvs[f];
+        if (normals) m.normals[out] = m.normals[f];
+        if (parts) m.faceParts[out] = m.faceParts[f];
+        ++out;
+    }
+    const std::size_t removed = m.faces.size() - out;
+    m.faces.resize(out);
+    if (uvs) m.uvs.resize(out);
+    if (normals) m.normals.resize(out);
+    if (parts) m.faceParts.resize(out);
+    return removed;
+}
 
 /// One number for the undirected edge (a, b), the same either way round: for hash sets and maps.
 inline std::uint64_t edgeKey(std::uint32_t a, std::uint32_t b) {

@@ -13,6 +13,7 @@
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
+#include "hapticut/mesh/parts.h"
 #include "hapticut/physics/volume_pressure.h"
 
 namespace hapticut::scene {
@@ -40,6 +41,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     // cut's: the report tells the two apart.
     const bool checkClosed = organ.closedBeforeCuts() && config.loop.cutter.walls;
     const std::vector<std::string> atLoad = cutting::checkInvariants(organ, mass_kg, checkClosed).problems;
+    const std::vector<mesh::PartSummary> partsAtStart = mesh::summariseParts(organ.mesh());
     physics::MassSpringModel& model = organ.model();
     auto created = haptics::HapticLoop::create(organ, hands, config.loop);
     if (!created) return unexpected(created.error());
@@ -162,6 +164,18 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.minCuttingForce_N = r.cuttingSteps > 0 ? minCuttingForce_N : 0;
     r.syncTime_us = st.syncTime_us.summary();
     r.defectsAtLoad = atLoad;
+    const std::vector<mesh::PartSummary> partsAtEnd = mesh::summariseParts(organ.mesh());
+    for (std::size_t p = 0; p < partsAtEnd.size(); ++p)
+        r.parts.push_back({partsAtEnd[p].name, p < partsAtStart.size() ? partsAtStart[p].faces : 0, partsAtEnd[p].faces,
+                           partsAtEnd[p].boundaryEdges, 0.0});
+    if (!r.parts.empty()) {
+        const mesh::SurfaceMesh& m = organ.mesh();
+        for (std::size_t f = 0; f < m.faces.size(); ++f)
+            for (std::uint32_t v : m.faces[f]) {
+                double& d = r.parts[m.faceParts[f]].maxDisplacement_m;
+                d = std::max(d, (model.nodes.position[v] - model.nodes.restPosition[v]).norm());
+            }
+    }
     for (std::string& problem : cutting::checkInvariants(organ, mass_kg, checkClosed).problems)
         if (std::find(atLoad.begin(), atLoad.end(), problem) == atLoad.end())
             r.invariantProblems.push_back(std::move(problem));

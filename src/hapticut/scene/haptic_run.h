@@ -82,6 +82,13 @@ struct HapticRunResult {
     std::vector<std::string> invariantProblems;
     /// Broken before the run began: the model's own defects (an unrepaired import), never a cut's.
     std::vector<std::string> defectsAtLoad;
+    /// Each named part of the model (empty for one part): a piece of its own, pressed and cut as such.
+    struct Part {
+        std::string name;
+        std::size_t facesAtStart = 0, faces = 0, boundaryEdges = 0;
+        double maxDisplacement_m = 0;  // of its nodes from rest, at the end
+    };
+    std::vector<Part> parts;
     std::array<HandSummary, haptics::kMaxHands> hands{};
     int handCount = 1;
     std::vector<haptics::StepOutput> keptSteps;  // the first HapticRunConfig::keepSteps steps

@@ -4,6 +4,7 @@
 #include <new>
 
 #include "hapticut/mesh/mesh_report.h"
+#include "hapticut/mesh/parts.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/material.h"
 
@@ -12,10 +13,11 @@ namespace hapticut::scene {
 namespace {
 
 /// The model; may throw std::bad_alloc, which loadModelSource turns into an error.
-Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles) {
+Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles, std::span<const std::string> parts) {
     ModelSource source;
     source.name = model;
     if (model == "heart") {
+        if (!parts.empty()) return unexpected(Error{model, 0, "the procedural heart has no named parts"});
         mesh::procedural::HeartOptions options;
         options.triangles = triangles;
         source.mesh = mesh::procedural::makeHeart(options);
@@ -26,6 +28,7 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles) 
     if (!loaded) return unexpected(loaded.error());
     source.warnings = std::move(loaded->warnings);
     source.mesh = std::move(loaded->mesh);
+    if (const auto refused = mesh::selectParts(source.mesh, parts)) return unexpected(Error{model, 0, *refused});
     source.toolThreshold_N = loaded->toolThreshold_N;
     source.fromThesisFile = loaded->physics.has_value();
     if (source.mesh.faces.empty())
@@ -44,9 +47,10 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles) 
 
 }  // namespace
 
-Result<ModelSource, Error> loadModelSource(const std::string& model, int triangles) {
+Result<ModelSource, Error> loadModelSource(const std::string& model, int triangles,
+                                           std::span<const std::string> parts) {
     try {
-        return loadOrThrow(model, triangles);
+        return loadOrThrow(model, triangles, parts);
     } catch (const std::bad_alloc&) {
         // A model larger than memory (a heart of billions of triangles, a huge file) is an input error.
         return unexpected(

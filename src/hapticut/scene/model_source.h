@@ -2,6 +2,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -22,8 +23,10 @@ struct ModelSource {
     std::vector<Warning> warnings;
 };
 
-/// The procedural heart with `triangles` triangles, or the model file `model`.
-Result<ModelSource, Error> loadModelSource(const std::string& model, int triangles);
+/// The procedural heart with `triangles` triangles, or the model file `model`; with `parts`, only the
+/// named parts of it (an error listing its parts when one is not there).
+Result<ModelSource, Error> loadModelSource(const std::string& model, int triangles,
+                                           std::span<const std::string> parts = {});
 
 /// The simulation model: a thesis file's own constants, otherwise the default resolution-independent material.
 physics::MassSpringModel buildSimulationModel(const ModelSource& source);

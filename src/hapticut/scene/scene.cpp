@@ -55,6 +55,7 @@ void applyOverrides(const SceneOverrides& o, SceneFile& s) {
     if (o.scale) s.scale = *o.scale;
     if (o.center) s.center = *o.center;
     if (o.fitSize_m) s.fitSize_m = *o.fitSize_m;
+    if (o.parts) s.parts = *o.parts;
     if (o.scheme) s.scheme = *o.scheme;
     if (o.solverTolerance) s.solver.tolerance = *o.solverTolerance;
     if (o.solverMaxIterations) s.solver.maxIterations = *o.solverMaxIterations;
@@ -84,7 +85,7 @@ Result<Scene, Error> assembleScene(std::filesystem::path file, SceneFile setting
     Scene scene;
     scene.file = std::move(file);
     scene.settings = std::move(settings);
-    auto source = loadModelSource(scene.settings.model, scene.settings.triangles);
+    auto source = loadModelSource(scene.settings.model, scene.settings.triangles, scene.settings.parts);
     if (!source) return unexpected(source.error());
     scene.source = std::move(*source);
     applyPlacement(scene.settings, scene.source.mesh.positions);

@@ -30,6 +30,7 @@ struct SceneOverrides {
     std::optional<double> scale;                    // the model's scale ([model] scale): --units, --scale
     std::optional<bool> center;                     // [model] center: --center
     std::optional<double> fitSize_m;                // [model] fit_size_m: --fit-size
+    std::optional<std::vector<std::string>> parts;  // [model] parts: --part
 };
 
 struct SceneRequest {

@@ -93,6 +93,20 @@ std::string text(const toml::table& t, const std::string& path, const std::strin
     return v;
 }
 
+/// An array of strings; empty when the key is absent.
+std::vector<std::string> strings(const toml::table& t, const std::string& path, const std::string& key) {
+    const toml::node* node = t.get(key);
+    if (!node) return {};
+    const toml::array* a = node->as_array();
+    if (!a) throw SceneError{lineOf(*node), path + "." + key + ": expected an array of strings"};
+    std::vector<std::string> out;
+    for (const toml::node& item : *a) {
+        if (!item.is_string()) throw SceneError{lineOf(item), path + "." + key + ": expected an array of strings"};
+        out.push_back(*item.value<std::string>());
+    }
+    return out;
+}
+
 Vec3 vector3(const toml::table& t, const std::string& path, const std::string& key, const Vec3& fallback,
              double limit) {
     const toml::node* node = t.get(key);
@@ -226,7 +240,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
         allowOnly(root, "", {"model", "material", "tools", "device", "devices", "simulation", "rendering"});
         if (const toml::table* m = subTable(root, "model")) {
             allowOnly(*m, "model",
-                      {"source", "triangles", "translate_m", "rotate_deg", "scale", "center", "fit_size_m"});
+                      {"source", "triangles", "translate_m", "rotate_deg", "scale", "center", "fit_size_m", "parts"});
             s.model = resolve(text(*m, "model", "source", s.model), directory);
             s.triangles = static_cast<int>(wholeNumber(*m, "model", "triangles", s.triangles, 12, 20'000'000));
             s.translate_m = vector3(*m, "model", "translate_m", s.translate_m, 100);
@@ -234,6 +248,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
             s.scale = number(*m, "model", "scale", s.scale, 1e-6, 1e6);
             s.center = boolean(*m, "model", "center", s.center);
             if (m->contains("fit_size_m")) s.fitSize_m = number(*m, "model", "fit_size_m", 0.1, 1e-4, 100);
+            s.parts = strings(*m, "model", "parts");
         }
         if (const toml::table* m = subTable(root, "material")) {
             allowOnly(*m, "material",

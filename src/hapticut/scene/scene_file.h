@@ -46,6 +46,7 @@ struct SceneFile {
     double scale = 1;
     bool center = false;              // the bounding box's centre moved to the origin (after scale)
     std::optional<double> fitSize_m;  // scaled about its centre so that its largest extent is this
+    std::vector<std::string> parts;   // only these named parts of the model file; empty: all
     // [material]: resolution-independent; applied to thesis files too when given
     physics::Material material;
     bool materialGiven = false;

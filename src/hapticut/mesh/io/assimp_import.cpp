@@ -5,7 +5,11 @@
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "hapticut/mesh/io/imported_mesh.h"
 
 namespace hapticut::mesh::io {
 
@@ -45,6 +49,11 @@ Result<ImportedMesh, Error> importWithAssimp(const std::filesystem::path& file) 
         for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
             const aiMesh* mesh = scene->mMeshes[mi];
             const auto base = static_cast<std::uint32_t>(m.positions.size());
+            // Each named mesh is a part; the pieces of one (a glTF mesh's primitives) share its name.
+            const std::string name = mesh->mName.C_Str();
+            auto named = std::find(m.partNames.begin(), m.partNames.end(), name);
+            if (name.empty() || named == m.partNames.end()) named = m.partNames.insert(m.partNames.end(), name);
+            const auto part = static_cast<std::uint32_t>(named - m.partNames.begin());
             for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
                 const aiVector3D& p = mesh->mVertices[v];
                 if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) ++nonFinite;
@@ -58,6 +67,7 @@ Result<ImportedMesh, Error> importWithAssimp(const std::filesystem::path& file) 
                     continue;
                 }
                 m.faces.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+                m.faceParts.push_back(part);
                 FaceUvs corners{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
                 if (uv)
                     for (int k = 0; k < 3; ++k) corners[k] = Vec2(uv[face.mIndices[k]].x, uv[face.mIndices[k]].y);
@@ -72,6 +82,7 @@ Result<ImportedMesh, Error> importWithAssimp(const std::filesystem::path& file) 
         if (skippedPrimitives > 0)
             out.warnings.push_back(
                 {file, 0, "skipped " + std::to_string(skippedPrimitives) + " point or line primitive(s)"});
+        nameParts(m, file.stem().string());
         completeMesh(m);
         return out;
     } catch (const std::exception& e) {

@@ -62,8 +62,11 @@ Result<ImportedMesh, Error> parseObj(std::string_view text, const std::filesyste
                     else
                         out.addFace(f, {texcoords[ti[0]], texcoords[ti[c]], texcoords[ti[c + 1]]});
                 }
+            } else if (key == "g" || key == "o") {
+                // A part: its name is the rest of the line (a group may list several; the first names it).
+                out.beginPart(r.tokens().size() > 1 ? std::string(r.token(1)) : std::string());
             }
-            // vn, g, o, s, usemtl, mtllib, l and the rest carry nothing the simulation uses.
+            // vn, s, usemtl, mtllib, l and the rest carry nothing the simulation uses.
         }
         return out.finish(file, "'f' lines with at least 3 vertex indices");
     } catch (const ParseFailure& failure) {
@@ -80,7 +83,11 @@ std::string formatObj(const SurfaceMesh& mesh) {
     if (hasUvs)
         for (const FaceUvs& uv : mesh.uvs)
             for (const Vec2& t : uv) out += "vt " + formatDouble(t.x()) + " " + formatDouble(t.y()) + "\n";
+    const bool parts = mesh.hasParts() && mesh.faceParts.size() == mesh.faces.size();
     for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+        // A named part is a group, opened where its faces begin (cuts append faces to every part).
+        if (parts && (i == 0 || mesh.faceParts[i] != mesh.faceParts[i - 1]))
+            out += "g " + mesh.partNames[mesh.faceParts[i]] + "\n";
         out += "f";
         for (int k = 0; k < 3; ++k) {
             out += " " + std::to_string(mesh.faces[i][k] + 1);
