@@ -560,6 +560,14 @@ TEST_F(Cli, EmptyResultsAreErrorsAndModelsWithoutFacesAreRefused) {
 // running beside the loop's thread (ThreadSanitizer watches this in CI): a replayed scalpel and the
 // emulated Touch.
 TEST_F(Cli, RealTimeRunsLongerThanASecondLogEveryStepWhileTheProgressLineRuns) {
+    // Real time, not simulated time (which runs many times faster and reports no rate): the loop keeps
+    // near the servo's 1 kHz. Under a sanitizer, with a test beside it, a step can outlast the servo's
+    // millisecond (ThreadSanitizer once held the emulated Touch to 474 Hz).
+#ifdef HAPTICUT_SANITIZED
+    constexpr double kLeastRate_hz = 250;
+#else
+    constexpr double kLeastRate_hz = 500;
+#endif
     const std::string trajectory = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/cut-front.csv";
     const std::string env = std::string("HAPTICUT_HD_LIBRARY=") + HD_EMULATION_LIBRARY + " ";
     for (const std::string& device : {"--trajectory " + trajectory, std::string("--device openhaptics")}) {
@@ -570,7 +578,7 @@ TEST_F(Cli, RealTimeRunsLongerThanASecondLogEveryStepWhileTheProgressLineRuns) {
         ASSERT_EQ(r.exitCode, 0) << r.err;
         const auto j = nlohmann::json::parse(slurp(path("rt.json")));
         EXPECT_EQ(j["steps"], 1500);
-        EXPECT_GT(j["haptic_rate_hz"].get<double>(), 500.0);
+        EXPECT_GT(j["haptic_rate_hz"].get<double>(), kLeastRate_hz);
         const std::string log = slurp(path("f.csv"));
         EXPECT_EQ(std::count(log.begin(), log.end(), '\n') - 1 + j["log_dropped_steps"].get<long>(), 1500);
         if (j["log_dropped_steps"] == 0) {
