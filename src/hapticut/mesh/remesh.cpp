@@ -237,7 +237,7 @@ private:
         if (std::isnan(reference_[v].x())) reference_[v] = grid_->smoothNormal(x_[v], radius_);
         return reference_[v];
     }
-    /// Whether a face of normal n at corner v faces away from the surface (more than about 70 degrees).
+    /// Whether a face of normal n at corner v faces away from the surface (by more than 60 degrees).
     bool facesAway(const Vec3& n, std::uint32_t v) { return n.norm() == 0 || n.normalized().dot(reference(v)) < 0.5; }
     bool folded(std::uint32_t f) { return facesAway(normalOf(f), faces_[f][0]); }
 
