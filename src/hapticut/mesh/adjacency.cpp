@@ -45,4 +45,20 @@ MeshAdjacency buildAdjacency(std::span<const Face> faces) {
     return adj;
 }
 
+std::vector<std::uint32_t> facePieces(const MeshAdjacency& adjacency, bool manifoldEdgesOnly) {
+    std::vector<std::uint32_t> parent(adjacency.faceEdges.size());
+    for (std::uint32_t f = 0; f < parent.size(); ++f) parent[f] = f;
+    auto root = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (std::size_t e = 0; e < adjacency.edges.size(); ++e) {
+        const auto faces = adjacency.facesOfEdge(e);
+        if (manifoldEdgesOnly && faces.size() != 2) continue;
+        for (std::size_t i = 1; i < faces.size(); ++i) parent[root(faces[i])] = root(faces[0]);
+    }
+    for (std::uint32_t f = 0; f < parent.size(); ++f) parent[f] = root(f);
+    return parent;
+}
+
 }  // namespace hapticut::mesh

@@ -27,4 +27,9 @@ struct MeshAdjacency {
 
 MeshAdjacency buildAdjacency(std::span<const Face> faces);
 
+/// The piece of each face, named by one face of it (equal numbers, same piece). Faces join across shared edges: every
+/// shared edge, or with `manifoldEdgesOnly` only edges exactly two faces share (non-manifold contact then parts
+/// pieces).
+std::vector<std::uint32_t> facePieces(const MeshAdjacency& adjacency, bool manifoldEdgesOnly);
+
 }  // namespace hapticut::mesh

@@ -7,20 +7,12 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <numeric>
 
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/geometry/triangle.h"
 #include "hapticut/mesh/adjacency.h"
 
 namespace hapticut::mesh {
-
-namespace {
-std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-}
-}  // namespace
 
 MeshReport validateMesh(const SurfaceMesh& mesh) {
     MeshReport r;
@@ -30,8 +22,6 @@ MeshReport validateMesh(const SurfaceMesh& mesh) {
     const MeshAdjacency adj = buildAdjacency(mesh.faces);
     r.edges = adj.edges.size();
 
-    std::vector<std::uint32_t> parent(mesh.faces.size());
-    std::iota(parent.begin(), parent.end(), 0u);
     for (std::size_t e = 0; e < adj.edges.size(); ++e) {
         const auto faces = adj.facesOfEdge(e);
         if (faces.size() == 1) ++r.boundaryEdges;
@@ -41,10 +31,9 @@ MeshReport validateMesh(const SurfaceMesh& mesh) {
             if (traversesForward(mesh.faces[faces[0]], a, b) == traversesForward(mesh.faces[faces[1]], a, b))
                 ++r.misorientedEdges;
         }
-        for (std::size_t i = 1; i < faces.size(); ++i) parent[findRoot(parent, faces[i])] = findRoot(parent, faces[0]);
     }
-    for (std::uint32_t f = 0; f < parent.size(); ++f)
-        if (findRoot(parent, f) == f) ++r.components;
+    const std::vector<std::uint32_t> piece = facePieces(adj, false);
+    for (std::uint32_t f = 0; f < piece.size(); ++f) r.components += piece[f] == f;
 
     std::vector<char> used(mesh.positions.size(), 0);
     double minAngle = std::numbers::pi;

@@ -615,19 +615,9 @@ namespace {
 /// Each connected piece of `m` in the part most of its faces lie nearest to: remeshing never joins
 /// pieces, and a face near where two parts touch may lie nearest to the other one.
 std::vector<std::uint32_t> partsByPiece(const SurfaceMesh& m, const std::vector<std::uint32_t>& nearestPart) {
-    std::vector<std::uint32_t> parent(m.faces.size());
-    for (std::uint32_t f = 0; f < parent.size(); ++f) parent[f] = f;
-    auto root = [&](std::uint32_t i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    };
-    const MeshAdjacency adjacency = buildAdjacency(m.faces);
-    for (std::size_t e = 0; e < adjacency.edges.size(); ++e) {
-        const auto faces = adjacency.facesOfEdge(e);
-        for (std::size_t i = 1; i < faces.size(); ++i) parent[root(faces[i])] = root(faces[0]);
-    }
+    const std::vector<std::uint32_t> piece = facePieces(buildAdjacency(m.faces), false);
     std::unordered_map<std::uint64_t, std::size_t> votes;  // (piece, part) -> faces
-    for (std::uint32_t f = 0; f < m.faces.size(); ++f) ++votes[(std::uint64_t{root(f)} << 32) | nearestPart[f]];
+    for (std::uint32_t f = 0; f < m.faces.size(); ++f) ++votes[(std::uint64_t{piece[f]} << 32) | nearestPart[f]];
     std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::size_t>> winner;  // piece -> (part, votes)
     for (const auto& [key, count] : votes) {
         auto& w = winner[static_cast<std::uint32_t>(key >> 32)];
@@ -635,7 +625,7 @@ std::vector<std::uint32_t> partsByPiece(const SurfaceMesh& m, const std::vector<
         if (count > w.second || (count == w.second && part < w.first)) w = {part, count};
     }
     std::vector<std::uint32_t> parts(m.faces.size());
-    for (std::uint32_t f = 0; f < m.faces.size(); ++f) parts[f] = winner[root(f)].first;
+    for (std::uint32_t f = 0; f < m.faces.size(); ++f) parts[f] = winner[piece[f]].first;
     return parts;
 }
 

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
 #include <queue>
 #include <unordered_map>
 
@@ -88,15 +87,7 @@ void flip(SurfaceMesh& m, std::size_t f) {
 /// beyond the first two instead would pair faces of different pieces, open both, and orient one by
 /// the other (inward). Returns the vertices copied.
 std::size_t separateTouchingPieces(SurfaceMesh& m) {
-    const MeshAdjacency adj = buildAdjacency(m.faces);
-    std::vector<std::uint32_t> parent(m.faces.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto root = [&](std::uint32_t i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    };
-    for (std::size_t e = 0; e < adj.edges.size(); ++e)
-        if (const auto faces = adj.facesOfEdge(e); faces.size() == 2) parent[root(faces[0])] = root(faces[1]);
+    const std::vector<std::uint32_t> pieceOf = facePieces(buildAdjacency(m.faces), true);
     const VertexFaces around = buildVertexFaces(m.faces, m.positions.size());
     const std::size_t vertexCount = m.positions.size();
     std::size_t copies = 0;
@@ -104,7 +95,7 @@ std::size_t separateTouchingPieces(SurfaceMesh& m) {
     for (std::uint32_t v = 0; v < vertexCount; ++v) {
         pieceCopy.clear();
         for (const std::uint32_t f : around.of(v)) {
-            const std::uint32_t piece = root(f);
+            const std::uint32_t piece = pieceOf[f];
             auto it = std::find_if(pieceCopy.begin(), pieceCopy.end(), [&](const auto& p) { return p.first == piece; });
             if (it == pieceCopy.end()) {
                 std::uint32_t copy = v;
