@@ -18,10 +18,14 @@ RestTouch touchRestSurface(const CutModel& cut, const Vec3& p) {
     RestTouch best;
     double bestD = 1e300;
     for (std::uint32_t f = 0; f < m.faces.size(); ++f) {
-        const auto c = geometry::closestPointOnTriangle(p, m.positions[m.faces[f][0]], m.positions[m.faces[f][1]],
-                                                        m.positions[m.faces[f][2]]);
-        const double d = (c.point - p).squaredNorm();
-        if (d < bestD) bestD = d, best = {f, c.bary, c.point};
+        const Vec3 &a = m.positions[m.faces[f][0]], &b = m.positions[m.faces[f][1]], &c = m.positions[m.faces[f][2]];
+        // The distance to the face's box bounds the distance to the face from below: a face whose box is
+        // no nearer than the best so far cannot win, and skipping it keeps the answer exactly the same.
+        const Vec3 below = a.cwiseMin(b).cwiseMin(c) - p, above = p - a.cwiseMax(b).cwiseMax(c);
+        if (below.cwiseMax(above).cwiseMax(0.0).squaredNorm() >= bestD) continue;
+        const auto hit = geometry::closestPointOnTriangle(p, a, b, c);
+        const double d = (hit.point - p).squaredNorm();
+        if (d < bestD) bestD = d, best = {f, hit.bary, hit.point};
     }
     return best;
 }
