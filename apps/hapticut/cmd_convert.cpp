@@ -22,13 +22,6 @@ namespace hapticut::app {
 
 namespace {
 
-/// Three significant digits, for figures a person reads.
-std::string threeDigits(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.3g", value);
-    return text;
-}
-
 struct ConvertOptions {
     std::string in, out;
     int triangles = 1619;

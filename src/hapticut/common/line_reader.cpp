@@ -86,4 +86,10 @@ std::string formatDouble(double value) {
     return std::string(buf, ec == std::errc() ? ptr : buf);
 }
 
+std::string threeDigits(double value) {
+    char buf[32];
+    const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::general, 3);
+    return std::string(buf, ec == std::errc() ? ptr : buf);
+}
+
 }  // namespace hapticut

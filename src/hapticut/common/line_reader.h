@@ -49,5 +49,7 @@ bool parseFiniteDouble(std::string_view s, double& out);
 bool parseUnsigned(std::string_view s, std::uint64_t& out);
 /// Shortest text that reads back to exactly the same double (round-trip exact, no locale).
 std::string formatDouble(double value);
+/// Three significant digits (0.000123, 45.6, 1.23e+07), no locale: for figures a person reads.
+std::string threeDigits(double value);
 
 }  // namespace hapticut

@@ -78,14 +78,6 @@ Scheme resolveScheme(Scheme requested, const MassSpringModel& model, double dt_s
                                                                                        : Scheme::BackwardEuler;
 }
 
-namespace {
-std::string threeDigits(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.3g", value);
-    return text;
-}
-}  // namespace
-
 std::string tooManySubsteps(Scheme scheme, int substeps, double stableStep_s, double dt_s) {
     if (substeps <= kMaxSubsteps) return {};
     return std::string(schemeName(scheme)) + " would need " + std::to_string(substeps) + " substeps per " +
