@@ -30,6 +30,23 @@ TEST(ObjFormat, RoundTripKeepsVerticesFacesAndSeamUvs) {
     expectSameSurface(parsed->mesh, heart);
 }
 
+TEST(ObjFormat, NamedPartsRoundTripSpacesAndAll) {
+    SurfaceMesh heart = procedural::makeHeart({.triangles = 200});
+    heart.partNames = {"left ventricle", "atria"};
+    heart.faceParts.assign(heart.faces.size(), 0);
+    for (std::size_t f = heart.faces.size() / 2; f < heart.faces.size(); ++f) heart.faceParts[f] = 1;
+    const auto parsed = parseObj(formatObj(heart), "heart.obj");
+    ASSERT_TRUE(parsed.has_value()) << parsed.error().toString();
+    expectSameSurface(parsed->mesh, heart);
+    EXPECT_EQ(parsed->mesh.partNames, heart.partNames);
+    EXPECT_EQ(parsed->mesh.faceParts, heart.faceParts);
+    // A group line lists groups: the first names the part. An object's name is the whole line.
+    const auto groups =
+        parseObj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\ng wall septum\nf 1 2 3\no right atrium \r\nf 1 2 4\n", "g.obj");
+    ASSERT_TRUE(groups.has_value()) << groups.error().toString();
+    EXPECT_EQ(groups->mesh.partNames, (std::vector<std::string>{"wall", "right atrium"}));
+}
+
 TEST(ObjFormat, ReadsPolygonsNegativeIndicesAndIgnoresOtherStatements) {
     const std::string text =
         "mtllib a.mtl\no quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0 1.0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"

@@ -62,8 +62,14 @@ Result<ImportedMesh, Error> parseObj(std::string_view text, const std::filesyste
                     else
                         out.addFace(f, {texcoords[ti[0]], texcoords[ti[c]], texcoords[ti[c + 1]]});
                 }
+            } else if (key == "o" && r.tokens().size() > 1) {
+                // An object's name is the rest of the line, spaces and all ("left ventricle").
+                std::string_view name =
+                    r.rawLine().substr(static_cast<std::size_t>(r.token(1).data() - r.rawLine().data()));
+                name = name.substr(0, name.find_last_not_of(" \t\r") + 1);
+                out.beginPart(std::string(name));
             } else if (key == "g" || key == "o") {
-                // A part: its name is the rest of the line (a group may list several; the first names it).
+                // A group line may list several groups; the first names the part.
                 out.beginPart(r.tokens().size() > 1 ? std::string(r.token(1)) : std::string());
             }
             // vn, s, usemtl, mtllib, l and the rest carry nothing the simulation uses.
@@ -85,9 +91,10 @@ std::string formatObj(const SurfaceMesh& mesh) {
             for (const Vec2& t : uv) out += "vt " + formatDouble(t.x()) + " " + formatDouble(t.y()) + "\n";
     const bool parts = mesh.hasParts() && mesh.faceParts.size() == mesh.faces.size();
     for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
-        // A named part is a group, opened where its faces begin (cuts append faces to every part).
+        // A named part is an object, opened where its faces begin (cuts append faces to every part); an
+        // object's name may have spaces, where a group line would read them as several groups.
         if (parts && (i == 0 || mesh.faceParts[i] != mesh.faceParts[i - 1]))
-            out += "g " + mesh.partNames[mesh.faceParts[i]] + "\n";
+            out += "o " + mesh.partNames[mesh.faceParts[i]] + "\n";
         out += "f";
         for (int k = 0; k < 3; ++k) {
             out += " " + std::to_string(mesh.faces[i][k] + 1);
