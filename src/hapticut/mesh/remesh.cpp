@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -720,6 +721,20 @@ Result<RemeshResult, std::string> remeshIsotropic(const SurfaceMesh& input, cons
     if (input.hasParts()) {
         out.partNames = input.partNames;
         out.faceParts = partsByPiece(out, nearestPart);
+        // Each part's faces together, in part order: a written file then has one group per part.
+        std::vector<std::size_t> order(out.faces.size());
+        std::iota(order.begin(), order.end(), std::size_t{0});
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::size_t a, std::size_t b) { return out.faceParts[a] < out.faceParts[b]; });
+        SurfaceMesh sorted;
+        for (std::size_t f : order) {
+            sorted.faces.push_back(out.faces[f]);
+            sorted.uvs.push_back(out.uvs[f]);
+            sorted.faceParts.push_back(out.faceParts[f]);
+        }
+        out.faces = std::move(sorted.faces);
+        out.uvs = std::move(sorted.uvs);
+        out.faceParts = std::move(sorted.faceParts);
     }
     out.edges = edgesOfFaces(out.faces);
     computeFaceNormals(out);
