@@ -1,4 +1,4 @@
-// `hapticut assets --out DIR`: regenerates the shipped heart model and tool files from the project's code.
+// `hapticut assets --out DIR`: regenerates the shipped models, tools and trajectories from the project's code.
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
@@ -6,9 +6,13 @@
 
 #include "commands.h"
 #include "hapticut/collision/bvh.h"
+#include "hapticut/common/line_reader.h"
 #include "hapticut/haptics/trajectory.h"
+#include "hapticut/mesh/io/obj_format.h"
 #include "hapticut/mesh/io/thesis_format.h"
+#include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/mesh/procedural/organs.h"
 #include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/physics/material.h"
 #include "hapticut/scene/sample_trajectories.h"
@@ -16,6 +20,32 @@
 namespace hapticut::app {
 
 namespace {
+
+constexpr std::size_t kLiverTriangles = 8000, kKidneyTriangles = 4000;
+const Vec2 kLiverCut(-0.04, 0.0);       // across the front of the right lobe
+const Vec2 kKidneyPress(-0.005, 0.01);  // the middle of its front
+
+/// A segmented organ made simulation-ready, written as OBJ with its parts as groups; what it took, told.
+WriteStatus writeReadyOrgan(const std::filesystem::path& file, const mesh::SurfaceMesh& segmented,
+                            std::size_t triangles, mesh::SurfaceMesh& ready) {
+    const mesh::MeshReport before = mesh::validateMesh(segmented);
+    auto organ = mesh::procedural::makeSimulationReady(segmented, triangles);
+    if (!organ) return Error{file.string(), 0, "cannot make the organ simulation-ready: " + organ.error()};
+    const mesh::MeshReport after = mesh::validateMesh(organ->mesh);
+    std::cout << file.filename().string() << ": segmented " << before.faces << " faces (smallest angle "
+              << threeDigits(before.minAngleDeg) << " deg), repaired and remeshed to " << after.faces
+              << " faces (smallest angle " << threeDigits(after.minAngleDeg) << " deg, " << organ->mesh.partNames.size()
+              << " parts, " << (after.closed && after.oriented ? "" : "not ") << "closed and oriented), "
+              << threeDigits(organ->remesh.distanceMean_m * 1e3) << " mm from the segmentation on average, "
+              << threeDigits(organ->remesh.distanceMax_m * 1e3) << " mm at most\n";
+    ready = std::move(organ->mesh);
+    // A tenth of a micrometre and a millionth of the texture are precision enough; full doubles would
+    // triple the files.
+    for (Vec3& p : ready.positions) p = (p * 1e7).array().round() / 1e7;
+    for (mesh::FaceUvs& face : ready.uvs)
+        for (Vec2& uv : face) uv = (uv * 1e6).array().round() / 1e6;
+    return writeTextFileAtomically(file, mesh::io::formatObj(ready));
+}
 
 int assets(const std::filesystem::path& out) {
     namespace fs = std::filesystem;
@@ -26,12 +56,23 @@ int assets(const std::filesystem::path& out) {
     const mesh::SurfaceMesh heart = mesh::procedural::makeHeart({});
     collision::Bvh bvh;
     bvh.build({heart.positions, heart.faces});
+    // The liver and the kidney are segmented from implicit shapes and made ready as a user's would be.
+    mesh::SurfaceMesh liver, kidney;
+    const WriteStatus liverWritten =
+        writeReadyOrgan(out / "models/liver.obj", mesh::procedural::segmentLiver(), kLiverTriangles, liver);
+    const WriteStatus kidneyWritten =
+        writeReadyOrgan(out / "models/kidney.obj", mesh::procedural::segmentKidney(), kKidneyTriangles, kidney);
+    collision::Bvh liverBvh, kidneyBvh;
+    liverBvh.build({liver.positions, liver.faces});
+    kidneyBvh.build({kidney.positions, kidney.faces});
     const struct {
         fs::path file;
         WriteStatus status;
     } written[] = {
         {out / "models/heart.txt", mesh::io::writeModelFile(out / "models/heart.txt", heart,
                                                             physics::thesisPhysicsFor(heart, physics::Material{}))},
+        {out / "models/liver.obj", liverWritten},
+        {out / "models/kidney.obj", kidneyWritten},
         {out / "tools/scalpel.txt", mesh::io::writeToolFile(out / "tools/scalpel.txt", mesh::procedural::makeScalpel(),
                                                             mesh::procedural::kScalpelThreshold_N)},
         {out / "tools/probe.txt", mesh::io::writeToolFile(out / "tools/probe.txt", mesh::procedural::makeProbe(),
@@ -45,6 +86,12 @@ int assets(const std::filesystem::path& out) {
         {out / "trajectories/cut-front.csv",
          writeTextFileAtomically(out / "trajectories/cut-front.csv",
                                  haptics::formatTrajectory(scene::strokeTrajectory(heart, bvh, 0.012)))},
+        {out / "trajectories/cut-liver.csv",
+         writeTextFileAtomically(out / "trajectories/cut-liver.csv", haptics::formatTrajectory(scene::strokeTrajectory(
+                                                                         liver, liverBvh, 0.012, kLiverCut)))},
+        {out / "trajectories/press-kidney.csv",
+         writeTextFileAtomically(out / "trajectories/press-kidney.csv",
+                                 haptics::formatTrajectory(scene::pressTrajectory(kidney, kidneyBvh, kKidneyPress)))},
     };
     int status = 0;
     for (const auto& w : written) {
@@ -63,7 +110,8 @@ int assets(const std::filesystem::path& out) {
 Command addAssetsCommand(CLI::App& app) {
     auto out = std::make_shared<std::string>("assets");
     CLI::App* cmd = app.add_subcommand(
-        "assets", "Regenerate the shipped heart (1,619 triangles), scalpel, probe and sample trajectories");
+        "assets",
+        "Regenerate the shipped heart (1,619 triangles), liver, kidney, scalpel, probe and sample trajectories");
     cmd->add_option("--out", *out, "Directory to write models/ and tools/ into")->capture_default_str();
     return [out] { return assets(*out); };
 }
