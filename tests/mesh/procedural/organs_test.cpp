@@ -35,7 +35,8 @@ TEST(Polygonise, ASphereIsClosedOutwardAndConvergesAtSecondOrder) {
         for (const Vec3& p : sphere.positions)
             EXPECT_NEAR((p - Vec3(0.0031, -0.0017, 0.0023)).norm(), kRadius, cell * cell / kRadius);
         // The inscribed surface's volume falls short of the ball's by O(cell^2).
-        const double error = std::abs(test::signedVolume(sphere) / (4.0 / 3 * std::numbers::pi * std::pow(kRadius, 3)) - 1);
+        const double error =
+            std::abs(test::signedVolume(sphere) / (4.0 / 3 * std::numbers::pi * std::pow(kRadius, 3)) - 1);
         EXPECT_GT(test::signedVolume(sphere), 0) << "faces point outward";
         if (previousError > 0) {
             EXPECT_GT(previousError / error, 3.5) << "halving the cell to " << cell;
@@ -62,7 +63,8 @@ void expectSegmentedThenReady(const SurfaceMesh& segmented, std::size_t triangle
     EXPECT_TRUE(after.closed && after.manifold && after.oriented);
     EXPECT_EQ(after.degenerateFaces, 0u);
     EXPECT_GE(after.minAngleDeg, 25);
-    EXPECT_NEAR(static_cast<double>(after.faces), static_cast<double>(triangles), 0.05 * static_cast<double>(triangles));
+    EXPECT_NEAR(static_cast<double>(after.faces), static_cast<double>(triangles),
+                0.05 * static_cast<double>(triangles));
     EXPECT_LT(ready->remesh.distanceMax_m, 0.01 * (before.bboxMax - before.bboxMin).norm());
     EXPECT_EQ(organ.partNames, parts);
     for (std::uint32_t part = 0; part < parts.size(); ++part) {

@@ -26,7 +26,8 @@ constexpr std::array<std::array<int, 4>, 6> kKuhnTetrahedra = {{
 
 class Polygoniser {
 public:
-    Polygoniser(const ImplicitField& field, const geometry::Aabb& box, double cell_m) : origin_(box.min), cell_(cell_m) {
+    Polygoniser(const ImplicitField& field, const geometry::Aabb& box, double cell_m)
+        : origin_(box.min), cell_(cell_m) {
         const Vec3 cells = (box.extent() / cell_m).array().ceil().max(1.0);
         n_ = {static_cast<int>(cells.x()), static_cast<int>(cells.y()), static_cast<int>(cells.z())};
         values_.resize(static_cast<std::size_t>(n_[0] + 1) * (n_[1] + 1) * (n_[2] + 1));

@@ -48,7 +48,7 @@ double liver(const Vec3& q) {
     // The visceral surface faces down and back, flattened against the bowel and the right kidney.
     shape = smoothMax(shape, (-(q.y() + 3.5) - 0.5 * q.z()) / std::sqrt(1.25), 2);
     shape = smoothMax(shape, 1.6 - (q - Vec3(1.5, -1.5, 6.5)).norm(), 1);  // the round ligament's notch
-    return smoothMax(shape, 0.4 - gallbladder(q), 1);                       // the gallbladder's fossa, 4 mm clear
+    return smoothMax(shape, 0.4 - gallbladder(q), 1);                      // the gallbladder's fossa, 4 mm clear
 }
 
 double kidney(const Vec3& q) {
