@@ -22,14 +22,37 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// An aiScene holding one mesh (a closed sphere), the way an exporter expects it.
+/// An aiScene the way an exporter expects it: one node per named part under the root, each with its
+/// meshes (closed spheres, say), which take the part's name.
 struct SceneForExport {
     aiScene scene;
-    explicit SceneForExport(const SurfaceMesh& m) {
+    explicit SceneForExport(const SurfaceMesh& m) : SceneForExport({{"", {m}}}) {}
+    explicit SceneForExport(const std::vector<std::pair<std::string, std::vector<SurfaceMesh>>>& parts) {
         scene.mRootNode = new aiNode();
         scene.mMaterials = new aiMaterial* [1] { new aiMaterial() };
         scene.mNumMaterials = 1;
+        std::vector<aiMesh*> meshes;
+        std::vector<aiNode*> nodes;
+        for (const auto& [name, pieces] : parts) {
+            auto* node = new aiNode(name);
+            node->mParent = scene.mRootNode;
+            node->mNumMeshes = static_cast<unsigned>(pieces.size());
+            node->mMeshes = new unsigned[pieces.size()];
+            for (std::size_t i = 0; i < pieces.size(); ++i) {
+                node->mMeshes[i] = static_cast<unsigned>(meshes.size());
+                meshes.push_back(toAssimp(pieces[i], name));
+            }
+            nodes.push_back(node);
+        }
+        scene.mMeshes = new aiMesh*[meshes.size()];
+        std::copy(meshes.begin(), meshes.end(), scene.mMeshes);
+        scene.mNumMeshes = static_cast<unsigned>(meshes.size());
+        scene.mRootNode->addChildren(static_cast<unsigned>(nodes.size()), nodes.data());
+    }
+
+    static aiMesh* toAssimp(const SurfaceMesh& m, const std::string& name) {
         auto* mesh = new aiMesh();
+        mesh->mName = aiString(name);
         mesh->mMaterialIndex = 0;
         mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
         mesh->mNumVertices = static_cast<unsigned>(m.positions.size());
@@ -45,10 +68,7 @@ struct SceneForExport {
             mesh->mFaces[f].mNumIndices = 3;
             mesh->mFaces[f].mIndices = new unsigned[3]{m.faces[f][0], m.faces[f][1], m.faces[f][2]};
         }
-        scene.mMeshes = new aiMesh* [1] { mesh };
-        scene.mNumMeshes = 1;
-        scene.mRootNode->mMeshes = new unsigned[1]{0};
-        scene.mRootNode->mNumMeshes = 1;
+        return mesh;
     }
 };
 
@@ -82,6 +102,60 @@ TEST_F(Import, EveryFormatGivesTheSameMeshAfterWelding) {
         EXPECT_TRUE(r.manifold) << format.id;
         EXPECT_EQ(r.components, 1u) << format.id;
         EXPECT_NEAR(r.bboxMax.x(), 0.05, 1e-6) << format.id;
+    }
+}
+
+// An atlas's organ comes as named meshes, one node each: each is a part, by its name, with its own
+// faces; a part of two pieces (a glTF mesh of two primitives, which Assimp names "atria-0" and
+// "atria-1") is still one part.
+TEST_F(Import, NamedMeshesOfGltfFbxAndColladaAreTheModelsParts) {
+    const SurfaceMesh ventricle = procedural::makeSphere(Vec3::Zero(), 0.04, 12, 8);
+    const SurfaceMesh left = procedural::makeSphere(Vec3(-0.02, 0.07, 0), 0.015, 8, 6);
+    const SurfaceMesh right = procedural::makeSphere(Vec3(0.02, 0.07, 0), 0.015, 8, 6);
+    SceneForExport source({{"left ventricle", {ventricle}}, {"atria", {left, right}}});
+    Assimp::Exporter exporter;
+    for (const auto& [id, ext] : {std::pair{"gltf2", "gltf"}, {"glb2", "glb"}, {"fbxa", "fbx"}, {"collada", "dae"}}) {
+        const fs::path file = dir_ / (std::string("heart-") + id + "." + ext);
+        ASSERT_EQ(exporter.Export(&source.scene, id, file.string()), AI_SUCCESS)
+            << id << ": " << exporter.GetErrorString();
+        auto loaded = io::loadMesh(file);
+        ASSERT_TRUE(loaded.has_value()) << id << ": " << loaded.error().toString();
+        const SurfaceMesh& m = loaded->mesh;
+        ASSERT_EQ(m.partNames, (std::vector<std::string>{"left ventricle", "atria"})) << id;
+        ASSERT_EQ(m.faceParts.size(), m.faces.size()) << id;
+        std::vector<std::size_t> faces(2, 0);
+        for (std::size_t f = 0; f < m.faces.size(); ++f) {
+            ++faces[m.faceParts[f]];
+            // Every face of a part lies on its own spheres.
+            const double y =
+                (m.positions[m.faces[f][0]] + m.positions[m.faces[f][1]] + m.positions[m.faces[f][2]]).y() / 3;
+            EXPECT_EQ(y > 0.045, m.faceParts[f] == 1) << id << " face " << f;
+        }
+        EXPECT_EQ(faces[0], ventricle.faces.size()) << id;
+        EXPECT_EQ(faces[1], left.faces.size() + right.faces.size()) << id;
+    }
+}
+
+// A node's placement moves its meshes into the scene; a mirroring one leaves their faces outward.
+TEST_F(Import, NodesPlaceTheirMeshesAndAMirrorKeepsFacesOutward) {
+    SceneForExport source({{"moved", {procedural::makeSphere(Vec3::Zero(), 0.03, 12, 8)}},
+                           {"mirrored", {procedural::makeSphere(Vec3(0.05, 0, 0), 0.02, 12, 8)}}});
+    aiMatrix4x4::Translation(aiVector3D(0, 0.1f, 0), source.scene.mRootNode->mChildren[0]->mTransformation);
+    aiMatrix4x4::Scaling(aiVector3D(-1, 1, 1), source.scene.mRootNode->mChildren[1]->mTransformation);
+    Assimp::Exporter exporter;
+    const fs::path file = dir_ / "placed.glb";
+    ASSERT_EQ(exporter.Export(&source.scene, "glb2", file.string()), AI_SUCCESS) << exporter.GetErrorString();
+    auto loaded = io::loadMesh(file);
+    ASSERT_TRUE(loaded.has_value()) << loaded.error().toString();
+    ASSERT_EQ(loaded->mesh.partNames, (std::vector<std::string>{"moved", "mirrored"}));
+    for (std::uint32_t part = 0; part < 2; ++part) {
+        SurfaceMesh piece = loaded->mesh;
+        keepFaces(piece, [&](std::size_t f) { return piece.faceParts[f] == part; });
+        cleanMesh(piece);
+        const MeshReport r = validateMesh(piece);
+        const Vec3 centre = (r.bboxMin + r.bboxMax) / 2;
+        EXPECT_TRUE(centre.isApprox(part == 0 ? Vec3(0, 0.1, 0) : Vec3(-0.05, 0, 0), 1e-5)) << centre.transpose();
+        EXPECT_GT(test::signedVolume(piece), 0) << loaded->mesh.partNames[part] << " faces outward";
     }
 }
 

@@ -17,6 +17,9 @@ bool assimpCanImport(const std::filesystem::path& file);
 /// The largest file handed to Assimp: 2 GiB, some 40 million triangles of binary STL (the command line
 /// takes 20 million).
 inline constexpr std::uintmax_t kMaxImportBytes = std::uintmax_t{2} << 30;
+/// The most vertices a file's nodes may place its meshes into (a glTF can instance one mesh a million
+/// times): as many as that largest binary STL has, 3 to each of its 50-byte triangles.
+inline constexpr std::uintmax_t kMaxImportVertices = kMaxImportBytes / 50 * 3;
 
 /// Imports every triangle of the file. Assimp gives each mesh its own vertices (STL even one per
 /// corner), so the result is not welded yet: see repair.h.
