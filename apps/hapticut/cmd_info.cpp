@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/parts.h"
+#include "hapticut/scene/model_info.h"
 #include "terminal.h"
 #include "unit_options.h"
 
@@ -27,47 +28,7 @@ int info(const InfoOptions& o) {
     applyUnits(o.units, source->mesh.positions, source->name);
     const mesh::MeshReport r = mesh::validateMesh(source->mesh);
     if (o.json) {
-        nlohmann::ordered_json j;
-        j["model"] = source->name;
-        j["vertices"] = r.vertices;
-        j["faces"] = r.faces;
-        j["edges"] = r.edges;
-        j["boundary_edges"] = r.boundaryEdges;
-        j["non_manifold_edges"] = r.nonManifoldEdges;
-        j["closed"] = r.closed;
-        j["manifold"] = r.manifold;
-        j["oriented"] = r.oriented;
-        j["components"] = r.components;
-        j["euler_characteristic"] = r.eulerCharacteristic;
-        j["degenerate_faces"] = r.degenerateFaces;
-        j["unused_vertices"] = r.unusedVertices;
-        j["springs"] = r.springs;
-        j["springs_not_on_faces"] = r.springsNotOnFaces;
-        j["face_edges_without_spring"] = r.faceEdgesWithoutSpring;
-        j["bbox_min"] = toJson(r.bboxMin);
-        j["bbox_max"] = toJson(r.bboxMax);
-        j["min_angle_deg"] = r.minAngleDeg;
-        const auto advice = mesh::shapeAdvice(r);
-        j["shape_advice"] = advice ? nlohmann::ordered_json(*advice) : nlohmann::ordered_json(nullptr);
-        j["mean_edge_length_m"] = r.meanEdgeLength_m;
-        j["shortest_edge_m"] = r.shortestEdge_m;
-        j["area_m2"] = r.area_m2;
-        j["parts"] = nlohmann::ordered_json::array();
-        for (const mesh::PartSummary& p : mesh::summariseParts(source->mesh))
-            j["parts"].push_back({{"name", p.name},
-                                  {"faces", p.faces},
-                                  {"vertices", p.vertices},
-                                  {"boundary_edges", p.boundaryEdges},
-                                  {"closed", p.closed()}});
-        if (source->toolThreshold_N)
-            j["tool_threshold_N"] = *source->toolThreshold_N;
-        else
-            j["physics"] = {{"mass", source->physics.mass},
-                            {"ks", source->physics.structuralStiffness},
-                            {"kd", source->physics.structuralDamping},
-                            {"kp", source->physics.positioningStiffness},
-                            {"kdp", source->physics.positioningDamping}};
-        std::cout << j.dump(2) << "\n";
+        std::cout << scene::modelInfo(*source).dump(2) << "\n";
         return 0;
     }
     auto yes = [](bool b) { return b ? "yes" : "no"; };

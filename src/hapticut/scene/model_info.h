@@ -1,0 +1,14 @@
+// A model's validation report as JSON: what `hapticut info --json` prints and hapticut.info() returns.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "hapticut/scene/model_source.h"
+
+namespace hapticut::scene {
+
+/// Counts, boundary, manifoldness, orientation, shape, parts, and the physics constants of a model (or a
+/// tool's cut threshold), with the model's coordinates as they are now.
+nlohmann::ordered_json modelInfo(const ModelSource& source);
+
+}  // namespace hapticut::scene
