@@ -1,0 +1,97 @@
+"""hapticut.load_mesh and hapticut.info: the same models and reports as the command line, NumPy views
+without copies, and the library's errors as exceptions that name the file and the line."""
+
+import gc
+import json
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+
+import hapticut
+
+
+def write(path, text):
+    path.write_text(text)
+    return path
+
+
+TETRAHEDRON = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+
+
+def test_a_model_file_loads_as_written(tmp_path):
+    m = hapticut.load_mesh(write(tmp_path / "t.obj", TETRAHEDRON))
+    np.testing.assert_array_equal(m.positions, [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    np.testing.assert_array_equal(m.faces, [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    assert m.positions.dtype == np.float64 and m.faces.dtype == np.uint32
+    assert m.part_names == [] and list(m.face_parts) == [0, 0, 0, 0]
+    assert m.tool_threshold_N is None
+    # Millimetres, as segmentation tools write them.
+    np.testing.assert_allclose(hapticut.load_mesh(tmp_path / "t.obj", units="mm").positions[1], [1e-3, 0, 0])
+    with pytest.raises(ValueError, match="units must be one of"):
+        hapticut.load_mesh(tmp_path / "t.obj", units="inch")
+
+
+def test_positions_view_the_models_own_array_read_only():
+    heart = hapticut.load_mesh("heart", triangles=5000)
+    a, b = heart.positions, heart.positions
+    assert np.shares_memory(a, b), "two looks at one array, not two copies"
+    assert not a.flags.writeable
+    with pytest.raises(ValueError):
+        a[0, 0] = 1.0
+    expected = a.copy()
+    del heart, b
+    gc.collect()
+    np.testing.assert_array_equal(a, expected)  # the view keeps its model alive
+    assert abs(len(hapticut.load_mesh("heart", triangles=5000).faces) - 5000) <= 100
+
+
+def test_the_shipped_liver_has_two_parts_and_one_can_be_chosen(assets):
+    liver = hapticut.load_mesh(assets / "models" / "liver.obj")
+    assert liver.part_names == ["liver", "gallbladder"]
+    counts = np.bincount(liver.face_parts, minlength=2)
+    assert counts.sum() == len(liver.faces) and counts.min() > 100
+    alone = hapticut.load_mesh(assets / "models" / "liver.obj", parts=["gallbladder"])
+    assert len(alone.faces) == counts[1]
+    assert hapticut.load_mesh(assets / "tools" / "scalpel.txt").tool_threshold_N == 2.0
+
+
+@pytest.mark.parametrize("model", ["heart", "models/kidney.obj", "tools/probe.txt"])
+def test_info_is_the_command_lines_report(model, assets, cli):
+    path = model if model == "heart" else str(assets / model)
+    printed = json.loads(subprocess.run([cli, "info", path, "--json"], check=True, capture_output=True, text=True).stdout)
+    assert hapticut.info(path) == printed
+
+
+def test_errors_name_the_file_and_the_line(tmp_path, assets):
+    bad = write(tmp_path / "bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n")
+    with pytest.raises(hapticut.HapticutError) as caught:
+        hapticut.load_mesh(bad)
+    assert caught.value.file == str(bad) and caught.value.line == 3
+    assert "vertex index 3 is out of range" in caught.value.message
+    assert str(caught.value).startswith(f"{bad}:3: ")
+
+    with pytest.raises(hapticut.HapticutError, match="no such file"):
+        hapticut.info(tmp_path / "missing.stl")
+    with pytest.raises(hapticut.HapticutError, match="the model's parts are 'liver' and 'gallbladder'"):
+        hapticut.load_mesh(assets / "models" / "liver.obj", parts=["spleen"])
+
+
+def test_other_threads_run_while_a_large_model_loads():
+    started, done = threading.Event(), threading.Event()
+
+    def load():
+        started.set()
+        hapticut.load_mesh("heart", triangles=400_000)
+        done.set()
+
+    thread = threading.Thread(target=load)
+    thread.start()
+    started.wait()
+    ticks = 0
+    while not done.is_set():
+        ticks += 1
+    thread.join()
+    # Had the load held the interpreter's lock, this loop would have had no turn until it ended.
+    assert ticks > 2_000_000  # about 0.2 s of this loop; one switch interval (5 ms) gives some 60,000
