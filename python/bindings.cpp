@@ -12,15 +12,13 @@
 
 #include "hapticut/scene/model_info.h"
 #include "hapticut/scene/model_source.h"
+#include "raise_error.h"
 
 namespace py = pybind11;
 
 namespace hapticut::python {
 
-namespace {
-
-/// Raises hapticut.HapticutError(text, file, line, message) for the library's error.
-[[noreturn]] void raise(const Error& error) {
+[[noreturn]] void raiseError(const Error& error) {
     const py::object type = py::module_::import("hapticut.errors").attr("HapticutError");
     const py::object file = error.file.empty() ? py::object(py::none()) : py::object(py::str(error.file.string()));
     const py::object line = error.line > 0 ? py::object(py::int_(error.line)) : py::object(py::none());
@@ -28,6 +26,10 @@ namespace {
     PyErr_SetObject(type.ptr(), value.ptr());
     throw py::error_already_set();
 }
+
+void bindSimulation(py::module_& module);
+
+namespace {
 
 /// A loaded model (or tool): what `hapticut info` reads, kept whole so NumPy can view into it.
 struct Model {
@@ -41,7 +43,7 @@ Model load(const std::string& model, int triangles, const std::vector<std::strin
         py::gil_scoped_release release;
         loaded.emplace(scene::loadModelSource(model, triangles, parts));
     }
-    if (!*loaded) raise(loaded->error());
+    if (!*loaded) raiseError(loaded->error());
     Model m{std::move(loaded->value())};
     if (scale != 1)
         for (Vec3& p : m.source.mesh.positions) p *= scale;
@@ -112,6 +114,7 @@ PYBIND11_MODULE(_hapticut, module) {
             [](const Model& m) { return m.source.toolThreshold_N ? py::cast(*m.source.toolThreshold_N) : py::none(); },
             "a tool file's cut threshold (N); None for a model");
 
+    bindSimulation(module);
     module.def("_load", &load, py::arg("model"), py::arg("triangles"), py::arg("parts"), py::arg("scale"));
     module.def(
         "_info_json",

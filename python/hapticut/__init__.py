@@ -1,9 +1,12 @@
-"""Hapticut from Python: load and check organ models; scripted simulations build on this.
+"""Hapticut from Python: load and check organ models, and drive a scene's haptic loop step by step.
 
     import hapticut
     liver = hapticut.load_mesh("assets/models/liver.obj")
     liver.positions        # (N, 3) float64, metres, a read-only view of the library's array
     hapticut.info("assets/models/kidney.obj")["min_angle_deg"]
+
+    sim = hapticut.Simulation("assets/scenes/liver.toml", tool="scalpel")
+    force = sim.step((-0.04, 0.0, 0.06), button=True)   # one 1 ms step, the force on the hand (N)
 
 Every function raises hapticut.HapticutError, with the file and line, for input it cannot use.
 """
@@ -15,10 +18,11 @@ from .errors import HapticutError
 
 __version__ = _hapticut.__version__
 Model = _hapticut.Model
+Simulation = _hapticut.Simulation
 
 _UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
-__all__ = ["HapticutError", "Model", "info", "load_mesh", "__version__"]
+__all__ = ["HapticutError", "Model", "Simulation", "info", "load_mesh", "__version__"]
 
 
 def _scale(units, scale):

@@ -7,6 +7,15 @@ namespace hapticut::haptics {
 
 void VirtualDevice::setPosition(const Vec3& position, std::uint32_t buttons) {
     latest_.position = position;
+    latest_.velocity.reset();
+    latest_.buttons = buttons;
+    input_.writeSlot() = latest_;
+    input_.publish();
+}
+
+void VirtualDevice::setMotion(const Vec3& position, const Vec3& velocity, std::uint32_t buttons) {
+    latest_.position = position;
+    latest_.velocity = velocity;
     latest_.buttons = buttons;
     input_.writeSlot() = latest_;
     input_.publish();
@@ -36,8 +45,10 @@ DeviceSample VirtualDevice::read(double time_s) {
     s.buttons = in.buttons;
     s.orientation = workspace_.rotation * in.orientation;
     s.oriented = in.oriented;
-    // Velocity by finite difference over the haptic step; the first sample has none.
-    if (lastTime_ >= 0 && time_s > lastTime_)
+    // Velocity as given, or by finite difference over the haptic step; the first sample has none.
+    if (in.velocity)
+        s.velocity_m_per_s = workspace_.velocityToScene(*in.velocity);
+    else if (lastTime_ >= 0 && time_s > lastTime_)
         s.velocity_m_per_s = (s.position_m - lastPosition_) / (time_s - lastTime_);
     lastPosition_ = s.position_m;
     lastTime_ = time_s;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <optional>
 #include <string>
 
 #include "hapticut/common/triple_buffer.h"
@@ -16,6 +17,9 @@ public:
 
     /// From any one thread (the UI): where the device is now, in device units.
     void setPosition(const Vec3& position, std::uint32_t buttons = 0);
+    /// The same with the device's velocity given (a script that knows its path), used instead of the
+    /// finite difference over the haptic step; device units per second.
+    void setMotion(const Vec3& position, const Vec3& velocity, std::uint32_t buttons = 0);
     /// From the same thread: the stylus's orientation from now on (the viewer turns the mouse's blade).
     void setOrientation(const Eigen::Quaterniond& orientation);
     /// The last force commanded, for display; safe from any thread.
@@ -34,6 +38,7 @@ public:
 private:
     struct Input {
         Vec3 position = Vec3::Zero();
+        std::optional<Vec3> velocity;  // given with the position; else a finite difference
         std::uint32_t buttons = 0;
         Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
         bool oriented = false;

@@ -1,0 +1,162 @@
+// hapticut.Simulation: a scene's haptic loop driven step by step from Python, in simulated time. The
+// script is the device: it gives the tool's position (and, when it knows its path, its velocity) each
+// step and gets the force the hand would feel.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/virtual_device.h"
+#include "hapticut/physics/scheme.h"
+#include "hapticut/scene/scene.h"
+#include "raise_error.h"
+
+namespace py = pybind11;
+
+namespace hapticut::python {
+
+namespace {
+
+Vec3 toVec3(const py::object& value, const char* what) {
+    const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+    if (!a || a.size() != 3) throw py::value_error(std::string(what) + " must be 3 numbers (x, y, z) in metres");
+    const Vec3 v(a.at(0), a.at(1), a.at(2));
+    if (!v.allFinite()) throw py::value_error(std::string(what) + " must be finite");
+    return v;
+}
+
+py::array_t<double> toArray(const Vec3& v) {
+    py::array_t<double> out(3);
+    std::copy(v.data(), v.data() + 3, out.mutable_data());
+    return out;
+}
+
+class Simulation {
+public:
+    Simulation(const std::string& sceneFile, const std::optional<std::string>& model, std::optional<int> triangles,
+               const std::string& tool, const std::optional<std::string>& integrator, std::optional<double> rate_hz) {
+        scene::SceneRequest request;
+        request.file = sceneFile;
+        request.overrides.model = model;
+        request.overrides.triangles = triangles;
+        request.overrides.rate_hz = rate_hz;
+        if (integrator) {
+            const auto scheme = physics::parseScheme(*integrator);
+            if (!scheme)
+                throw py::value_error("integrator: '" + *integrator +
+                                      "' is none of auto, euler, midpoint, rk4, symplectic, implicit");
+            request.overrides.scheme = *scheme;
+        }
+        std::optional<Result<scene::Scene, Error>> loaded;
+        {
+            py::gil_scoped_release release;  // a large organ takes seconds to load
+            loaded.emplace(scene::loadScene(request));
+        }
+        if (!*loaded) raiseError(loaded->error());
+        scene_ = std::make_unique<scene::Scene>(std::move(loaded->value()));
+        const auto tip = scene::toolTip(scene_->settings, tool);
+        if (!tip) raiseError(tip.error());
+        tool_ = tool;
+        device_ = std::make_unique<haptics::VirtualDevice>(scene_->settings.maxForce_N);
+        organ_ = std::make_unique<cutting::CutModel>(scene_->makeOrgan());
+        haptics::Hand hand;
+        hand.device = device_.get();
+        hand.cutThreshold_N = tip->threshold_N;
+        hand.tipRadius_m = tip->radius_m;
+        hand.maxForce_N = scene_->settings.maxForce_N;
+        haptics::LoopConfig config = scene_->loopConfig();
+        config.cutThreshold_N = tip->threshold_N;
+        config.tipRadius_m = tip->radius_m;
+        std::optional<Result<std::unique_ptr<haptics::HapticLoop>, Error>> created;
+        {
+            py::gil_scoped_release release;  // and its collision tree and integrator seconds to prepare
+            created.emplace(haptics::HapticLoop::create(*organ_, std::span<const haptics::Hand>(&hand, 1), config));
+        }
+        if (!*created) raiseError(created->error());
+        loop_ = std::move(created->value());
+        loop_->setRealtime(false);
+    }
+
+    py::array_t<double> step(const py::object& position, bool button, const py::object& velocity) {
+        const Vec3 p = toVec3(position, "position");
+        const std::uint32_t buttons = button ? 1u : 0u;
+        if (velocity.is_none())
+            device_->setPosition(p, buttons);
+        else
+            device_->setMotion(p, toVec3(velocity, "velocity"), buttons);
+        {
+            py::gil_scoped_release release;
+            last_ = loop_->step();
+        }
+        ++steps_;
+        return toArray(last_.hand().force_N);
+    }
+
+    double time_s() const { return loop_->time_s(); }
+    long steps() const { return steps_; }
+    const haptics::HandStep& last() const { return last_.hand(); }
+    const scene::Scene& scene() const { return *scene_; }
+    const std::string& tool() const { return tool_; }
+    const haptics::HapticLoop& loop() const { return *loop_; }
+
+private:
+    std::unique_ptr<scene::Scene> scene_;
+    std::unique_ptr<haptics::VirtualDevice> device_;
+    std::unique_ptr<cutting::CutModel> organ_;  // the loop holds it by reference: it must not move
+    std::unique_ptr<haptics::HapticLoop> loop_;
+    haptics::StepOutput last_;
+    std::string tool_;
+    long steps_ = 0;
+};
+
+}  // namespace
+
+void bindSimulation(py::module_& module) {
+    py::class_<Simulation>(module, "Simulation",
+                           "A scene's haptic loop stepped from Python in simulated time: the script is the device")
+        .def(py::init<const std::string&, const std::optional<std::string>&, std::optional<int>, const std::string&,
+                      const std::optional<std::string>&, std::optional<double>>(),
+             py::arg("scene") = "", py::arg("model") = py::none(), py::arg("triangles") = py::none(),
+             py::arg("tool") = "probe", py::arg("integrator") = py::none(), py::arg("rate_hz") = py::none())
+        .def("step", &Simulation::step, py::arg("position"), py::arg("button") = false,
+             py::arg("velocity") = py::none(),
+             "One haptic step (1 / rate_hz of simulated time) with the device at `position` (m); returns the "
+             "force on the hand (N) as a NumPy array. `velocity` (m/s), when the script knows it, replaces the "
+             "finite difference the loop's damping would otherwise use.")
+        .def_property_readonly("time_s", &Simulation::time_s, "simulated time so far (s)")
+        .def_property_readonly("steps", &Simulation::steps, "steps taken")
+        .def_property_readonly("rate_hz", [](const Simulation& s) { return s.loop().rate_hz(); })
+        .def_property_readonly("tool", &Simulation::tool)
+        .def_property_readonly("model", [](const Simulation& s) { return s.scene().source.name; })
+        .def_property_readonly("integrator",
+                               [](const Simulation& s) { return std::string(physics::schemeName(s.loop().scheme())); })
+        .def_property_readonly(
+            "proxy", [](const Simulation& s) { return toArray(s.last().proxy_m); },
+            "the proxy (the tool's tip held on the surface) after the last step (m)")
+        .def_property_readonly("contact", [](const Simulation& s) { return s.last().contact; })
+        .def_property_readonly("cutting", [](const Simulation& s) { return s.last().cutting; },
+                               "the blade pressed into uncut tissue at the end of its cut in the last step")
+        .def_property_readonly(
+            "cut_stats",
+            [](const Simulation& s) {
+                const cutting::CutStats& c = s.loop().cutter().stats();
+                py::dict d;
+                d["cuts"] = c.cuts;
+                d["cut_points"] = c.cutPoints;
+                d["vertices_added"] = c.verticesAdded;
+                d["faces_added"] = c.facesAdded;
+                d["joins"] = c.joins;
+                d["openings"] = c.openings;
+                d["walls_closed"] = c.wallsClosed;
+                d["cut_length_m"] = c.length_m;
+                d["opened"] = c.opened;
+                return d;
+            },
+            "what the tool has cut so far, with the run report's names");
+}
+
+}  // namespace hapticut::python
