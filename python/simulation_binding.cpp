@@ -138,8 +138,9 @@ void bindSimulation(py::module_& module) {
             "proxy", [](const Simulation& s) { return toArray(s.last().proxy_m); },
             "the proxy (the tool's tip held on the surface) after the last step (m)")
         .def_property_readonly("contact", [](const Simulation& s) { return s.last().contact; })
-        .def_property_readonly("cutting", [](const Simulation& s) { return s.last().cutting; },
-                               "the blade pressed into uncut tissue at the end of its cut in the last step")
+        .def_property_readonly(
+            "cutting", [](const Simulation& s) { return s.last().cutting; },
+            "the blade pressed into uncut tissue at the end of its cut in the last step")
         .def_property_readonly(
             "cut_stats",
             [](const Simulation& s) {

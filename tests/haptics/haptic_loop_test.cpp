@@ -291,6 +291,21 @@ TEST(VirtualDevice, FollowsAJumpingInputWithAFirstOrderLag) {
     EXPECT_EQ(jumping.read(0.001).position_m.x(), 0.01);  // without a follow time it goes straight there
 }
 
+// A script that knows its path gives the velocity; without it the step's finite difference stands.
+TEST(VirtualDevice, AGivenVelocityReplacesTheFiniteDifference) {
+    WorkspaceTransform workspace;
+    workspace.scale = 2;
+    VirtualDevice device(3.3, workspace);
+    device.setMotion(Vec3::Zero(), Vec3(0.5, 0, 0), 1);
+    const DeviceSample first = device.read(0);
+    EXPECT_EQ(first.velocity_m_per_s, Vec3(1.0, 0, 0)) << "in scene units, from the first sample on";
+    EXPECT_EQ(first.buttons, 1u);
+    device.setMotion(Vec3(0.001, 0, 0), Vec3(0, -0.25, 0));
+    EXPECT_EQ(device.read(0.001).velocity_m_per_s, Vec3(0, -0.5, 0)) << "not the 2 m/s the positions imply";
+    device.setPosition(Vec3(0.002, 0, 0));
+    EXPECT_NEAR(device.read(0.002).velocity_m_per_s.x(), 2.0, 1e-9) << "a plain position: the difference again";
+}
+
 TEST(HapticLoop, MaterialCommandsScaleTheModelLiveAndTheStableStepFollows) {
     HeartScene h;
     VirtualDevice device;
