@@ -363,101 +363,20 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     }
     if (!exportDeformed(o.exportMesh, organ.mesh(), *source, model)) status = 1;
     if (!o.report.empty()) {
-        nlohmann::ordered_json j = reportHeader(*source, model, scheme, r.scheme);
-        j["vertices"] = organ.mesh().positions.size();
-        j["faces"] = organ.mesh().faces.size();
-        j["dt"] = 1 / rate_hz;
-        j["substeps"] = r.substeps;
-        j["solver"] = solverJson(r.scheme, r.solver, config.loop.solver);
-        j["steps"] = r.steps;
-        j["tool"] = firstTool;
-        j["tool_threshold_N"] = std::isfinite(config.loop.cutThreshold_N)
-                                    ? nlohmann::ordered_json(config.loop.cutThreshold_N)
-                                    : nlohmann::ordered_json(nullptr);
-        j["coupling_stiffness_N_per_m"] = config.loop.couplingStiffness_N_per_m;
-        j["friction"] = {{"static", config.loop.proxy.staticFriction}, {"dynamic", config.loop.proxy.dynamicFriction}};
-        j["trajectory"] = trajectory;
-        j["realtime"] = config.realtime;
-        nlohmann::ordered_json handsJson = nlohmann::ordered_json::array();
-        for (int h = 0; h < r.handCount; ++h) {
-            const auto k = static_cast<std::size_t>(h);
-            const double threshold = tipOf[k].threshold_N;
-            handsJson.push_back(
-                {{"device", specs[k].toString()},
-                 {"description", opened[k].description},
-                 {"tool", toolOf[k]},
-                 {"tool_threshold_N", std::isfinite(threshold) && threshold < 1e8 ? nlohmann::ordered_json(threshold)
-                                                                                  : nlohmann::ordered_json(nullptr)},
-                 {"tip_radius_m", tipOf[k].radius_m},
-                 {"max_force_N", r.hands[k].maxForce_N},
-                 {"contact_steps", r.hands[k].contactSteps}});
-        }
-        j["hands"] = handsJson;
-        j["stopped_by_signal"] = StopSignal::requested();
-        j["steps_requested"] =
-            config.steps >= 0 ? nlohmann::ordered_json(config.steps) : nlohmann::ordered_json(nullptr);
-        j["log_dropped_steps"] = r.droppedLogSteps;
-        j["sim_time_s"] = r.simTime_s;
-        j["wall_time_s"] = r.wallTime_s;
-        // A rate of the haptic loop only on the wall clock; in simulated time it is how fast the run went.
-        j["haptic_rate_hz"] =
-            config.realtime ? nlohmann::ordered_json(r.hapticRate_hz) : nlohmann::ordered_json(nullptr);
-        j["steps_per_wall_s"] = r.hapticRate_hz;
-        j["multi_rate"] = r.multiRate;
-        j["multi_rate_from_s"] =
-            r.multiRate ? nlohmann::ordered_json(r.multiRateFrom_s) : nlohmann::ordered_json(nullptr);
-        j["physics_rate_hz"] = r.physicsRate_hz;
-        j["physics_realtime_factor"] = r.physicsRealtimeFactor;
-        j["step_us"] = toJson(r.stepTime_us);
-        j["period_error_us"] = config.realtime ? toJson(r.periodError_us) : nlohmann::ordered_json(nullptr);
-        j["overruns"] = r.overruns;
-        j["missed_periods"] = r.missedPeriods;
-        j["stalls"] = r.stalls;
-        j["contact_steps"] = r.contactSteps;
-        j["max_force_N"] = r.maxForce_N;
-        j["max_proxy_penetration_m"] = r.maxProxyPenetration_m;
-        j["penetration_measured_steps"] = r.penetrationMeasuredSteps;
-        j["max_displacement_m"] = r.maxDisplacement_m;
-        j["final_max_displacement_m"] = r.finalMaxDisplacement_m;
-        j["volume_kept"] = r.volumeKept;
-        j["volume_change_max_pct"] =
-            r.volumeMeasurements > 0 ? nlohmann::ordered_json(r.volumeChangeMax_pct) : nlohmann::ordered_json(nullptr);
-        j["max_strain"] = r.maxStrain;
-        j["strain_limit"] = config.loop.strainLimit > 0 ? nlohmann::ordered_json(config.loop.strainLimit)
-                                                        : nlohmann::ordered_json(nullptr);
-        j["contact_nodes_max"] = r.contactNodesMax;
-        j["footprint_cut_steps"] = r.footprintCutSteps;
-        j["nan_events"] = r.nonFiniteEvents;
-        j["watchdog_tripped"] = r.watchdogTripped;
-        j["cut_points"] = r.cut.cutPoints;
-        j["cuts"] = r.cut.cuts;
-        j["cut_events"] = r.cutEvents;
-        j["vertices_added"] = r.cut.verticesAdded;
-        j["faces_added"] = r.cut.facesAdded;
-        j["joins"] = r.cut.joins;
-        j["openings"] = r.cut.openings;
-        j["walls_closed"] = r.cut.wallsClosed;
-        j["wall_faces"] = std::count(organ.wallFaces().begin(), organ.wallFaces().end(), std::uint8_t{1});
-        j["cut_length_m"] = r.cut.length_m;
-        j["opened"] = r.cut.opened;
-        j["cut_event_us"] = r.cutEvents > 0 ? toJson(r.cutTime_us) : nlohmann::ordered_json(nullptr);
-        j["cutting_steps"] = r.cuttingSteps;
-        j["cutting_force_N"] = r.cuttingSteps > 0 ? toJson(r.cuttingForce_N) : nlohmann::ordered_json(nullptr);
-        j["cutting_force_min_N"] = r.cuttingSteps > 0 ? nlohmann::ordered_json(r.minCuttingForce_N) : nullptr;
-        j["physics_sync_us"] = r.syncTime_us.count > 0 ? toJson(r.syncTime_us) : nlohmann::ordered_json(nullptr);
-        j["invariants_ok"] = r.invariantProblems.empty();
-        j["invariant_problems"] = r.invariantProblems;
-        j["defects_at_load"] = r.defectsAtLoad;
-        j["parts"] = nlohmann::ordered_json::array();
-        for (const scene::HapticRunResult::Part& p : r.parts)
-            j["parts"].push_back({{"name", p.name},
-                                  {"faces_at_start", p.facesAtStart},
-                                  {"faces", p.faces},
-                                  {"boundary_edges", p.boundaryEdges},
-                                  {"max_displacement_m", p.maxDisplacement_m}});
-        j["boundary_edges"] = after.boundaryEdges;
-        j["min_angle_deg"] = after.minAngleDeg;
-        j["shortest_edge_m"] = after.shortestEdge_m;
+        scene::HapticRunRequest request;
+        request.requestedScheme = scheme;
+        request.rate_hz = rate_hz;
+        request.tool = firstTool;
+        request.trajectory = trajectory;
+        request.realtime = config.realtime;
+        request.stepsRequested = config.steps;
+        request.stoppedBySignal = StopSignal::requested();
+        for (std::size_t h = 0; h < specs.size(); ++h)
+            request.hands.push_back({specs[h].toString(), opened[h].description, toolOf[h], tipOf[h]});
+        const nlohmann::ordered_json report = scene::hapticRunReport(*source, organ, config.loop, request, r);
+        nlohmann::ordered_json j;
+        j["provenance"] = provenance();
+        for (const auto& [key, value] : report.items()) j[key] = value;
         if (!writeJson(o.report, j)) return 1;
         std::cout << "wrote the report to " << o.report << "\n";
     }

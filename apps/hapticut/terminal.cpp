@@ -85,29 +85,6 @@ std::optional<std::pair<int, int>> parseSize(const std::string& text, int min, i
     return std::pair{width, height};
 }
 
-nlohmann::ordered_json toJson(const Summary& s) {
-    return {{"mean", s.mean}, {"p50", s.p50}, {"p99", s.p99}, {"max", s.max}};
-}
-
-nlohmann::ordered_json toJson(const Vec3& v) { return nlohmann::ordered_json::array({v.x(), v.y(), v.z()}); }
-
-nlohmann::ordered_json solverJson(physics::Scheme scheme, const physics::SolverStats& stats,
-                                  const physics::SolverSettings& settings) {
-    if (scheme != physics::Scheme::BackwardEuler) return nullptr;
-    const Summary iterations = stats.iterations.summary();
-    return {{"method", "conjugate gradients, block-Jacobi preconditioner, warm start"},
-            {"tolerance", settings.tolerance},
-            {"max_iterations", settings.maxIterations},
-            {"solves", stats.solves},
-            {"iterations",
-             {{"mean", iterations.mean}, {"p50", iterations.p50}, {"p99", iterations.p99}, {"max", iterations.max}}},
-            {"unconverged_solves", stats.unconverged},
-            {"max_newton_iterations", settings.maxNewtonIterations},
-            {"steps_with_newton_corrections", stats.corrected},
-            {"most_newton_iterations", stats.maxNewtonIterations},
-            {"max_relative_residual", stats.maxRelativeResidual}};
-}
-
 std::string solverLine(physics::Scheme scheme, const physics::SolverStats& stats) {
     if (scheme != physics::Scheme::BackwardEuler || stats.solves == 0) return "";
     const Summary iterations = stats.iterations.summary();

@@ -12,6 +12,7 @@
 #include "hapticut/common/stats.h"
 #include "hapticut/geometry/vec.h"
 #include "hapticut/physics/solver_stats.h"
+#include "hapticut/scene/run_report.h"
 #include "hapticut/scene/scene.h"
 
 namespace hapticut::app {
@@ -41,11 +42,8 @@ std::optional<Vec3> parseVec3(const std::string& text);
 /// Parses "WIDTHxHEIGHT" with both within [min, max]; empty on anything else.
 std::optional<std::pair<int, int>> parseSize(const std::string& text, int min, int max);
 
-nlohmann::ordered_json toJson(const Summary& s);
-nlohmann::ordered_json toJson(const Vec3& v);
-/// The implicit scheme's solves over a run and the settings they stopped by; null for an explicit scheme.
-nlohmann::ordered_json solverJson(physics::Scheme scheme, const physics::SolverStats& stats,
-                                  const physics::SolverSettings& settings);
+using scene::solverJson;  // scene/run_report.h
+using scene::toJson;
 /// "; implicit: N CG iterations p50, ... " for a run's summary line; empty for an explicit scheme.
 std::string solverLine(physics::Scheme scheme, const physics::SolverStats& stats);
 
