@@ -28,6 +28,7 @@ namespace hapticut::python {
 }
 
 void bindSimulation(py::module_& module);
+void bindRun(py::module_& module);
 
 namespace {
 
@@ -115,6 +116,7 @@ PYBIND11_MODULE(_hapticut, module) {
             "a tool file's cut threshold (N); None for a model");
 
     bindSimulation(module);
+    bindRun(module);
     module.def("_load", &load, py::arg("model"), py::arg("triangles"), py::arg("parts"), py::arg("scale"));
     module.def(
         "_info_json",

@@ -11,7 +11,10 @@
 Every function raises hapticut.HapticutError, with the file and line, for input it cannot use.
 """
 
+import io
 import json
+
+import numpy as np
 
 from . import _hapticut
 from .errors import HapticutError
@@ -22,7 +25,7 @@ Simulation = _hapticut.Simulation
 
 _UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
-__all__ = ["HapticutError", "Model", "Simulation", "info", "load_mesh", "__version__"]
+__all__ = ["HapticutError", "Model", "RunResult", "Simulation", "info", "load_mesh", "run", "__version__"]
 
 
 def _scale(units, scale):
@@ -44,3 +47,40 @@ def load_mesh(model, triangles=1619, parts=None, units="m", scale=1.0):
 def info(model, triangles=1619, parts=None, units="m", scale=1.0):
     """The validation report of a model as a dict, the same as `hapticut info --json` prints."""
     return json.loads(_hapticut._info_json(str(model), int(triangles), list(parts or []), _scale(units, scale)))
+
+
+class RunResult:
+    """A finished run: `report`, the dict `hapticut run --report` writes, and `force_log`, a NumPy
+    structured array with the columns of `hapticut run --force-log` (t, device_x, ..., fx, fy, fz,
+    contact, face, cut), one row a step."""
+
+    def __init__(self, report, force_log):
+        self.report = report
+        self.force_log = force_log
+
+    def __repr__(self):
+        r = self.report
+        return (f"<hapticut.RunResult {r['model']}: {r['steps']} steps, max force {r['max_force_N']:.3g} N, "
+                f"{r['cuts']} cut(s)>")
+
+
+def run(scene=None, model=None, triangles=None, trajectory=None, tool=None, steps=None, integrator=None,
+        rate_hz=None):
+    """A headless run in simulated time, as `hapticut run` makes it: the scene (a scene file; None, the
+    built-in heart with the probe and the scalpel) with `trajectory` replayed by the first hand, or the
+    scene's own replays. model, triangles, tool, integrator and rate_hz override the scene's; steps
+    defaults to the trajectory's length. The interpreter's lock is released while it runs.
+    """
+    report, log = _hapticut._run(
+        "" if scene is None else str(scene), None if model is None else str(model), triangles,
+        None if trajectory is None else str(trajectory), tool, steps, integrator, rate_hz)
+    return RunResult(json.loads(report), _step_log_array(log))
+
+
+def _step_log_array(text):
+    """A step log's CSV as a structured array: counts and flags (contact, face, cut) as integers, the
+    rest as float64."""
+    names = text.split("\n", 1)[0].split(",")
+    integer = ("contact", "face", "cut", "button")
+    dtype = [(n, np.int64 if n.rstrip("2") in integer else np.float64) for n in names]
+    return np.atleast_1d(np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1, dtype=dtype, ndmin=1))
