@@ -81,7 +81,7 @@ std::pair<std::string, std::string> run(const RunArguments& a) {
     scene::HapticRunRequest report;
     double duration_s = 0;
     for (std::size_t h = 0; h < specs.size(); ++h) {
-        const std::string tool = h == 0 && a.tool                         ? *a.tool
+        const std::string tool = h == 0 && a.tool                              ? *a.tool
                                  : fromScene[h] && !fromScene[h]->tool.empty() ? fromScene[h]->tool
                                                                                : std::string("probe");
         const auto tip = scene::toolTip(scene.settings, tool);

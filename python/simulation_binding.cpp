@@ -4,13 +4,16 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/virtual_device.h"
+#include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/physics/scheme.h"
 #include "hapticut/scene/scene.h"
 #include "raise_error.h"
@@ -96,6 +99,23 @@ public:
         return toArray(last_.hand().force_N);
     }
 
+    /// Writes the organ as it is now (deformed, cut, with its walls) to a .txt, .obj or .ply file.
+    void exportMesh(const std::filesystem::path& file) const {
+        mesh::SurfaceMesh deformed = organ_->mesh();
+        deformed.positions = organ_->model().nodes.position;
+        mesh::computeFaceNormals(deformed);
+        if (const auto error = mesh::io::saveMesh(file, deformed, scene_->source.physics)) raiseError(*error);
+    }
+
+    /// The organ's faces now (cuts add some): a copy, since a cut may move the library's array.
+    py::array_t<std::uint32_t> faces() const {
+        const auto& faces = organ_->mesh().faces;
+        py::array_t<std::uint32_t> out({static_cast<py::ssize_t>(faces.size()), py::ssize_t{3}});
+        if (!faces.empty())
+            std::copy(faces.front().data(), faces.front().data() + 3 * faces.size(), out.mutable_data());
+        return out;
+    }
+
     double time_s() const { return loop_->time_s(); }
     long steps() const { return steps_; }
     const haptics::HandStep& last() const { return last_.hand(); }
@@ -127,6 +147,10 @@ void bindSimulation(py::module_& module) {
              "One haptic step (1 / rate_hz of simulated time) with the device at `position` (m); returns the "
              "force on the hand (N) as a NumPy array. `velocity` (m/s), when the script knows it, replaces the "
              "finite difference the loop's damping would otherwise use.")
+        .def("export", &Simulation::exportMesh, py::arg("path"),
+             "Write the organ as it is now, deformed and cut, to a .txt (thesis), .obj or .ply file")
+        .def_property_readonly("faces", &Simulation::faces,
+                               "(M, 3) uint32: the organ's faces now, cuts and walls included (a copy)")
         .def_property_readonly("time_s", &Simulation::time_s, "simulated time so far (s)")
         .def_property_readonly("steps", &Simulation::steps, "steps taken")
         .def_property_readonly("rate_hz", [](const Simulation& s) { return s.loop().rate_hz(); })

@@ -47,6 +47,10 @@ def test_stepping_from_python_feels_what_the_replay_felt(tmp_path, assets, cli):
     assert cut["cuts"] == report["cuts"] == 1
     for key in ("cut_points", "faces_added", "walls_closed", "cut_length_m"):
         assert cut[key] == report[key], key
+    assert len(sim.faces) == report["faces"]
+    sim.export(tmp_path / "cut.obj")
+    exported = hapticut.info(tmp_path / "cut.obj")
+    assert exported["faces"] == report["faces"] and exported["closed"], "the wound is walled in the export"
 
 
 def test_a_press_is_felt_and_the_proxy_stays_on_the_surface():
@@ -77,3 +81,5 @@ def test_bad_arguments_are_clear_errors(tmp_path):
     with pytest.raises(hapticut.HapticutError) as caught:
         hapticut.Simulation(str(scene))
     assert caught.value.file == str(scene) and caught.value.line == 2
+    with pytest.raises(hapticut.HapticutError, match="missing"):
+        sim.export(tmp_path / "missing" / "organ.obj")
