@@ -24,7 +24,7 @@ namespace hapticut::python {
 namespace {
 
 struct RunArguments {
-    std::string scene;
+    std::string scene, overlay;
     std::optional<std::string> model, trajectory, tool, integrator;
     std::optional<int> triangles;
     std::optional<long> steps;
@@ -35,6 +35,7 @@ struct RunArguments {
 std::pair<std::string, std::string> run(const RunArguments& a) {
     scene::SceneRequest request;
     request.file = a.scene;
+    request.overlay = a.overlay;
     request.overrides.model = a.model;
     request.overrides.triangles = a.triangles;
     request.overrides.rate_hz = a.rate_hz;
@@ -136,13 +137,14 @@ std::pair<std::string, std::string> run(const RunArguments& a) {
 void bindRun(py::module_& module) {
     module.def(
         "_run",
-        [](const std::string& scene, const std::optional<std::string>& model, std::optional<int> triangles,
-           const std::optional<std::string>& trajectory, const std::optional<std::string>& tool,
-           std::optional<long> steps, const std::optional<std::string>& integrator, std::optional<double> rate_hz) {
-            return run({scene, model, trajectory, tool, integrator, triangles, steps, rate_hz});
+        [](const std::string& scene, const std::string& overlay, const std::optional<std::string>& model,
+           std::optional<int> triangles, const std::optional<std::string>& trajectory,
+           const std::optional<std::string>& tool, std::optional<long> steps,
+           const std::optional<std::string>& integrator, std::optional<double> rate_hz) {
+            return run({scene, overlay, model, trajectory, tool, integrator, triangles, steps, rate_hz});
         },
-        py::arg("scene"), py::arg("model"), py::arg("triangles"), py::arg("trajectory"), py::arg("tool"),
-        py::arg("steps"), py::arg("integrator"), py::arg("rate_hz"));
+        py::arg("scene"), py::arg("overlay"), py::arg("model"), py::arg("triangles"), py::arg("trajectory"),
+        py::arg("tool"), py::arg("steps"), py::arg("integrator"), py::arg("rate_hz"));
 }
 
 }  // namespace hapticut::python

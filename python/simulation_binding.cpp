@@ -41,9 +41,11 @@ py::array_t<double> toArray(const Vec3& v) {
 class Simulation {
 public:
     Simulation(const std::string& sceneFile, const std::optional<std::string>& model, std::optional<int> triangles,
-               const std::string& tool, const std::optional<std::string>& integrator, std::optional<double> rate_hz) {
+               const std::string& tool, const std::optional<std::string>& integrator, std::optional<double> rate_hz,
+               const std::string& overlay) {
         scene::SceneRequest request;
         request.file = sceneFile;
+        request.overlay = overlay;
         request.overrides.model = model;
         request.overrides.triangles = triangles;
         request.overrides.rate_hz = rate_hz;
@@ -139,9 +141,10 @@ void bindSimulation(py::module_& module) {
     py::class_<Simulation>(module, "Simulation",
                            "A scene's haptic loop stepped from Python in simulated time: the script is the device")
         .def(py::init<const std::string&, const std::optional<std::string>&, std::optional<int>, const std::string&,
-                      const std::optional<std::string>&, std::optional<double>>(),
+                      const std::optional<std::string>&, std::optional<double>, const std::string&>(),
              py::arg("scene") = "", py::arg("model") = py::none(), py::arg("triangles") = py::none(),
-             py::arg("tool") = "probe", py::arg("integrator") = py::none(), py::arg("rate_hz") = py::none())
+             py::arg("tool") = "probe", py::arg("integrator") = py::none(), py::arg("rate_hz") = py::none(),
+             py::arg("settings_toml") = "")
         .def("step", &Simulation::step, py::arg("position"), py::arg("button") = false,
              py::arg("velocity") = py::none(),
              "One haptic step (1 / rate_hz of simulated time) with the device at `position` (m); returns the "

@@ -13,6 +13,9 @@ Every function raises hapticut.HapticutError, with the file and line, for input 
 
 import io
 import json
+import math
+import os
+import re
 
 import numpy as np
 
@@ -21,7 +24,6 @@ from .errors import HapticutError
 
 __version__ = _hapticut.__version__
 Model = _hapticut.Model
-Simulation = _hapticut.Simulation
 
 _UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
@@ -64,15 +66,57 @@ class RunResult:
                 f"{r['cuts']} cut(s)>")
 
 
+_KEY = re.compile(r"[A-Za-z0-9_]+(\.[A-Za-z0-9_]+)*")
+
+
+def _toml_value(key, value):
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        if not math.isfinite(value):
+            raise ValueError(f"settings[{key!r}] must be finite, not {value!r}")
+        return repr(int(value)) if isinstance(value, (int, np.integer)) else repr(float(value))
+    if isinstance(value, (str, os.PathLike)):
+        return json.dumps(str(value))  # a JSON string is a TOML basic string
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return "[" + ", ".join(_toml_value(key, v) for v in value) + "]"
+    raise ValueError(f"settings[{key!r}]: {type(value).__name__} is not a scene value (number, bool, text, list)")
+
+
+def _settings_toml(settings):
+    """Scene keys as a scene file spells them ("material.positioning_stiffness_N_per_m3",
+    "device.stiffness_N_per_m", "simulation.integrator") to TOML lines set over the scene's."""
+    lines = []
+    for key, value in (settings or {}).items():
+        if not isinstance(key, str) or not _KEY.fullmatch(key):
+            raise ValueError(f"settings: {key!r} is not a scene key such as 'material.mass_kg'")
+        lines.append(f"{key} = {_toml_value(key, value)}")
+    return "\n".join(lines) + ("\n" if lines else "")
+
+
+class Simulation(_hapticut.Simulation):
+    __doc__ = _hapticut.Simulation.__doc__
+
+    def __init__(self, scene=None, model=None, triangles=None, tool="probe", integrator=None, rate_hz=None,
+                 settings=None):
+        """The scene (a scene file; None, the built-in heart with the probe and the scalpel), with model,
+        triangles, integrator and rate_hz over its own, and `settings`, scene keys as a scene file spells
+        them ({"material.mass_kg": 1.5}), over those; `tool` in the hand."""
+        super().__init__("" if scene is None else str(scene), None if model is None else str(model), triangles,
+                         tool, integrator, rate_hz, _settings_toml(settings))
+
+
 def run(scene=None, model=None, triangles=None, trajectory=None, tool=None, steps=None, integrator=None,
-        rate_hz=None):
+        rate_hz=None, settings=None):
     """A headless run in simulated time, as `hapticut run` makes it: the scene (a scene file; None, the
     built-in heart with the probe and the scalpel) with `trajectory` replayed by the first hand, or the
-    scene's own replays. model, triangles, tool, integrator and rate_hz override the scene's; steps
-    defaults to the trajectory's length. The interpreter's lock is released while it runs.
+    scene's own replays. model, triangles, tool, integrator and rate_hz override the scene's, and
+    `settings`, scene keys as a scene file spells them ({"material.positioning_stiffness_N_per_m3":
+    4.4e6, "device.stiffness_N_per_m": 200}), are set over its keys first; steps defaults to the
+    trajectory's length. The interpreter's lock is released while it runs.
     """
     report, log = _hapticut._run(
-        "" if scene is None else str(scene), None if model is None else str(model), triangles,
+        "" if scene is None else str(scene), _settings_toml(settings), None if model is None else str(model), triangles,
         None if trajectory is None else str(trajectory), tool, steps, integrator, rate_hz)
     return RunResult(json.loads(report), _step_log_array(log))
 

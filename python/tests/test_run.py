@@ -83,3 +83,25 @@ def test_other_threads_run_while_a_run_goes_on(assets):
         ticks += 1
     thread.join()
     assert ticks > 2_000_000  # about 0.2 s of this loop; one switch interval (5 ms) gives some 60,000
+
+
+def test_settings_are_scene_keys_set_over_the_scenes(assets):
+    press = assets / "trajectories" / "press-front.csv"
+    soft = hapticut.run(trajectory=press)
+    stiff = hapticut.run(trajectory=press, settings={"material.positioning_stiffness_N_per_m3": 1.76e7,
+                                                     "device.stiffness_N_per_m": 200})
+    assert stiff.report["coupling_stiffness_N_per_m"] == 200
+    assert stiff.report["max_displacement_m"] < 0.6 * soft.report["max_displacement_m"], "anchored twice as stiffly"
+    liver = hapticut.run(assets / "scenes" / "liver.toml", steps=10, settings={"simulation.integrator": "rk4"})
+    assert liver.report["integrator_requested"] == "rk4" and liver.report["model"].endswith("liver.obj")
+
+    with pytest.raises(hapticut.HapticutError) as caught:
+        hapticut.run(trajectory=press, settings={"material.mass_kg": 1.0, "material.mass": 1.0})
+    assert caught.value.file == "<settings>" and caught.value.line == 2
+    assert "allowed here: bulk_modulus_Pa, mass_kg" in caught.value.message
+    with pytest.raises(ValueError, match="not a scene key"):
+        hapticut.run(trajectory=press, settings={"material mass": 1.0})
+    with pytest.raises(ValueError, match="must be finite"):
+        hapticut.run(trajectory=press, settings={"material.mass_kg": float("inf")})
+    sim = hapticut.Simulation(settings={"simulation.integrator": "implicit", "material.mass_kg": 0.5})
+    assert sim.integrator == "implicit"

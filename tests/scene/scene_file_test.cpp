@@ -39,6 +39,31 @@ TEST(SceneFile, RelativePathsResolveAgainstTheScenesFolder) {
     EXPECT_EQ(s->trajectory, "/data/t.csv");
 }
 
+// A script's or a sweep's settings go over the file's keys, each checked as a file's would be; a mistake
+// in them names them, not the file.
+TEST(SceneFile, AnOverlaySetsKeysOverTheFilesAndNamesItsOwnMistakes) {
+    const std::string file = "[material]\nmass_kg = 0.3\nbulk_modulus_Pa = 1e5\n[simulation]\nrate_hz = 500\n";
+    const auto s = parseScene(file, "x.toml", "/data", "material.mass_kg = 1.5\ndevice.stiffness_N_per_m = 200\n");
+    ASSERT_TRUE(s.has_value()) << s.error().toString();
+    EXPECT_EQ(s->material.totalMass_kg, 1.5);
+    EXPECT_EQ(s->bulkModulus_Pa, 1e5) << "the file's other keys of that table stay";
+    EXPECT_EQ(s->rate_hz, 500);
+    EXPECT_EQ(s->couplingStiffness_N_per_m, 200);
+    test::expectError(parseScene(file, "x.toml", "/data", "material.mass_kg = 1.5\nmaterial.mass_kilos = 2\n"), 2,
+                      "material.mass_kilos");
+    const auto outOfRange = parseScene(file, "x.toml", "/data", "simulation.rate_hz = 1e9\n");
+    ASSERT_FALSE(outOfRange.has_value());
+    EXPECT_EQ(outOfRange.error().file, kOverlayName);
+    EXPECT_EQ(outOfRange.error().line, 1);
+    const auto broken = parseScene(file, "x.toml", "/data", "material.mass_kg = = 1\n");
+    ASSERT_FALSE(broken.has_value());
+    EXPECT_EQ(broken.error().file, kOverlayName);
+    const auto fileMistake = parseScene("[simulation]\nrate_hz = 1e9\n", "x.toml", "/data", "material.mass_kg = 1\n");
+    ASSERT_FALSE(fileMistake.has_value());
+    EXPECT_EQ(fileMistake.error().file, "x.toml") << "the file's own mistake still names the file";
+    EXPECT_EQ(fileMistake.error().line, 2);
+}
+
 TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     auto expectError = [](const std::string& text, int line, const std::string& fragment) {
         test::expectError(parseScene(text, "s.toml", "."), line, fragment);

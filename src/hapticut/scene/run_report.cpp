@@ -47,9 +47,8 @@ nlohmann::ordered_json hapticRunReport(const ModelSource& source, const cutting:
     j["solver"] = solverJson(result.scheme, result.solver, loop.solver);
     j["steps"] = result.steps;
     j["tool"] = request.tool;
-    j["tool_threshold_N"] = std::isfinite(loop.cutThreshold_N)
-                                ? nlohmann::ordered_json(loop.cutThreshold_N)
-                                : nlohmann::ordered_json(nullptr);
+    j["tool_threshold_N"] = std::isfinite(loop.cutThreshold_N) ? nlohmann::ordered_json(loop.cutThreshold_N)
+                                                               : nlohmann::ordered_json(nullptr);
     j["coupling_stiffness_N_per_m"] = loop.couplingStiffness_N_per_m;
     j["friction"] = {{"static", loop.proxy.staticFriction}, {"dynamic", loop.proxy.dynamicFriction}};
     j["trajectory"] = request.trajectory;
@@ -97,11 +96,11 @@ nlohmann::ordered_json hapticRunReport(const ModelSource& source, const cutting:
     j["max_displacement_m"] = result.maxDisplacement_m;
     j["final_max_displacement_m"] = result.finalMaxDisplacement_m;
     j["volume_kept"] = result.volumeKept;
-    j["volume_change_max_pct"] =
-        result.volumeMeasurements > 0 ? nlohmann::ordered_json(result.volumeChangeMax_pct) : nlohmann::ordered_json(nullptr);
+    j["volume_change_max_pct"] = result.volumeMeasurements > 0 ? nlohmann::ordered_json(result.volumeChangeMax_pct)
+                                                               : nlohmann::ordered_json(nullptr);
     j["max_strain"] = result.maxStrain;
-    j["strain_limit"] = loop.strainLimit > 0 ? nlohmann::ordered_json(loop.strainLimit)
-                                                    : nlohmann::ordered_json(nullptr);
+    j["strain_limit"] =
+        loop.strainLimit > 0 ? nlohmann::ordered_json(loop.strainLimit) : nlohmann::ordered_json(nullptr);
     j["contact_nodes_max"] = result.contactNodesMax;
     j["footprint_cut_steps"] = result.footprintCutSteps;
     j["nan_events"] = result.nonFiniteEvents;

@@ -70,10 +70,11 @@ void applyOverrides(const SceneOverrides& o, SceneFile& s) {
 
 Result<SceneFile, Error> sceneSettings(const SceneRequest& request) {
     SceneFile settings;
-    if (request.file.empty()) {
+    if (request.file.empty() && request.overlay.empty()) {
         settings = defaultScene();
     } else {
-        auto file = readScene(request.file);
+        auto file = request.file.empty() ? parseScene("", {}, std::filesystem::current_path(), request.overlay)
+                                         : readScene(request.file, request.overlay);
         if (!file) return unexpected(file.error());
         settings = std::move(*file);
     }

@@ -35,6 +35,7 @@ struct SceneOverrides {
 
 struct SceneRequest {
     std::filesystem::path file;  // a scene file; empty: the built-in default (the heart, a probe and a scalpel)
+    std::string overlay;         // TOML set over the file's keys (scene_file.h, parseScene); then the overrides
     SceneOverrides overrides;
 };
 

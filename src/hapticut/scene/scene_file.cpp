@@ -23,7 +23,12 @@ struct SceneError {
     std::string message;
 };
 
-int lineOf(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
+/// The node's line; negative for a line of the overlay, so that its errors name the overlay, not the file.
+int lineOf(const toml::node& node) {
+    const int line = static_cast<int>(node.source().begin.line);
+    const auto& path = node.source().path;
+    return path && *path == kOverlayName ? -line : line;
+}
 
 std::string join(const std::set<std::string>& names) {
     std::string out;
@@ -214,6 +219,18 @@ std::optional<std::pair<int, int>> overlyDottedKey(std::string_view text) {
     return std::nullopt;
 }
 
+/// Sets every key of `overlay` in `root`: a table into the table of that name, anything else in place.
+/// Moved, not copied: a copied node forgets where it came from, and errors name the overlay's lines.
+void mergeInto(toml::table& root, toml::table&& overlay) {
+    for (auto&& [key, value] : overlay) {
+        toml::node* existing = root.get(key);
+        if (existing && existing->is_table() && value.is_table())
+            mergeInto(*existing->as_table(), std::move(*value.as_table()));
+        else
+            root.insert_or_assign(key, std::move(value));
+    }
+}
+
 }  // namespace
 
 SceneFile defaultScene() {
@@ -224,16 +241,25 @@ SceneFile defaultScene() {
 }
 
 Result<SceneFile, Error> parseScene(std::string_view source, const std::filesystem::path& file,
-                                    const std::filesystem::path& directory) {
-    if (const auto deep = overlyDottedKey(source))
-        return unexpected(Error{file, deep->first,
-                                "a key of " + std::to_string(deep->second) + " dotted parts; at most " +
-                                    std::to_string(kMaxKeyParts) + " (a scene's keys have at most 3)"});
+                                    const std::filesystem::path& directory, std::string_view overlay) {
+    for (const auto& [text, name] : {std::pair{source, file}, {overlay, std::filesystem::path(kOverlayName)}})
+        if (const auto deep = overlyDottedKey(text))
+            return unexpected(Error{name, deep->first,
+                                    "a key of " + std::to_string(deep->second) + " dotted parts; at most " +
+                                        std::to_string(kMaxKeyParts) + " (a scene's keys have at most 3)"});
     toml::table root;
     try {
         root = toml::parse(source, file.string());
     } catch (const toml::parse_error& e) {
         return unexpected(Error{file, static_cast<int>(e.source().begin.line), std::string(e.description())});
+    }
+    if (!overlay.empty()) {
+        try {
+            mergeInto(root, toml::parse(overlay, std::string(kOverlayName)));
+        } catch (const toml::parse_error& e) {
+            return unexpected(
+                Error{kOverlayName, static_cast<int>(e.source().begin.line), std::string(e.description())});
+        }
     }
     try {
         SceneFile s = defaultScene();
@@ -352,14 +378,14 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
         }
         return s;
     } catch (const SceneError& e) {
-        return unexpected(Error{file, e.line, e.message});
+        return unexpected(e.line < 0 ? Error{kOverlayName, -e.line, e.message} : Error{file, e.line, e.message});
     }
 }
 
-Result<SceneFile, Error> readScene(const std::filesystem::path& file) {
+Result<SceneFile, Error> readScene(const std::filesystem::path& file, std::string_view overlay) {
     const auto contents = readTextFile(file, std::size_t{16} << 20);
     if (!contents) return unexpected(contents.error());
-    return parseScene(*contents, file, file.parent_path());
+    return parseScene(*contents, file, file.parent_path(), overlay);
 }
 
 void centerAndFit(std::span<Vec3> positions, bool center, std::optional<double> fitSize_m) {

@@ -81,11 +81,15 @@ struct SceneFile {
 /// The built-in default: the heart with the probe and the scalpel.
 SceneFile defaultScene();
 
-/// Parses a scene; relative paths are resolved against `directory`. Errors name the file, the line,
-/// the key's path and what is allowed.
+/// What errors in an overlay name as their file.
+inline constexpr const char* kOverlayName = "<settings>";
+
+/// Parses a scene; relative paths are resolved against `directory`. `overlay`, more TOML (a script's or a
+/// sweep's settings: `material.mass_kg = 0.5`), is set over the file's keys before they are read, and
+/// checked as they are. Errors name the file (or kOverlayName), the line, the key's path and what is allowed.
 Result<SceneFile, Error> parseScene(std::string_view text, const std::filesystem::path& file_for_errors,
-                                    const std::filesystem::path& directory);
-Result<SceneFile, Error> readScene(const std::filesystem::path& file);
+                                    const std::filesystem::path& directory, std::string_view overlay = {});
+Result<SceneFile, Error> readScene(const std::filesystem::path& file, std::string_view overlay = {});
 
 /// Moves, turns and scales positions by the scene's placement: scale, centre, fit, then rotation, then
 /// translation.
