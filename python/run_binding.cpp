@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "arguments.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/haptics/step_log.h"
-#include "hapticut/physics/scheme.h"
 #include "hapticut/scene/haptic_run.h"
 #include "hapticut/scene/open_device.h"
 #include "hapticut/scene/run_report.h"
@@ -40,13 +40,7 @@ std::pair<std::string, std::string> run(const RunArguments& a) {
     request.overrides.triangles = a.triangles;
     request.overrides.rate_hz = a.rate_hz;
     request.overrides.trajectory = a.trajectory;
-    if (a.integrator) {
-        const auto scheme = physics::parseScheme(*a.integrator);
-        if (!scheme)
-            throw py::value_error("integrator: '" + *a.integrator +
-                                  "' is none of auto, euler, midpoint, rk4, symplectic, implicit");
-        request.overrides.scheme = *scheme;
-    }
+    if (a.integrator) request.overrides.scheme = schemeArgument(*a.integrator);
     if (a.steps && *a.steps < 1) throw py::value_error("steps must be at least 1");
     std::optional<Result<scene::Scene, Error>> loaded;
     {

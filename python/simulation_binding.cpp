@@ -11,10 +11,10 @@
 #include <optional>
 #include <string>
 
+#include "arguments.h"
 #include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/virtual_device.h"
 #include "hapticut/mesh/io/mesh_file.h"
-#include "hapticut/physics/scheme.h"
 #include "hapticut/scene/scene.h"
 #include "raise_error.h"
 
@@ -49,13 +49,7 @@ public:
         request.overrides.model = model;
         request.overrides.triangles = triangles;
         request.overrides.rate_hz = rate_hz;
-        if (integrator) {
-            const auto scheme = physics::parseScheme(*integrator);
-            if (!scheme)
-                throw py::value_error("integrator: '" + *integrator +
-                                      "' is none of auto, euler, midpoint, rk4, symplectic, implicit");
-            request.overrides.scheme = *scheme;
-        }
+        if (integrator) request.overrides.scheme = schemeArgument(*integrator);
         std::optional<Result<scene::Scene, Error>> loaded;
         {
             py::gil_scoped_release release;  // a large organ takes seconds to load

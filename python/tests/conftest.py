@@ -3,6 +3,7 @@ checkout built into build/)."""
 
 import os
 import pathlib
+import threading
 
 import pytest
 
@@ -18,3 +19,23 @@ def assets():
 @pytest.fixture
 def cli():
     return CLI
+
+
+def ticks_while(work):
+    """How many turns of an empty loop this thread gets while another thread does `work`: millions when
+    the work releases the interpreter's lock, a switch interval's worth (some 60,000) when it holds it."""
+    started, done = threading.Event(), threading.Event()
+
+    def run():
+        started.set()
+        work()
+        done.set()
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    started.wait()
+    ticks = 0
+    while not done.is_set():
+        ticks += 1
+    thread.join()
+    return ticks
