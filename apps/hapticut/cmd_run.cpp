@@ -52,6 +52,7 @@ struct RunOptions {
     double couplingStiffness_N_per_m = haptics::LoopConfig{}.couplingStiffness_N_per_m;
     std::string friction;  // "static,dynamic"
     std::string scene;
+    std::vector<std::string> settings;  // --set KEY=VALUE, over the scene's keys
     UnitOptions units;
     std::set<std::string> given;  // options given on the command line: they override the scene
 };
@@ -61,6 +62,14 @@ struct RunOptions {
 std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
     scene::SceneRequest request;
     request.file = o.scene;
+    for (const std::string& setting : o.settings) {
+        const auto line = scene::settingLine(setting);
+        if (!line) {
+            std::cerr << "hapticut run: --set " << line.error() << "\n";
+            return std::nullopt;
+        }
+        request.overlay += *line;
+    }
     scene::SceneOverrides& over = request.overrides;
     o.units.applyTo(over);
     auto given = [&](const char* option) { return o.given.count(option) > 0; };
@@ -572,6 +581,9 @@ Command addRunCommand(CLI::App& app) {
                     "Write the device path with the rendered forces appended, replayable as a trajectory");
     cmd->add_option("--scene", o->scene,
                     "A scene file (TOML, see assets/scenes/heart.toml); options given here override it");
+    cmd->add_option("--set", o->settings,
+                    "KEY=VALUE: a scene key set over the scene's, spelt as in a scene file "
+                    "(material.positioning_stiffness_N_per_m3=4.4e6, simulation.integrator=rk4); repeatable");
     cmd->callback([o, cmd] {
         o->stepsGiven = cmd->count("--steps") > 0;
         for (const CLI::Option* option : cmd->get_options())

@@ -303,6 +303,28 @@ TEST_F(Cli, ConvertRemeshesToATriangleCountOrAnEdgeLength) {
     EXPECT_FALSE(fs::exists(path("x.obj")));
 }
 
+// Any scene key from the command line, spelt as in a scene file and checked as a file's would be.
+TEST_F(Cli, SetLaysSceneKeysOverTheScenes) {
+    const std::string press = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/press-front.csv";
+    ASSERT_EQ(run("run --trajectory " + press + " --report " + path("soft.json")).exitCode, 0);
+    const CliResult r = run("run --trajectory " + press +
+                            " --set material.positioning_stiffness_N_per_m3=1.76e7 --set device.stiffness_N_per_m=200"
+                            " --set simulation.integrator=implicit --report " +
+                            path("stiff.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto soft = nlohmann::json::parse(slurp(path("soft.json")));
+    const auto stiff = nlohmann::json::parse(slurp(path("stiff.json")));
+    EXPECT_EQ(stiff["coupling_stiffness_N_per_m"], 200);
+    EXPECT_EQ(stiff["integrator_requested"], "implicit");
+    EXPECT_LT(stiff["max_displacement_m"].get<double>(), 0.6 * soft["max_displacement_m"].get<double>());
+    const CliResult unknown = run("run --trajectory " + press + " --set material.mass_kg=1 --set material.mass=2");
+    EXPECT_EQ(unknown.exitCode, 1);
+    EXPECT_NE(unknown.err.find("<settings>:2: material.mass: unknown key"), std::string::npos) << unknown.err;
+    const CliResult malformed = run("run --set material");
+    EXPECT_EQ(malformed.exitCode, 2);
+    EXPECT_NE(malformed.err.find("--set 'material': expected KEY=VALUE"), std::string::npos) << malformed.err;
+}
+
 TEST_F(Cli, ASceneReproducesAnExperimentAndTheCommandLineOverridesIt) {
     const std::string scene = std::string(HAPTICUT_SOURCE_DIR) + "/assets/scenes/press-front.toml";
     ASSERT_EQ(run("run --scene " + scene + " --triangles 1619 --force-log " + path("a.csv")).exitCode, 0);

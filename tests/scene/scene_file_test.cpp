@@ -64,6 +64,18 @@ TEST(SceneFile, AnOverlaySetsKeysOverTheFilesAndNamesItsOwnMistakes) {
     EXPECT_EQ(fileMistake.error().line, 2);
 }
 
+TEST(SceneFile, ACommandLinesSettingBecomesAnOverlayLine) {
+    EXPECT_EQ(*settingLine("material.mass_kg=1.5"), "material.mass_kg = 1.5\n");
+    EXPECT_EQ(*settingLine("model.translate_m=[0, 0.1, 0]"), "model.translate_m = [0, 0.1, 0]\n");
+    EXPECT_EQ(*settingLine("simulation.integrator=rk4"), "simulation.integrator = \"rk4\"\n");
+    EXPECT_EQ(*settingLine("model.source=a \"b\".obj"), "model.source = \"a \\\"b\\\".obj\"\n");
+    for (const char* bad : {"material", "=1", "material..mass_kg=1", "material mass=1", ".material=1"})
+        EXPECT_FALSE(settingLine(bad).has_value()) << bad;
+    const auto s = parseScene("", "x.toml", "/data", *settingLine("simulation.integrator=rk4"));
+    ASSERT_TRUE(s.has_value()) << s.error().toString();
+    EXPECT_EQ(s->scheme, physics::Scheme::RungeKutta4);
+}
+
 TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     auto expectError = [](const std::string& text, int line, const std::string& fragment) {
         test::expectError(parseScene(text, "s.toml", "."), line, fragment);

@@ -5,6 +5,8 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -380,6 +382,30 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
     } catch (const SceneError& e) {
         return unexpected(e.line < 0 ? Error{kOverlayName, -e.line, e.message} : Error{file, e.line, e.message});
     }
+}
+
+Result<std::string, std::string> settingLine(std::string_view assignment) {
+    const std::size_t equals = assignment.find('=');
+    const std::string key(assignment.substr(0, equals));
+    const bool word = !key.empty() && key.front() != '.' && key.back() != '.' && key.find("..") == std::string::npos &&
+                      std::all_of(key.begin(), key.end(), [](char c) {
+                          return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.';
+                      });
+    if (equals == std::string_view::npos || !word)
+        return unexpected("'" + std::string(assignment) +
+                          "': expected KEY=VALUE with a scene key such as material.mass_kg=1.5");
+    const std::string value(assignment.substr(equals + 1));
+    // A TOML value (a number, true or false, "text", [a list]) as it is; anything else is text.
+    try {
+        const toml::table probe = toml::parse("v = " + value);
+        if (probe.contains("v")) return key + " = " + value + "\n";
+    } catch (const toml::parse_error&) {}
+    std::string quoted = "\"";
+    for (const char c : value) {
+        if (c == '"' || c == '\\') quoted += '\\';
+        quoted += c;
+    }
+    return key + " = " + quoted + "\"\n";
 }
 
 Result<SceneFile, Error> readScene(const std::filesystem::path& file, std::string_view overlay) {

@@ -91,6 +91,11 @@ Result<SceneFile, Error> parseScene(std::string_view text, const std::filesystem
                                     const std::filesystem::path& directory, std::string_view overlay = {});
 Result<SceneFile, Error> readScene(const std::filesystem::path& file, std::string_view overlay = {});
 
+/// A command line's `--set KEY=VALUE` as an overlay's line: `material.mass_kg=1.5` keeps its number,
+/// `simulation.integrator=rk4` has its text quoted; an error for a missing '=' or a key that is not
+/// dotted words.
+Result<std::string, std::string> settingLine(std::string_view assignment);
+
 /// Moves, turns and scales positions by the scene's placement: scale, centre, fit, then rotation, then
 /// translation.
 void applyPlacement(const SceneFile& scene, std::span<Vec3> positions);
