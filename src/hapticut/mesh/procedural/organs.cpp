@@ -66,13 +66,15 @@ SurfaceMesh segment(std::initializer_list<std::pair<const char*, double (*)(cons
                     const geometry::Aabb& box_cm, double cell_m) {
     const geometry::Aabb box{box_cm.min * kCm, box_cm.max * kCm};
     SurfaceMesh organ;
-    for (const auto& [name, field] : parts) {
+    for (const auto& named : parts) {
+        // Named, not a structured binding: clang 14 (the fuzzers' build) cannot capture one in a lambda.
+        double (*const field)(const Vec3&) = named.second;
         const SurfaceMesh part = polygonise([field](const Vec3& p) { return field(p / kCm); }, box, cell_m);
         const auto offset = static_cast<std::uint32_t>(organ.positions.size());
         organ.positions.insert(organ.positions.end(), part.positions.begin(), part.positions.end());
         for (const Face& f : part.faces) organ.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
         organ.faceParts.resize(organ.faces.size(), static_cast<std::uint32_t>(organ.partNames.size()));
-        organ.partNames.emplace_back(name);
+        organ.partNames.emplace_back(named.first);
     }
     const Vec3 centre = geometry::boundsOf(organ.positions).center();
     for (Vec3& p : organ.positions) p -= centre;
