@@ -13,6 +13,7 @@
 #include "hapticut/scene/model_info.h"
 #include "hapticut/scene/model_source.h"
 #include "raise_error.h"
+#include "views.h"
 
 namespace py = pybind11;
 
@@ -49,20 +50,6 @@ Model load(const std::string& model, int triangles, const std::vector<std::strin
     if (scale != 1)
         for (Vec3& p : m.source.mesh.positions) p *= scale;
     return m;
-}
-
-/// A read-only NumPy array over `rows` rows of `columns` T's at `data`, kept alive by `owner`.
-template <class T>
-py::array readOnlyView(const T* data, std::size_t rows, std::size_t columns, std::size_t rowBytes,
-                       const py::object& owner) {
-    std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(rows)}, strides{static_cast<py::ssize_t>(rowBytes)};
-    if (columns > 0) {
-        shape.push_back(static_cast<py::ssize_t>(columns));
-        strides.push_back(sizeof(T));
-    }
-    py::array view(py::dtype::of<T>(), shape, strides, data, owner);
-    view.attr("setflags")(py::arg("write") = false);
-    return view;
 }
 
 }  // namespace

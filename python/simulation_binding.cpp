@@ -10,6 +10,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "arguments.h"
 #include "hapticut/haptics/haptic_loop.h"
@@ -17,6 +19,7 @@
 #include "hapticut/mesh/io/mesh_file.h"
 #include "hapticut/scene/scene.h"
 #include "raise_error.h"
+#include "views.h"
 
 namespace py = pybind11;
 
@@ -37,6 +40,12 @@ py::array_t<double> toArray(const Vec3& v) {
     std::copy(v.data(), v.data() + 3, out.mutable_data());
     return out;
 }
+
+/// The positions array the views handed out so far look into, once a cut has moved the library's
+/// array elsewhere: kept until the last of those views is gone.
+struct RetiredPositions {
+    std::vector<Vec3> array;
+};
 
 class Simulation {
 public:
@@ -62,6 +71,7 @@ public:
         tool_ = tool;
         device_ = std::make_unique<haptics::VirtualDevice>(scene_->settings.maxForce_N);
         organ_ = std::make_unique<cutting::CutModel>(scene_->makeOrgan());
+        organ_->keepRetiredPositions(true);  // .positions views the array; a cut must not free it under them
         haptics::Hand hand;
         hand.device = device_.get();
         hand.cutThreshold_N = tip->threshold_N;
@@ -92,7 +102,24 @@ public:
             last_ = loop_->step();
         }
         ++steps_;
+        keepViewedPositions();
         return toArray(last_.hand().force_N);
+    }
+
+    /// (N, 3) float64, read-only, over the library's own array: it follows every step with no copy. The
+    /// nodes a cut adds appear in the next one taken; a view taken before a cut outgrew the array keeps
+    /// the positions it last saw.
+    static py::array positions(const py::object& self) {
+        Simulation& s = self.cast<Simulation&>();
+        const std::vector<Vec3>& p = s.organ_->model().nodes.position;
+        if (!s.viewed_) s.viewed_ = std::make_shared<RetiredPositions>();
+        // The base keeps both the simulation (whose array the view reads now) and the holder that will
+        // take that array over if a cut moves it.
+        auto* holder = new std::shared_ptr<RetiredPositions>(s.viewed_);
+        const py::capsule retired(holder, [](void* h) { delete static_cast<std::shared_ptr<RetiredPositions>*>(h); });
+        static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
+        return readOnlyView(p.empty() ? nullptr : p.front().data(), p.size(), 3, sizeof(Vec3),
+                            py::make_tuple(self, retired));
     }
 
     /// Writes the organ as it is now (deformed, cut, with its walls) to a .txt, .obj or .ply file.
@@ -120,11 +147,20 @@ public:
     const haptics::HapticLoop& loop() const { return *loop_; }
 
 private:
+    /// Hands an array a cut moved the positions out of to the views that look into it.
+    void keepViewedPositions() {
+        std::vector<std::vector<Vec3>> retired = organ_->takeRetiredPositions();
+        if (retired.empty()) return;
+        if (viewed_) viewed_->array = std::move(retired.front());  // later ones (one step, two moves) had no view
+        viewed_.reset();
+    }
+
     std::unique_ptr<scene::Scene> scene_;
     std::unique_ptr<haptics::VirtualDevice> device_;
     std::unique_ptr<cutting::CutModel> organ_;  // the loop holds it by reference: it must not move
     std::unique_ptr<haptics::HapticLoop> loop_;
     haptics::StepOutput last_;
+    std::shared_ptr<RetiredPositions> viewed_;  // shared with every view of the current array
     std::string tool_;
     long steps_ = 0;
 };
@@ -146,6 +182,9 @@ void bindSimulation(py::module_& module) {
              "finite difference the loop's damping would otherwise use.")
         .def("export", &Simulation::exportMesh, py::arg("path"),
              "Write the organ as it is now, deformed and cut, to a .txt (thesis), .obj or .ply file")
+        .def_property_readonly("positions", &Simulation::positions,
+                               "(N, 3) float64: the nodes' positions now (m), a read-only view of the library's array "
+                               "that follows every step; take it again after a cut for the nodes the cut added")
         .def_property_readonly("faces", &Simulation::faces,
                                "(M, 3) uint32: the organ's faces now, cuts and walls included (a copy)")
         .def_property_readonly("time_s", &Simulation::time_s, "simulated time so far (s)")

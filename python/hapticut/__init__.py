@@ -7,6 +7,7 @@
 
     sim = hapticut.Simulation("assets/scenes/liver.toml", tool="scalpel")
     force = sim.step((-0.04, 0.0, 0.06), button=True)   # one 1 ms step, the force on the hand (N)
+    sim.positions          # (N, 3) the nodes now, a read-only view that follows every step
 
 Every function raises hapticut.HapticutError, with the file and line, for input it cannot use.
 """

@@ -83,3 +83,28 @@ def test_bad_arguments_are_clear_errors(tmp_path):
     assert caught.value.file == str(scene) and caught.value.line == 2
     with pytest.raises(hapticut.HapticutError, match="missing"):
         sim.export(tmp_path / "missing" / "organ.obj")
+
+
+def test_positions_view_the_librarys_array_and_follow_every_step():
+    sim = hapticut.Simulation(tool="scalpel")
+    view = sim.positions
+    rest = hapticut.load_mesh("heart").positions
+    assert view.shape == rest.shape and view.dtype == np.float64
+    assert not view.flags.writeable and not view.flags.owndata, "a read-only view, not a copy"
+    np.testing.assert_array_equal(view, rest)
+    with pytest.raises(ValueError, match="read-only"):
+        view[0, 0] = 1.0
+    for i in range(300):  # the blade pressed 1 cm into the front, button up: it dents, nothing cuts
+        sim.step((0, -0.01, 0.09 - 0.08 * i / 299))
+    assert np.shares_memory(view, sim.positions)
+    np.testing.assert_array_equal(view, sim.positions)
+    assert np.linalg.norm(view - rest, axis=1).max() > 0.003, "the view taken at the start shows the dent"
+
+    for i in range(400):  # then the button down and a stroke across: the cut adds nodes
+        sim.step((-0.02 + 0.04 * i / 399, -0.01, 0.02), button=True)
+    assert sim.cut_stats["vertices_added"] > 0
+    now = sim.positions
+    assert len(now) == len(rest) + sim.cut_stats["vertices_added"]
+    np.testing.assert_array_equal(view, now[: len(view)])
+    del sim
+    assert np.isfinite(view).all() and np.isfinite(now).all(), "the views keep the simulation alive"

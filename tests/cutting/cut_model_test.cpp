@@ -77,6 +77,30 @@ TEST(CutModel, SnapsToACornerWithinTheRadius) {
     EXPECT_FALSE(cut.snapVertex(0, Vec3(0.4, 0.3, 0.3), 0.001).has_value());
 }
 
+TEST(CutModel, AskedToItKeepsThePositionsArrayACutOutgrowsAndTheViewsOfItStayReadable) {
+    CutModel cut = cuttable(mesh::procedural::makeGrid(4, 0.01));
+    cut.keepRetiredPositions(true);
+    const std::vector<Vec3>& positions = cut.model().nodes.position;
+    const Vec3* viewed = positions.data();  // what a view taken now points at
+    const std::size_t room = positions.capacity(), before = positions.size();
+    std::vector<Vec3> seen(positions.begin(), positions.end());
+    std::size_t splits = 0;
+    while (positions.data() == viewed) {
+        EXPECT_TRUE(cut.takeRetiredPositions().empty()) << "nothing retired while the array has room";
+        cut.splitFace(static_cast<std::uint32_t>(splits++ % cut.mesh().faces.size()), Vec3(0.3, 0.3, 0.4));
+    }
+    EXPECT_EQ(before + splits, room + 1) << "it moved when, and only when, it was full";
+    std::vector<std::vector<Vec3>> retired = cut.takeRetiredPositions();
+    ASSERT_EQ(retired.size(), 1u);
+    EXPECT_EQ(retired[0].data(), viewed) << "the very array the views point at, not a copy";
+    ASSERT_GE(retired[0].size(), seen.size());
+    for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(retired[0][i], seen[i]);
+    EXPECT_GE(positions.capacity(), positions.size() + positions.size() / 3) << "grown with room to spare";
+    EXPECT_TRUE(cut.takeRetiredPositions().empty()) << "handed over once";
+    const InvariantReport r = checkInvariants(cut, physics::totalMass(cut.model()));
+    EXPECT_TRUE(r.ok()) << r.problems.front();
+}
+
 TEST(CutModel, InvariantsCatchABrokenModel) {
     CutModel cut = cuttable(mesh::procedural::makeGrid(2, 0.01));
     EXPECT_FALSE(checkInvariants(cut, 1.0).ok()) << "wrong mass";

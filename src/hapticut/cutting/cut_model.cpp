@@ -93,6 +93,13 @@ std::uint32_t CutModel::addVertex(Vec3 rest, Vec3 position, Vec3 velocity, doubl
     const auto v = static_cast<std::uint32_t>(mesh_.positions.size());
     mesh_.positions.push_back(rest);
     physics::Nodes& n = model_.nodes;
+    if (keepRetiredPositions_ && n.position.size() == n.position.capacity()) {
+        // Grow by hand so the old array can be kept: push_back would free it under the views.
+        std::vector<Vec3> grown;
+        reserveTouched(grown, roomToGrow(n.position.size()));
+        grown.assign(n.position.begin(), n.position.end());
+        retiredPositions_.push_back(std::exchange(n.position, std::move(grown)));
+    }
     n.position.push_back(position);
     n.velocity.push_back(velocity);
     n.restPosition.push_back(rest);

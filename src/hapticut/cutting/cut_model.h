@@ -7,6 +7,7 @@
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "hapticut/mesh/surface_mesh.h"
@@ -112,6 +113,13 @@ public:
     /// The vertex of `face` nearest to the rest point at `bary`, if it lies within `radius_m`.
     std::optional<std::uint32_t> snapVertex(std::uint32_t face, const Vec3& bary, double radius_m) const;
 
+    /// For whoever holds views of model().nodes.position between edits (Python's no-copy array): when a
+    /// cut outgrows the array, the old one is kept for takeRetiredPositions() instead of freed, so the
+    /// views read stale numbers, never freed memory. Off by default.
+    void keepRetiredPositions(bool keep) { keepRetiredPositions_ = keep; }
+    /// The arrays the node positions moved out of since the last call, oldest first.
+    std::vector<std::vector<Vec3>> takeRetiredPositions() { return std::exchange(retiredPositions_, {}); }
+
 private:
     /// By value: callers pass elements of the very arrays this grows (a copy of vertex v), which a
     /// reallocation would leave dangling mid-call.
@@ -141,6 +149,8 @@ private:
     std::unordered_set<std::uint64_t> shortened_;     // scratch for openCut: each spring shortened once
     std::vector<std::uint32_t> fanFaces_, fanStart_;  // scratch for separateFans
     // Material of new springs and anchors: the means of the model's own, per unit length and mass.
+    bool keepRetiredPositions_ = false;
+    std::vector<std::vector<Vec3>> retiredPositions_;
     double stiffnessTimesLength_ = 0, dampingTimesLength_ = 0, anchorStiffnessPerKg_ = 0, anchorDampingPerKg_ = 0;
 };
 
