@@ -87,21 +87,13 @@ std::pair<std::string, std::string> run(const RunArguments& a) {
         if (!device) raiseError(device.error());
         if (const auto* replay = dynamic_cast<const haptics::ReplayDevice*>(device->device.get()))
             duration_s = std::max(duration_s, replay->trajectory().duration_s());
-        haptics::Hand hand;
-        hand.device = device->device.get();
-        hand.cutThreshold_N = tip->threshold_N;
-        hand.tipRadius_m = tip->radius_m;
-        hand.maxForce_N = scene.settings.maxForce_N;
-        if (fromScene[h]) scene::applyHandSettings(*fromScene[h], hand);
-        hands.push_back(hand);
+        hands.push_back(scene::makeHand(scene, *device->device, *tip, fromScene[h]));
         report.hands.push_back({specs[h].toString(), device->description, tool, *tip});
         opened.push_back(std::move(*device));
     }
 
     scene::HapticRunConfig config;
-    config.loop = scene.loopConfig();
-    config.loop.cutThreshold_N = report.hands[0].tip.threshold_N;
-    config.loop.tipRadius_m = report.hands[0].tip.radius_m;
+    config.loop = scene::loopConfigFor(scene, report.hands[0].tip);
     config.steps = a.steps ? *a.steps : std::lround(duration_s * scene.settings.rate_hz) + 1;
     config.keepSteps = config.steps;
     config.tool = report.hands[0].tool;

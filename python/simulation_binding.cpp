@@ -17,6 +17,7 @@
 #include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/virtual_device.h"
 #include "hapticut/mesh/io/mesh_file.h"
+#include "hapticut/scene/open_device.h"
 #include "hapticut/scene/scene.h"
 #include "raise_error.h"
 #include "views.h"
@@ -72,14 +73,8 @@ public:
         device_ = std::make_unique<haptics::VirtualDevice>(scene_->settings.maxForce_N);
         organ_ = std::make_unique<cutting::CutModel>(scene_->makeOrgan());
         organ_->keepRetiredPositions(true);  // .positions views the array; a cut must not free it under them
-        haptics::Hand hand;
-        hand.device = device_.get();
-        hand.cutThreshold_N = tip->threshold_N;
-        hand.tipRadius_m = tip->radius_m;
-        hand.maxForce_N = scene_->settings.maxForce_N;
-        haptics::LoopConfig config = scene_->loopConfig();
-        config.cutThreshold_N = tip->threshold_N;
-        config.tipRadius_m = tip->radius_m;
+        const haptics::Hand hand = scene::makeHand(*scene_, *device_, *tip, nullptr);
+        const haptics::LoopConfig config = scene::loopConfigFor(*scene_, *tip);
         std::optional<Result<std::unique_ptr<haptics::HapticLoop>, Error>> created;
         {
             py::gil_scoped_release release;  // and its collision tree and integrator seconds to prepare

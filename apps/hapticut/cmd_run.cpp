@@ -240,18 +240,11 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
         opened.push_back(std::move(*device));
     }
     std::vector<haptics::Hand> hands;
-    for (std::size_t h = 0; h < opened.size(); ++h) {
-        haptics::Hand hand;
-        hand.device = opened[h].device.get();
-        hand.cutThreshold_N = tipOf[h].threshold_N;
-        hand.tipRadius_m = tipOf[h].radius_m;
-        hand.maxForce_N = scene->settings.maxForce_N;
-        if (fromScene[h]) scene::applyHandSettings(*fromScene[h], hand);
-        hands.push_back(hand);
-    }
+    for (std::size_t h = 0; h < opened.size(); ++h)
+        hands.push_back(scene::makeHand(*scene, *opened[h].device, tipOf[h], fromScene[h]));
 
     scene::HapticRunConfig config;
-    config.loop = scene->loopConfig();
+    config.loop = scene::loopConfigFor(*scene, tipOf[0]);
     config.steps = o.stepsGiven ? o.steps : live ? -1 : std::lround(replayDuration_s * rate_hz) + 1;
     config.realtime = o.realtime || live;
     StopSignal stopSignal;
@@ -259,8 +252,6 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     Progress progress("hapticut run: steps (Ctrl-C ends the run)");
     config.progress = [&](long steps) { progress.update(steps, config.steps); };
     config.tool = firstTool;
-    config.loop.cutThreshold_N = tipOf[0].threshold_N;
-    config.loop.tipRadius_m = tipOf[0].radius_m;
     std::cerr << "hapticut run: " << source->name << ": " << model.nodes.size() << " nodes; " << firstTool
               << (hands.size() > 1 ? " and " + toolOf[1] : "") << ", "
               << (config.steps >= 0 ? std::to_string(config.steps) + " steps" : std::string("until Ctrl-C")) << " at "

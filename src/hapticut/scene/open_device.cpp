@@ -107,6 +107,16 @@ void applyHandSettings(const SceneDevice& device, haptics::Hand& hand) {
     hand.couplingDamping_Ns_per_m = device.couplingDamping_Ns_per_m;
 }
 
+haptics::Hand makeHand(const Scene& scene, haptics::Device& device, const ToolTip& tip, const SceneDevice* entry) {
+    haptics::Hand hand;
+    hand.device = &device;
+    hand.cutThreshold_N = tip.threshold_N;
+    hand.tipRadius_m = tip.radius_m;
+    hand.maxForce_N = scene.settings.maxForce_N;
+    if (entry) applyHandSettings(*entry, hand);
+    return hand;
+}
+
 DeviceOptions deviceOptionsFor(const SceneDevice& device, bool fit_workspace, const std::string& hd_library) {
     DeviceOptions options;
     options.fitWorkspace = fit_workspace && device.fitWorkspace;

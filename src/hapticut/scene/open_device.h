@@ -52,6 +52,10 @@ DeviceOptions deviceOptionsFor(const SceneDevice& device, bool fit_workspace, co
 /// Gives a hand its [[devices]] entry's own force limits and coupling.
 void applyHandSettings(const SceneDevice& device, haptics::Hand& hand);
 
+/// A hand holding `device` with the tool whose tip is `tip`, under the scene's force limit or, when the
+/// hand is a [[devices]] entry (`entry`, else null), under that entry's own limits and coupling.
+haptics::Hand makeHand(const Scene& scene, haptics::Device& device, const ToolTip& tip, const SceneDevice* entry);
+
 /// Opens a device for a hand on the scene's organ: mapped onto it and limited to the scene's maximum force.
 Result<OpenedDevice, Error> openDeviceFor(const Scene& scene, const haptics::DeviceName& spec,
                                           const DeviceOptions& options);

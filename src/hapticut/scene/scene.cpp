@@ -30,6 +30,13 @@ haptics::LoopConfig Scene::loopConfig() const {
     return config;
 }
 
+haptics::LoopConfig loopConfigFor(const Scene& scene, const ToolTip& firstHandsTip) {
+    haptics::LoopConfig config = scene.loopConfig();
+    config.cutThreshold_N = firstHandsTip.threshold_N;
+    config.tipRadius_m = firstHandsTip.radius_m;
+    return config;
+}
+
 std::optional<std::size_t> Scene::toolIndex(std::string_view name) const {
     for (std::size_t i = 0; i < tools.size(); ++i)
         if (tools[i].name == name) return i;

@@ -74,6 +74,9 @@ struct ToolTip {
 /// (an error without a file); anything else is a file that did not load.
 Result<ToolTip, Error> toolTip(const SceneFile& settings, const std::string& name);
 
+/// The scene's loop settings (Scene::loopConfig) with the first hand's tool.
+haptics::LoopConfig loopConfigFor(const Scene& scene, const ToolTip& firstHandsTip);
+
 /// Sets the overrides over `settings`.
 void applyOverrides(const SceneOverrides& overrides, SceneFile& settings);
 
