@@ -30,6 +30,7 @@ namespace hapticut::python {
 
 void bindSimulation(py::module_& module);
 void bindRun(py::module_& module);
+void bindBatch(py::module_& module);
 
 namespace {
 
@@ -104,6 +105,7 @@ PYBIND11_MODULE(_hapticut, module) {
 
     bindSimulation(module);
     bindRun(module);
+    bindBatch(module);
     module.def("_load", &load, py::arg("model"), py::arg("triangles"), py::arg("parts"), py::arg("scale"));
     module.def(
         "_info_json",

@@ -19,6 +19,9 @@ Command addBenchCommand(CLI::App& app);
 Command addAssetsCommand(CLI::App& app);
 Command addSoakCommand(CLI::App& app);
 Command addDevicesCommand(CLI::App& app);
+/// batch and plot: the package's Python (hapticut.batch, hapticut.plot) run with the arguments as given.
+Command addBatchCommand(CLI::App& app);
+Command addPlotCommand(CLI::App& app);
 #ifdef HAPTICUT_WITH_VIEWER
 Command addViewCommand(CLI::App& app);
 Command addScreenshotCommand(CLI::App& app);

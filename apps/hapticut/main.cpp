@@ -1,5 +1,5 @@
 // hapticut: one executable with git-style subcommands (view, screenshot, run, info, convert, bench, assets, soak,
-// devices).
+// devices, batch, plot).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
 #endif
              hapticut::app::addRunCommand, hapticut::app::addInfoCommand, hapticut::app::addConvertCommand,
              hapticut::app::addBenchCommand, hapticut::app::addAssetsCommand, hapticut::app::addSoakCommand,
-             hapticut::app::addDevicesCommand}) {
+             hapticut::app::addDevicesCommand, hapticut::app::addBatchCommand, hapticut::app::addPlotCommand}) {
         Command run = add(app);
         commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
     }

@@ -9,6 +9,8 @@
     force = sim.step((-0.04, 0.0, 0.06), button=True)   # one 1 ms step, the force on the hand (N)
     sim.positions          # (N, 3) the nodes now, a read-only view that follows every step
 
+    hapticut.batch("sweep.toml", workers=2)   # every combination of a sweep, on a local Dask cluster
+
 Every function raises hapticut.HapticutError, with the file and line, for input it cannot use.
 """
 
@@ -28,7 +30,8 @@ Model = _hapticut.Model
 
 _UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
-__all__ = ["HapticutError", "Model", "RunResult", "Simulation", "info", "load_mesh", "run", "__version__"]
+__all__ = ["BatchResult", "HapticutError", "Model", "RunResult", "Simulation", "batch", "info", "load_mesh", "run",
+           "__version__"]
 
 
 def _scale(units, scale):
@@ -129,3 +132,6 @@ def _step_log_array(text):
     integer = ("contact", "face", "cut", "button")
     dtype = [(n, np.int64 if n.rstrip("2") in integer else np.float64) for n in names]
     return np.atleast_1d(np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1, dtype=dtype, ndmin=1))
+
+
+from .batching import BatchResult, batch  # noqa: E402  (it uses run's C++ half, loaded above)

@@ -11,12 +11,12 @@ SOURCE_DIR = pathlib.Path(os.environ.get("HAPTICUT_SOURCE_DIR", pathlib.Path(__f
 CLI = os.environ.get("HAPTICUT_CLI", str(SOURCE_DIR / "build" / "apps" / "hapticut" / "hapticut"))
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def assets():
     return SOURCE_DIR / "assets"
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def cli():
     return CLI
 

@@ -36,8 +36,8 @@ std::filesystem::path existing(const toml::node& node, const std::string& key, c
     const std::filesystem::path given = expect<std::string>(node, key, "text, a path");
     const std::filesystem::path path = given.is_absolute() ? given : folder / given;
     std::error_code error;
-    const bool found = directory ? std::filesystem::is_directory(path, error)
-                                 : std::filesystem::is_regular_file(path, error);
+    const bool found =
+        directory ? std::filesystem::is_directory(path, error) : std::filesystem::is_regular_file(path, error);
     if (!found)
         throw SpecError{lineOf(node), "batch." + key + ": " + (directory ? "no folder " : "no file ") + path.string() +
                                           (given.is_absolute() ? "" : " (paths are relative to the spec's folder)")};
@@ -51,8 +51,8 @@ std::string tomlText(const toml::node& value) {
 }
 
 void readBatchTable(const toml::table& batch, const std::filesystem::path& folder, BatchSpec& spec) {
-    static const std::set<std::string> keys{"scene",      "model", "triangles", "trajectory", "sessions",
-                                            "tool",       "steps", "integrator", "rate_hz"};
+    static const std::set<std::string> keys{"scene", "model", "triangles",  "trajectory", "sessions",
+                                            "tool",  "steps", "integrator", "rate_hz"};
     for (const auto& [name, node] : batch) {
         const std::string key(name.str());
         if (key == "scene")
@@ -67,7 +67,8 @@ void readBatchTable(const toml::table& batch, const std::filesystem::path& folde
         else if (key == "sessions") {
             const std::filesystem::path dir = existing(node, key, folder, true);
             for (const auto& entry : std::filesystem::directory_iterator(dir))
-                if (entry.is_regular_file() && entry.path().extension() == ".csv") spec.sessions.push_back(entry.path());
+                if (entry.is_regular_file() && entry.path().extension() == ".csv")
+                    spec.sessions.push_back(entry.path());
             std::sort(spec.sessions.begin(), spec.sessions.end());
             if (spec.sessions.empty())
                 throw SpecError{lineOf(node), "batch.sessions: " + dir.string() + " holds no recorded session (.csv)"};
@@ -104,7 +105,8 @@ void readSweep(const toml::table& sweep, BatchSpec& spec) {
         for (const toml::node& value : *values) axis.values.push_back(tomlText(value));
         spec.sweep.push_back(std::move(axis));
     }
-    std::sort(spec.sweep.begin(), spec.sweep.end(), [](const SweepAxis& a, const SweepAxis& b) { return a.line < b.line; });
+    std::sort(spec.sweep.begin(), spec.sweep.end(),
+              [](const SweepAxis& a, const SweepAxis& b) { return a.line < b.line; });
 }
 
 /// Lays each swept value over the base scene and checks it as a scene file's key, and the tool by name.
@@ -117,7 +119,8 @@ std::optional<Error> checkAgainstScene(const BatchSpec& spec) {
     const auto base = sceneSettings(request);
     if (!base) return base.error();
     if (spec.tool)
-        if (const auto tip = toolTip(*base, *spec.tool); !tip) return Error{spec.file, spec.toolLine, "batch.tool: " + tip.error().toString()};
+        if (const auto tip = toolTip(*base, *spec.tool); !tip)
+            return Error{spec.file, spec.toolLine, "batch.tool: " + tip.error().toString()};
     for (const SweepAxis& axis : spec.sweep)
         for (const std::string& value : axis.values) {
             request.overlay = axis.key + " = " + value + "\n";
@@ -146,8 +149,10 @@ Result<BatchSpec, Error> readBatchSpec(const std::filesystem::path& file) {
         const toml::table* batch = root["batch"].as_table();
         if (!batch) throw SpecError{1, "no [batch] table: it names the scene or model and what each run replays"};
         readBatchTable(*batch, file.parent_path(), spec);
-        if (const toml::table* sweep = root["sweep"].as_table()) readSweep(*sweep, spec);
-        else if (root.contains("sweep")) throw SpecError{lineOf(*root.get("sweep")), "sweep must be a table of lists"};
+        if (const toml::table* sweep = root["sweep"].as_table())
+            readSweep(*sweep, spec);
+        else if (root.contains("sweep"))
+            throw SpecError{lineOf(*root.get("sweep")), "sweep must be a table of lists"};
     } catch (const toml::parse_error& e) {
         return unexpected(Error{file, static_cast<int>(e.source().begin.line), std::string(e.description())});
     } catch (const SpecError& e) {
