@@ -1,8 +1,8 @@
 // `hapticut batch` and `hapticut plot`: the front doors to the package's Python (hapticut.cli, which
-// runs hapticut.batching and hapticut.plotting), which has Dask and matplotlib. The arguments go through as given; the Python side
-// checks them and answers --help.
-#include <CLI/CLI.hpp>
+// runs hapticut.batching and hapticut.plotting), which has Dask and matplotlib. The arguments go through as given; the
+// Python side checks them and answers --help.
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <cerrno>
 #include <cstdlib>

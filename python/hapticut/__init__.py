@@ -30,8 +30,8 @@ Model = _hapticut.Model
 
 _UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
-__all__ = ["BatchResult", "HapticutError", "Model", "RunResult", "Simulation", "batch", "info", "load_mesh", "run",
-           "__version__"]
+__all__ = ["BatchResult", "HapticutError", "Model", "RunResult", "Simulation", "batch", "info", "load_mesh",
+           "plot_batch", "plot_force_log", "run", "__version__"]
 
 
 def _scale(units, scale):
@@ -135,3 +135,4 @@ def _step_log_array(text):
 
 
 from .batching import BatchResult, batch  # noqa: E402  (it uses run's C++ half, loaded above)
+from .plotting import plot_batch, plot_force_log  # noqa: E402  (matplotlib is imported when a plot is made)
