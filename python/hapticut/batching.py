@@ -13,12 +13,15 @@ worker that dies mid-run leaves nothing half-written, and Dask runs its task aga
 """
 
 import argparse
+import contextlib
 import csv
 import hashlib
+import importlib.machinery
 import io
 import itertools
 import json
 import logging
+import multiprocessing.process
 import os
 import pathlib
 import shutil
@@ -192,6 +195,23 @@ class BatchResult:
                 f"{self.failed} failed; {self.elapsed_s:.1f} s; {self.results}>")
 
 
+@contextlib.contextmanager
+def _workers_skip_main():
+    """While it lasts, new worker processes do not import the script that started the batch. Python's
+    spawn imports a script run by path in every child (as __mp_main__), so a script that calls batch()
+    at its top level, as scripts do, would start a cluster in each worker without end. A __main__ with a
+    spec named __main__ is one a child skips; the workers need nothing from it, only hapticut.batching."""
+    main = sys.modules.get("__main__")
+    hide = main is not None and getattr(main, "__spec__", None) is None and getattr(main, "__file__", None)
+    if hide:
+        main.__spec__ = importlib.machinery.ModuleSpec("__main__", None)
+    try:
+        yield
+    finally:
+        if hide:
+            main.__spec__ = None
+
+
 def _local_cluster(workers):
     from dask.distributed import LocalCluster
 
@@ -200,6 +220,9 @@ def _local_cluster(workers):
     paths = os.environ.get("PYTHONPATH", "").split(os.pathsep)
     if here not in paths:
         os.environ["PYTHONPATH"] = os.pathsep.join([here] + [p for p in paths if p])
+    # Dask's statistical profiler samples each worker's Python stack a hundred times a second: a run is
+    # C++, so it would learn nothing, and on a small machine it takes time from the runs.
+    os.environ.setdefault("DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED", "False")
     return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
                         silence_logs=logging.ERROR)
 
@@ -210,6 +233,11 @@ def batch(spec, workers=None, scheduler=None, out=None, progress=True, client=No
     running Dask scheduler's address ("tcp://host:8786") instead; client: a dask.distributed Client
     of the caller's instead of either. out: the results' folder (default SPEC-STEM-batch in the current
     folder). A run that fails is recorded and the others go on; runs already done are skipped."""
+    if getattr(multiprocessing.process.current_process(), "_inheriting", False):
+        # A process of the script's own multiprocessing importing it: a batch there would start a
+        # cluster in each such process.
+        raise RuntimeError("hapticut.batch was called while a new process was importing the script: "
+                           "put the script's call under `if __name__ == \"__main__\":`")
     spec = pathlib.Path(spec)
     runs = plan(spec)
     out = pathlib.Path(out) if out is not None else pathlib.Path(f"{spec.stem}-batch")
@@ -217,6 +245,11 @@ def batch(spec, workers=None, scheduler=None, out=None, progress=True, client=No
     if workers is not None and (int(workers) < 1 or scheduler or client):
         raise ValueError("workers: a number of local worker processes, at least 1, and only for the local cluster")
     todo = [r for r in runs if not _done(out, r)]
+    with _workers_skip_main():
+        return _batch(runs, todo, out, workers, scheduler, client, progress)
+
+
+def _batch(runs, todo, out, workers, scheduler, client, progress):
     started = time.monotonic()
     cluster = None
     if todo and client is None:
@@ -256,7 +289,11 @@ def batch(spec, workers=None, scheduler=None, out=None, progress=True, client=No
 def _run_all(client, todo, out, bar):
     from dask.distributed import as_completed
 
-    futures = {client.submit(_execute, r, str(out), key=f"hapticut-run-{r['id']}", pure=False): r for r in todo}
+    # One map, not a submit a run: Dask reads the caller's source for each call it is given (some 8 ms of
+    # the coordinator's time each, which on a 2-core machine the workers would feel).
+    submitted = client.map(_execute, todo, [str(out)] * len(todo), key=[f"hapticut-run-{r['id']}" for r in todo],
+                           pure=False)
+    futures = dict(zip(submitted, todo))
     for future in as_completed(futures):
         run = futures[future]
         try:

@@ -6,6 +6,7 @@ import csv
 import os
 import signal
 import subprocess
+import sys
 import threading
 import time
 
@@ -142,3 +143,15 @@ def test_a_worker_killed_mid_batch_loses_no_run(tmp_path, assets):
     rows = read_results(out)
     assert len(rows) == 24 and all(r["status"] == "ok" for r in rows)
     assert all((out / "runs" / r["id"] / "report.json").is_file() for r in rows)
+
+
+def test_a_script_that_calls_batch_at_its_top_level_runs_it_once(tmp_path, assets):
+    # Without `if __name__ == "__main__":`, as scripts are written: the workers must not run it again.
+    spec = write_spec(tmp_path, assets, {"device.stiffness_N_per_m": [200, 400]}, steps=300)
+    script = tmp_path / "experiment.py"
+    script.write_text(f"import hapticut\nresult = hapticut.batch({str(spec)!r}, workers=2, out={str(tmp_path / 'out')!r}, "
+                      "progress=False)\nprint('batch', result.ran, result.failed)\n")
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120,
+                          env={**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)})
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout == "batch 2 0\n", "the script ran once, in its own process"
