@@ -109,6 +109,12 @@ class Simulation(_hapticut.Simulation):
         super().__init__("" if scene is None else str(scene), None if model is None else str(model), triangles,
                          tool, integrator, rate_hz, _settings_toml(settings))
 
+    @property
+    def cut_model(self):
+        """The cut model's statistics (the same dict as cut_stats): cuts, cut points, vertices and faces
+        added, openings, walls closed, the cut's length."""
+        return self.cut_stats
+
 
 def run(scene=None, model=None, triangles=None, trajectory=None, tool=None, steps=None, integrator=None,
         rate_hz=None, settings=None):

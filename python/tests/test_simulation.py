@@ -44,6 +44,7 @@ def test_stepping_from_python_feels_what_the_replay_felt(tmp_path, assets, cli):
     assert sim.steps == len(log) and sim.time_s == pytest.approx(len(log) / 1000)
     assert sim.integrator == report["integrator"]
     cut = sim.cut_stats
+    assert sim.cut_model == cut
     assert cut["cuts"] == report["cuts"] == 1
     for key in ("cut_points", "faces_added", "walls_closed", "cut_length_m"):
         assert cut[key] == report[key], key
