@@ -18,8 +18,8 @@ namespace {
 constexpr double kRestGapPerEdge = 0.05;
 }  // namespace
 
-CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model)
-    : mesh_(std::move(mesh)), model_(std::move(model)) {
+CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model, physics::MaterialField field)
+    : mesh_(std::move(mesh)), model_(std::move(model)), field_(std::move(field)) {
     HAPTICUT_ASSERT(mesh_.positions.size() == model_.nodes.size());
     mesh::completeMesh(mesh_);
     facesAround_ = mesh::buildVertexFaces(mesh_.faces, mesh_.positions.size());
@@ -30,12 +30,19 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model)
     const physics::Springs& s = model_.springs;
     for (std::uint32_t k = 0; k < s.size(); ++k) springOfEdge_[edgeKey(s.a[k], s.b[k])] = k;
     // New springs and anchors follow the model's material: springs scale as 1/L (as the
-    // resolution-independent material does), anchors with the node's mass (mass follows area).
+    // resolution-independent material does), anchors with the node's mass (mass follows area). The means
+    // are of the tissue without its regions, whose scale each new one takes where it is.
     double kl = 0, dl = 0, km = 0, dm = 0, mass = 0;
-    for (std::size_t k = 0; k < s.size(); ++k)
-        kl += s.stiffness[k] * s.restLength[k], dl += s.damping[k] * s.restLength[k];
-    for (std::size_t i = 0; i < model_.nodes.size(); ++i)
-        km += model_.nodes.anchorStiffness[i], dm += model_.nodes.anchorDamping[i], mass += model_.nodes.mass[i];
+    const std::vector<Vec3>& rest = mesh_.positions;
+    for (std::size_t k = 0; k < s.size(); ++k) {
+        const physics::MaterialScale m = scaleAt(0.5 * (rest[s.a[k]] + rest[s.b[k]]));
+        kl += s.stiffness[k] * s.restLength[k] / m.stiffness, dl += s.damping[k] * s.restLength[k] / m.damping;
+    }
+    for (std::size_t i = 0; i < model_.nodes.size(); ++i) {
+        const physics::MaterialScale m = scaleAt(rest[i]);
+        km += model_.nodes.anchorStiffness[i] / m.stiffness, dm += model_.nodes.anchorDamping[i] / m.damping;
+        mass += model_.nodes.mass[i];
+    }
     if (s.size() > 0)
         stiffnessTimesLength_ = kl / static_cast<double>(s.size()),
         dampingTimesLength_ = dl / static_cast<double>(s.size());
@@ -106,8 +113,9 @@ std::uint32_t CutModel::addVertex(Vec3 rest, Vec3 position, Vec3 velocity, doubl
     n.externalForce.push_back(Vec3::Zero());
     n.mass.push_back(mass);
     n.inverseMass.push_back(mass > 0 ? 1 / mass : 0);
-    n.anchorStiffness.push_back(anchorStiffnessPerKg_ * mass);
-    n.anchorDamping.push_back(anchorDampingPerKg_ * mass);
+    const physics::MaterialScale m = scaleAt(rest);
+    n.anchorStiffness.push_back(anchorStiffnessPerKg_ * mass * m.stiffness);
+    n.anchorDamping.push_back(anchorDampingPerKg_ * mass * m.damping);
     facesAround_.around.emplace_back();
     floorUnder_.push_back(kNoFloor);
     changes_.nodes.push_back(v);
@@ -118,8 +126,9 @@ void CutModel::setMass(std::uint32_t v, double mass) {
     physics::Nodes& n = model_.nodes;
     n.mass[v] = mass;
     n.inverseMass[v] = mass > 0 ? 1 / mass : 0;
-    n.anchorStiffness[v] = anchorStiffnessPerKg_ * mass;
-    n.anchorDamping[v] = anchorDampingPerKg_ * mass;
+    const physics::MaterialScale m = scaleAt(mesh_.positions[v]);
+    n.anchorStiffness[v] = anchorStiffnessPerKg_ * mass * m.stiffness;
+    n.anchorDamping[v] = anchorDampingPerKg_ * mass * m.damping;
     changes_.nodes.push_back(v);
 }
 
@@ -148,10 +157,17 @@ void CutModel::addSpring(std::uint32_t a, std::uint32_t b) {
     s.a.push_back(a);
     s.b.push_back(b);
     s.restLength.push_back(length);
-    s.stiffness.push_back(stiffnessTimesLength_ / std::max(length, 1e-9));
-    s.damping.push_back(dampingTimesLength_ / std::max(length, 1e-9));
+    s.stiffness.push_back(0);
+    s.damping.push_back(0);
+    setSpringMaterial(static_cast<std::uint32_t>(s.size() - 1), mesh_.positions[a], mesh_.positions[b], length);
     mesh_.edges.push_back({a, b});
     touchSpring(static_cast<std::uint32_t>(s.size() - 1));
+}
+
+void CutModel::setSpringMaterial(std::uint32_t k, const Vec3& restA, const Vec3& restB, double length) {
+    const physics::MaterialScale m = scaleAt(0.5 * (restA + restB));
+    model_.springs.stiffness[k] = m.stiffness * stiffnessTimesLength_ / std::max(length, 1e-9);
+    model_.springs.damping[k] = m.damping * dampingTimesLength_ / std::max(length, 1e-9);
 }
 
 void CutModel::replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs) {
@@ -224,8 +240,7 @@ std::uint32_t CutModel::splitEdge(std::uint32_t a, std::uint32_t b, double u) {
         moveSpringEnd(*k, b, p);
         const double length = (mesh_.positions[p] - mesh_.positions[a]).norm();
         s.restLength[*k] = length;
-        s.stiffness[*k] = stiffnessTimesLength_ / std::max(length, 1e-9);
-        s.damping[*k] = dampingTimesLength_ / std::max(length, 1e-9);
+        setSpringMaterial(*k, mesh_.positions[a], mesh_.positions[p], length);
     }
     addSpring(a, p);
     addSpring(p, b);

@@ -13,6 +13,7 @@
 #include "hapticut/mesh/surface_mesh.h"
 #include "hapticut/mesh/vertex_faces.h"
 #include "hapticut/physics/mass_spring_model.h"
+#include "hapticut/physics/material.h"
 
 namespace hapticut::cutting {
 
@@ -32,7 +33,9 @@ struct TopologyChanges {
 /// mesh.positions hold the rest (undeformed) shape, model.nodes.position the deformed one.
 class CutModel {
 public:
-    CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model);
+    /// `field`: the tissue's regions (physics::applyMaterialField has scaled `model` by it); the springs and
+    /// anchors cuts add take the scale where they are. Empty: uniform tissue.
+    CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model, physics::MaterialField field = {});
 
     const mesh::SurfaceMesh& mesh() const { return mesh_; }
     const physics::MassSpringModel& model() const { return model_; }
@@ -133,6 +136,10 @@ private:
     void replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs);
     /// A new face; `wall`: a wound's wall.
     std::uint32_t appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs, bool wall, std::uint32_t part);
+    /// The material's scale at a rest point: the field's, or none.
+    physics::MaterialScale scaleAt(const Vec3& rest) const { return field_ ? field_(rest) : physics::MaterialScale{}; }
+    /// A new spring's (or a shortened one's) stiffness and damping for its rest ends.
+    void setSpringMaterial(std::uint32_t k, const Vec3& restA, const Vec3& restB, double length);
     /// The unit normal of the rest surface round v and its copies `others`, over the organ's own faces
     /// (walls would tilt it); over all faces when v has only walls; zero when they cancel out.
     Vec3 restNormalAround(std::uint32_t v, std::initializer_list<std::uint32_t> others) const;
@@ -149,6 +156,7 @@ private:
     std::unordered_set<std::uint64_t> shortened_;     // scratch for openCut: each spring shortened once
     std::vector<std::uint32_t> fanFaces_, fanStart_;  // scratch for separateFans
     // Material of new springs and anchors: the means of the model's own, per unit length and mass.
+    physics::MaterialField field_;
     bool keepRetiredPositions_ = false;
     std::vector<std::vector<Vec3>> retiredPositions_;
     double stiffnessTimesLength_ = 0, dampingTimesLength_ = 0, anchorStiffnessPerKg_ = 0, anchorDampingPerKg_ = 0;

@@ -97,4 +97,20 @@ mesh::io::ThesisPhysics thesisPhysicsFor(const mesh::SurfaceMesh& mesh, const Ma
     return p;
 }
 
+void applyMaterialField(MassSpringModel& model, const MaterialField& field) {
+    if (!field) return;
+    Nodes& n = model.nodes;
+    for (std::size_t i = 0; i < n.size(); ++i) {
+        const MaterialScale s = field(n.restPosition[i]);
+        n.anchorStiffness[i] *= s.stiffness;
+        n.anchorDamping[i] *= s.damping;
+    }
+    Springs& springs = model.springs;
+    for (std::size_t k = 0; k < springs.size(); ++k) {
+        const MaterialScale s = field(0.5 * (n.restPosition[springs.a[k]] + n.restPosition[springs.b[k]]));
+        springs.stiffness[k] *= s.stiffness;
+        springs.damping[k] *= s.damping;
+    }
+}
+
 }  // namespace hapticut::physics

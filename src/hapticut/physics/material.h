@@ -1,6 +1,8 @@
 // Materials, and building a mass-spring model from a mesh with them.
 #pragma once
 
+#include <functional>
+
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/mesh/surface_mesh.h"
 #include "hapticut/physics/mass_spring_model.h"
@@ -31,6 +33,20 @@ MassSpringModel buildModel(const mesh::SurfaceMesh& mesh, const Material& materi
 /// Builds the model as the thesis did: one k_s, k_d for every edge spring, one positioning k_s, k_d
 /// for every node, the total mass spread evenly over the nodes.
 MassSpringModel buildModel(const mesh::SurfaceMesh& mesh, const mesh::io::ThesisPhysics& physics);
+
+/// How a region of tissue differs from the organ's material (a scene's [[regions]]): the stiffness and
+/// damping of its springs and anchors multiplied.
+struct MaterialScale {
+    double stiffness = 1;
+    double damping = 1;
+};
+
+/// The scale at a point of the rest shape (m); empty: the tissue is uniform.
+using MaterialField = std::function<MaterialScale(const Vec3& rest_m)>;
+
+/// Multiplies each node's anchor by the scale at its rest position and each spring by the scale at its
+/// rest midpoint. Nothing changes for an empty field.
+void applyMaterialField(MassSpringModel& model, const MaterialField& field);
 
 /// The thesis-format constants that best stand for `material` on this mesh (means over springs and
 /// nodes), for writing a model file.

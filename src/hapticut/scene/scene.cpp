@@ -5,12 +5,15 @@
 #include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/physics/material.h"
 #include "hapticut/scene/model_size.h"
+#include "hapticut/scene/tissue_regions.h"
 
 namespace hapticut::scene {
 
 physics::MassSpringModel Scene::buildModel() const {
-    if (settings.materialGiven) return physics::buildModel(source.mesh, settings.material);
-    return buildSimulationModel(source);
+    physics::MassSpringModel model =
+        settings.materialGiven ? physics::buildModel(source.mesh, settings.material) : buildSimulationModel(source);
+    physics::applyMaterialField(model, tissue);
+    return model;
 }
 
 haptics::LoopConfig Scene::loopConfig() const {
@@ -97,6 +100,9 @@ Result<Scene, Error> assembleScene(std::filesystem::path file, SceneFile setting
     if (!source) return unexpected(source.error());
     scene.source = std::move(*source);
     applyPlacement(scene.settings, scene.source.mesh.positions);
+    auto tissue = materialField(scene.settings.regions, scene.file);
+    if (!tissue) return unexpected(tissue.error());
+    scene.tissue = std::move(*tissue);
     if (auto unusual = sizeWarning(scene.source.mesh.positions, scene.source.name))
         scene.source.warnings.push_back(std::move(*unusual));
     if (auto away = offCentreWarning(scene.source.mesh.positions, scene.source.name))

@@ -51,14 +51,16 @@ struct Scene {
     SceneFile settings;          // the file's, with the overrides applied
     ModelSource source;          // its mesh placed by the scene
     std::vector<Tool> tools;
+    physics::MaterialField tissue;  // the [[regions]] (scene/tissue_regions); empty: uniform tissue
 
-    /// The organ's mass-spring model: the scene's material when it gives one, else the model's own.
+    /// The organ's mass-spring model: the scene's material when it gives one, else the model's own, with
+    /// its regions' scales.
     physics::MassSpringModel buildModel() const;
     /// The haptic loop's settings the scene gives: integrator, rate, coupling, friction, active region.
     /// Tools' thresholds go with the hands.
     haptics::LoopConfig loopConfig() const;
     /// A fresh organ to simulate and cut, at rest.
-    cutting::CutModel makeOrgan() const { return cutting::CutModel(source.mesh, buildModel()); }
+    cutting::CutModel makeOrgan() const { return cutting::CutModel(source.mesh, buildModel(), tissue); }
     /// The tool of that name, or nothing (the caller names the choices).
     std::optional<std::size_t> toolIndex(std::string_view name) const;
 };

@@ -143,6 +143,47 @@ Eigen::Quaterniond rotationFromDegrees(const Vec3& deg) {
            Eigen::AngleAxisd(r.x(), Vec3::UnitX());
 }
 
+/// One [[regions]] table.
+SceneRegion parseRegion(const toml::node& node, std::size_t index, const std::filesystem::path& directory) {
+    const std::string path = "regions[" + std::to_string(index) + "]";
+    const toml::table* t = node.as_table();
+    if (!t) throw SceneError{lineOf(node), path + ": expected a table"};
+    allowOnly(*t, path,
+              {"shape", "center_m", "radius_m", "size_m", "mesh", "stiffness_scale", "damping_scale", "hidden"});
+    SceneRegion r;
+    r.line = lineOf(*t);
+    const std::string shape = text(*t, path, "shape", t->contains("mesh") ? "mesh" : "", {"sphere", "box", "mesh"});
+    if (shape.empty()) throw SceneError{r.line, path + ": needs a shape (sphere, box) or a mesh"};
+    const auto need = [&](const char* key) {
+        if (!t->contains(key)) throw SceneError{r.line, path + ": a " + shape + " needs " + key};
+    };
+    const auto refuse = [&](const char* key) {
+        if (const toml::node* n = t->get(key))
+            throw SceneError{lineOf(*n), path + "." + key + ": a " + shape + " has none"};
+    };
+    if (shape == "sphere") {
+        r.shape = SceneRegion::Shape::Sphere;
+        need("center_m"), need("radius_m"), refuse("size_m"), refuse("mesh");
+        r.center_m = vector3(*t, path, "center_m", Vec3::Zero(), 100);
+        r.radius_m = number(*t, path, "radius_m", 0, 1e-6, 100);
+    } else if (shape == "box") {
+        r.shape = SceneRegion::Shape::Box;
+        need("center_m"), need("size_m"), refuse("radius_m"), refuse("mesh");
+        r.center_m = vector3(*t, path, "center_m", Vec3::Zero(), 100);
+        r.size_m = vector3(*t, path, "size_m", Vec3::Zero(), 100);
+        if ((r.size_m.array() <= 0).any())
+            throw SceneError{lineOf(*t->get("size_m")), path + ".size_m: expected three sizes above 0"};
+    } else {
+        r.shape = SceneRegion::Shape::Mesh;
+        need("mesh"), refuse("center_m"), refuse("radius_m"), refuse("size_m");
+        r.mesh = resolve(text(*t, path, "mesh", ""), directory);
+    }
+    r.stiffnessScale = number(*t, path, "stiffness_scale", 1, 0.01, 1000);
+    r.dampingScale = number(*t, path, "damping_scale", 1, 0.01, 1000);
+    r.hidden = boolean(*t, path, "hidden", false);
+    return r;
+}
+
 /// One [[devices]] table; the scene's tools are already read.
 SceneDevice parseDevice(const toml::node& node, std::size_t index, const SceneFile& s,
                         const std::filesystem::path& directory) {
@@ -265,7 +306,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
     }
     try {
         SceneFile s = defaultScene();
-        allowOnly(root, "", {"model", "material", "tools", "device", "devices", "simulation", "rendering"});
+        allowOnly(root, "", {"model", "material", "regions", "tools", "device", "devices", "simulation", "rendering"});
         if (const toml::table* m = subTable(root, "model")) {
             allowOnly(*m, "model",
                       {"source", "triangles", "translate_m", "rotate_deg", "scale", "center", "fit_size_m", "parts"});
@@ -342,6 +383,11 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
             s.workspace.offset_m = vector3(*d, "device", "workspace_offset_m", Vec3::Zero(), 100);
             s.workspace.rotation =
                 rotationFromDegrees(vector3(*d, "device", "workspace_rotate_deg", Vec3::Zero(), 3600));
+        }
+        if (const toml::node* regions = root.get("regions")) {
+            const toml::array* list = regions->as_array();
+            if (!list) throw SceneError{lineOf(*regions), "regions: expected a list of [[regions]] tables"};
+            for (std::size_t i = 0; i < list->size(); ++i) s.regions.push_back(parseRegion((*list)[i], i, directory));
         }
         if (const toml::node* devices = root.get("devices")) {
             const toml::array* list = devices->as_array();

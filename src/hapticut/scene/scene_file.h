@@ -24,6 +24,19 @@ struct SceneTool {
     double tipRadius_m = 0;  // its tip spreads its load over this radius (haptics/contact_footprint.h); 0: a point
 };
 
+/// Tissue with a material of its own (a lump, a tumour): a [[regions]] table, in the scene's coordinates.
+struct SceneRegion {
+    enum class Shape { Sphere, Box, Mesh } shape = Shape::Sphere;
+    Vec3 center_m = Vec3::Zero();  // sphere and box
+    double radius_m = 0;           // sphere
+    Vec3 size_m = Vec3::Zero();    // box: its extent along x, y and z, about center_m
+    std::string mesh;              // mesh: a closed surface file in metres, resolved against the scene's folder
+    double stiffnessScale = 1;     // its springs' and anchors' stiffness multiplied
+    double dampingScale = 1;
+    bool hidden = false;  // a lump a palpation exercise asks to find by touch
+    int line = 0;         // of its [[regions]] header, for errors about it
+};
+
 /// One hand's device: a [[devices]] table.
 struct SceneDevice {
     haptics::DeviceName device;  // as --device names it; a replay's file resolved against the scene's folder
@@ -57,6 +70,8 @@ struct SceneFile {
     double bulkModulus_Pa = 0;
     /// [material] strain_limit: Provot's limit on spring stretch (0.1: 10%); 0: off.
     double strainLimit = 0;
+    // [[regions]]: where one holds a point, the last that holds it
+    std::vector<SceneRegion> regions;
     // [[tools]]
     std::vector<SceneTool> tools;
     // [device]
