@@ -72,6 +72,34 @@ TEST(CuttingFeel, OnAFlatSheetTheBladeMeetsToughnessTimesDepthHoldsItWhenStopped
     for (double f : back) EXPECT_LT(f, 0.1 * expected) << "back in its own cut nothing resists along it";
 }
 
+TEST(CuttingFeel, ATougherRegionOfTheSheetTakesThatMuchMoreForceToCut) {
+    // The half of the sheet with x > 0 three times as tough (a scene's [[regions]] toughness_scale); the
+    // blade cuts 7 cm along x at 1.75 cm/s, 5 mm deep, across the border.
+    const mesh::SurfaceMesh sheet = mesh::procedural::makeGrid(20, 0.005);
+    const physics::MaterialField tougher = [](const Vec3& p) {
+        return physics::MaterialScale{1, 1, p.x() > 0 ? 3.0 : 1.0};
+    };
+    cutting::CutModel organ(sheet, physics::buildModel(sheet, physics::Material{}), tougher);
+    const double depth = 0.005, toughness = 100, y = 0.0013;
+    ReplayDevice device(path({{0.0, Vec3(-0.03, y, 0.01)},
+                              {0.3, Vec3(-0.03, y, -depth)},
+                              {0.5, Vec3(-0.03, y, -depth)},
+                              {4.5, Vec3(0.04, y, -depth)}}));
+    Hand hand{&device, 0.5};
+    hand.toughness_J_per_m2 = toughness;
+    auto made = HapticLoop::create(organ, std::span<const Hand>(&hand, 1), LoopConfig{.rampTime_s = 0.05});
+    ASSERT_TRUE(made) << made.error().message;
+    std::vector<double> soft, tough;
+    runSimulated(**made, 4500, [&](const StepOutput& s) {
+        const double blade_x = -0.03 + 0.07 * (s.t_s - 0.5) / 4.0;  // the crack tip trails it by force / k
+        if (blade_x > -0.02 && blade_x < -0.005) soft.push_back(-s.hand().force_N.x());
+        if (blade_x > 0.02 && blade_x < 0.035) tough.push_back(-s.hand().force_N.x());
+    });
+    EXPECT_GT((**made).cutter().stats().length_m, 0.05) << "the cut ran on through the tougher half";
+    EXPECT_NEAR(mean(soft), toughness * depth, 0.1 * toughness * depth);
+    EXPECT_NEAR(mean(tough), 3 * toughness * depth, 0.1 * 3 * toughness * depth);
+}
+
 /// A blade on the 10 cm sheet along a path of (time, position, the way its edge faces about +z in
 /// degrees from +x): what it cut and the largest force against its motion along x.
 struct SheetCut {

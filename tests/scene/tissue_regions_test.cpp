@@ -130,6 +130,7 @@ TEST_F(TissueRegions, AMeshRegionHoldsWhatIsInsideItsClosedSurface) {
     ASSERT_TRUE(scene) << scene.error().toString();
     ASSERT_TRUE(scene->tissue);
     EXPECT_EQ(scene->tissue(Vec3(0.01, 0, 0)).stiffness, 3.0);
+    EXPECT_EQ(scene->tissue(Vec3(0.01, 0, 0)).toughness, 1.0) << "only what the region sets";
     EXPECT_EQ(scene->tissue(Vec3(0.01, 0.004, 0)).stiffness, 3.0);
     EXPECT_EQ(scene->tissue(Vec3(0.01, 0.006, 0)).stiffness, 1.0);
     EXPECT_EQ(scene->tissue(Vec3(-0.01, 0, 0)).stiffness, 1.0);
@@ -151,8 +152,8 @@ TEST_F(TissueRegions, EveryMalformedKeyIsAnErrorAtItsLine) {
     expectError(parse("[[regions]]\nstiffness_scale = 2.0\n"), 1, "regions[0]: needs a shape (sphere, box) or a mesh");
     expectError(parse("[[regions]]\nshape = \"sphere\"\ncenter_m = [0, 0, 0]\n"), 1, "a sphere needs radius_m");
     expectError(parse("[[regions]]\nshape = \"sphere\"\nradius_m = 0.01\n"), 1, "a sphere needs center_m");
-    expectError(parse("[[regions]]\nshape = \"sphere\"\ncenter_m = [0, 0, 0]\nradius_m = 0.01\nsize_m = [1, 1, 1]\n"), 5,
-                "regions[0].size_m: a sphere has none");
+    expectError(parse("[[regions]]\nshape = \"sphere\"\ncenter_m = [0, 0, 0]\nradius_m = 0.01\nsize_m = [1, 1, 1]\n"),
+                5, "regions[0].size_m: a sphere has none");
     expectError(parse("[[regions]]\nshape = \"sphere\"\ncenter_m = [0, 0]\nradius_m = 0.01\n"), 3,
                 "regions[0].center_m: expected three numbers");
     expectError(parse("[[regions]]\nshape = \"sphere\"\ncenter_m = [0, 0, 0]\nradius_m = 0\n"), 4,
@@ -166,16 +167,21 @@ TEST_F(TissueRegions, EveryMalformedKeyIsAnErrorAtItsLine) {
                 "regions[0].stiffness_scale: 0 is out of range; allowed: 0.01 to 1000");
     expectError(parse("[[regions]]\nmesh = \"t.obj\"\ndamping_scale = \"high\"\n"), 3,
                 "regions[0].damping_scale: expected a number");
-    expectError(parse("[[regions]]\nmesh = \"t.obj\"\nhidden = \"yes\"\n"), 3, "regions[0].hidden: expected true or false");
+    expectError(parse("[[regions]]\nmesh = \"t.obj\"\nhidden = \"yes\"\n"), 3,
+                "regions[0].hidden: expected true or false");
+    expectError(parse("[[regions]]\nmesh = \"t.obj\"\ntoughness_scale = 2000\n"), 3,
+                "regions[0].toughness_scale: 2000 is out of range");
     expectError(parse("[[regions]]\nmesh = \"t.obj\"\nstifness_scale = 2\n"), 3, "regions[0].stifness_scale");
-    const auto two = parse("[[regions]]\nmesh = \"t.obj\"\n[[regions]]\nshape = \"box\"\ncenter_m = [0, 0, 0]\n"
-                           "size_m = [1, 2, 3]\nstiffness_scale = 4\n");
+    const auto two = parse(
+        "[[regions]]\nmesh = \"t.obj\"\n[[regions]]\nshape = \"box\"\ncenter_m = [0, 0, 0]\n"
+        "size_m = [1, 2, 3]\nstiffness_scale = 4\ntoughness_scale = 2.5\n");
     ASSERT_TRUE(two) << two.error().toString();
     ASSERT_EQ(two->regions.size(), 2u);
     EXPECT_EQ(two->regions[0].mesh, "/data/t.obj") << "relative to the scene's folder";
     EXPECT_EQ(two->regions[1].shape, SceneRegion::Shape::Box);
     EXPECT_EQ(two->regions[1].size_m, Vec3(1, 2, 3));
     EXPECT_EQ(two->regions[1].stiffnessScale, 4.0);
+    EXPECT_EQ(two->regions[1].toughnessScale, 2.5);
     EXPECT_EQ(two->regions[1].line, 3);
 }
 

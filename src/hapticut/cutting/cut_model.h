@@ -116,6 +116,9 @@ public:
     /// The vertex of `face` nearest to the rest point at `bary`, if it lies within `radius_m`.
     std::optional<std::uint32_t> snapVertex(std::uint32_t face, const Vec3& bary, double radius_m) const;
 
+    /// The tissue's scale at a point of the rest shape: its region's, or none.
+    physics::MaterialScale scaleAt(const Vec3& rest) const { return field_ ? field_(rest) : physics::MaterialScale{}; }
+
     /// For whoever holds views of model().nodes.position between edits (Python's no-copy array): when a
     /// cut outgrows the array, the old one is kept for takeRetiredPositions() instead of freed, so the
     /// views read stale numbers, never freed memory. Off by default.
@@ -136,8 +139,6 @@ private:
     void replaceFace(std::uint32_t face, const mesh::Face& corners, const mesh::FaceUvs& uvs);
     /// A new face; `wall`: a wound's wall.
     std::uint32_t appendFace(const mesh::Face& corners, const mesh::FaceUvs& uvs, bool wall, std::uint32_t part);
-    /// The material's scale at a rest point: the field's, or none.
-    physics::MaterialScale scaleAt(const Vec3& rest) const { return field_ ? field_(rest) : physics::MaterialScale{}; }
     /// A new spring's (or a shortened one's) stiffness and damping for its rest ends.
     void setSpringMaterial(std::uint32_t k, const Vec3& restA, const Vec3& restB, double length);
     /// The unit normal of the rest surface round v and its copies `others`, over the organ's own faces

@@ -342,6 +342,9 @@ std::optional<Vec3> HapticLoop::resistBlade(HandState& hand, std::size_t h, cons
     cutting::FractureParams fracture;
     fracture.toughness_J_per_m2 = hand.setup.toughness_J_per_m2.value_or(
         config_.toughness_J_per_m2.value_or(cutting::toughnessFromThreshold(hand.setup.cutThreshold_N)));
+    // A tougher or softer region at the crack's tip, where the cut opens next (the rest shape's field read
+    // at the deformed tip: the tissue there has moved by the stretch, millimetres).
+    fracture.toughness_J_per_m2 *= organ_.scaleAt(hand.crackTip_m).toughness;
     const double k = couplingStiffness_N_per_m(static_cast<int>(h));
     hand.crackNormal = normal;
     // The crack tip is held as a proxy along the surface: the blade ahead of it stretches the tissue

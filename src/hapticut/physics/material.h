@@ -35,10 +35,11 @@ MassSpringModel buildModel(const mesh::SurfaceMesh& mesh, const Material& materi
 MassSpringModel buildModel(const mesh::SurfaceMesh& mesh, const mesh::io::ThesisPhysics& physics);
 
 /// How a region of tissue differs from the organ's material (a scene's [[regions]]): the stiffness and
-/// damping of its springs and anchors multiplied.
+/// damping of its springs and anchors multiplied, and the fracture toughness a blade meets there.
 struct MaterialScale {
     double stiffness = 1;
     double damping = 1;
+    double toughness = 1;
 };
 
 /// The scale at a point of the rest shape (m); empty: the tissue is uniform.

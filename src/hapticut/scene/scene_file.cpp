@@ -149,7 +149,8 @@ SceneRegion parseRegion(const toml::node& node, std::size_t index, const std::fi
     const toml::table* t = node.as_table();
     if (!t) throw SceneError{lineOf(node), path + ": expected a table"};
     allowOnly(*t, path,
-              {"shape", "center_m", "radius_m", "size_m", "mesh", "stiffness_scale", "damping_scale", "hidden"});
+              {"shape", "center_m", "radius_m", "size_m", "mesh", "stiffness_scale", "damping_scale", "toughness_scale",
+               "hidden"});
     SceneRegion r;
     r.line = lineOf(*t);
     const std::string shape = text(*t, path, "shape", t->contains("mesh") ? "mesh" : "", {"sphere", "box", "mesh"});
@@ -180,6 +181,7 @@ SceneRegion parseRegion(const toml::node& node, std::size_t index, const std::fi
     }
     r.stiffnessScale = number(*t, path, "stiffness_scale", 1, 0.01, 1000);
     r.dampingScale = number(*t, path, "damping_scale", 1, 0.01, 1000);
+    r.toughnessScale = number(*t, path, "toughness_scale", 1, 0.01, 1000);
     r.hidden = boolean(*t, path, "hidden", false);
     return r;
 }

@@ -33,8 +33,9 @@ struct SceneRegion {
     std::string mesh;              // mesh: a closed surface file in metres, resolved against the scene's folder
     double stiffnessScale = 1;     // its springs' and anchors' stiffness multiplied
     double dampingScale = 1;
-    bool hidden = false;  // a lump a palpation exercise asks to find by touch
-    int line = 0;         // of its [[regions]] header, for errors about it
+    double toughnessScale = 1;  // the fracture toughness a blade meets there multiplied
+    bool hidden = false;        // a lump a palpation exercise asks to find by touch
+    int line = 0;               // of its [[regions]] header, for errors about it
 };
 
 /// One hand's device: a [[devices]] table.

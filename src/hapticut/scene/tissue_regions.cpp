@@ -29,8 +29,7 @@ struct PlacedRegion {
                 return (p - region.center_m).squaredNorm() <= region.radius_m * region.radius_m;
             case SceneRegion::Shape::Box:
                 return ((p - region.center_m).cwiseAbs().array() <= 0.5 * region.size_m.array()).all();
-            case SceneRegion::Shape::Mesh:
-                return collision::insideClosedSurface(surface->bvh, surface->view(), p);
+            case SceneRegion::Shape::Mesh: return collision::insideClosedSurface(surface->bvh, surface->view(), p);
         }
         return false;
     }
@@ -63,7 +62,9 @@ Result<physics::MaterialField, Error> materialField(const std::vector<SceneRegio
     }
     return physics::MaterialField([placed = std::move(placed)](const Vec3& p) {
         for (auto r = placed.rbegin(); r != placed.rend(); ++r)
-            if (r->holds(p)) return physics::MaterialScale{r->region.stiffnessScale, r->region.dampingScale};
+            if (r->holds(p))
+                return physics::MaterialScale{r->region.stiffnessScale, r->region.dampingScale,
+                                              r->region.toughnessScale};
         return physics::MaterialScale{};
     });
 }
