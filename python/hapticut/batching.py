@@ -182,12 +182,13 @@ class _Progress:
 
 class BatchResult:
     """What a batch did: `rows` (one dict a run, as in results.csv), how many `ran` now, were `skipped`
-    (done before) or `failed`, the wall time it took and where its files are."""
+    (done before) or `failed`, the wall time it took, the cluster it ran on (`where`) and where its
+    files are (`out`, `results`)."""
 
-    def __init__(self, out, rows, ran, skipped, elapsed_s, workers):
+    def __init__(self, out, rows, ran, skipped, elapsed_s, where):
         self.out, self.rows, self.ran, self.skipped = pathlib.Path(out), rows, ran, skipped
         self.failed = sum(1 for r in rows if r["status"] != "ok")
-        self.elapsed_s, self.workers = elapsed_s, workers
+        self.elapsed_s, self.where = elapsed_s, where
         self.results = self.out / RESULTS
 
     def __repr__(self):
@@ -238,12 +239,12 @@ def batch(spec, workers=None, scheduler=None, out=None, progress=True, client=No
         # cluster in each such process.
         raise RuntimeError("hapticut.batch was called while a new process was importing the script: "
                            "put the script's call under `if __name__ == \"__main__\":`")
+    if workers is not None and (int(workers) < 1 or scheduler or client):
+        raise ValueError("workers: a number of local worker processes, at least 1, and only for the local cluster")
     spec = pathlib.Path(spec)
     runs = plan(spec)
     out = pathlib.Path(out) if out is not None else pathlib.Path(f"{spec.stem}-batch")
     (out / "runs").mkdir(parents=True, exist_ok=True)
-    if workers is not None and (int(workers) < 1 or scheduler or client):
-        raise ValueError("workers: a number of local worker processes, at least 1, and only for the local cluster")
     todo = [r for r in runs if not _done(out, r)]
     with _workers_skip_main():
         return _batch(runs, todo, out, workers, scheduler, client, progress)
@@ -278,8 +279,7 @@ def _batch(runs, todo, out, workers, scheduler, client, progress):
             cluster.close()
     rows = [_row(r, out / "runs" / r["id"]) for r in runs]
     _write_results(out, runs, rows)
-    result = BatchResult(out, rows, len(todo), len(runs) - len(todo), time.monotonic() - started,
-                         where)
+    result = BatchResult(out, rows, len(todo), len(runs) - len(todo), time.monotonic() - started, where)
     if progress:
         print(f"hapticut batch: {len(runs)} runs: {result.ran} ran, {result.skipped} done before, {result.failed} "
               f"failed; {result.elapsed_s:.1f} s; {result.results}", file=sys.stderr, flush=True)

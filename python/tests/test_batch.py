@@ -78,7 +78,7 @@ def test_a_second_batch_of_the_same_spec_does_nothing(first_batch):
     results = (out / "results.csv").read_text()
     again = hapticut.batch(spec, workers=2, out=out, progress=False)
     assert (again.ran, again.skipped, again.failed) == (0, 24, 0)
-    assert again.workers == "no cluster (nothing to run)", "not even a cluster is started"
+    assert again.where == "no cluster (nothing to run)", "not even a cluster is started"
     assert {p.name: p.stat().st_mtime_ns for p in (out / "runs").iterdir()} == before
     assert (out / "results.csv").read_text() == results
 
