@@ -147,7 +147,14 @@ TEST(MultiRate, InRealTimeThePhysicsRunsOnItsOwnThreadAndKeepsUp) {
     const LoopStats& st = loop.stats();
     EXPECT_EQ(st.steps, 1000);
     EXPECT_GT(st.physicsSteps, 50);
-    EXPECT_GT(st.physicsTime_s, 0.7 * st.wallTime_s) << "the tissue keeps up with the wall clock";
+    // A sanitizer's build steps the 9,714 heart many times slower, with a test beside it: its physics
+    // steps outlast maxPhysicsStep_s and fall behind, as they should; the thread must still step on.
+#ifdef HAPTICUT_SANITIZED
+    constexpr double kLeastPhysicsShare = 0.1;
+#else
+    constexpr double kLeastPhysicsShare = 0.7;
+#endif
+    EXPECT_GT(st.physicsTime_s, kLeastPhysicsShare * st.wallTime_s) << "the tissue keeps up with the wall clock";
     EXPECT_LT(st.physicsTime_s, 1.05 * st.wallTime_s);
     EXPECT_GT(maxForce, 0.1) << "the press pushes back";
     EXPECT_GT(physics::maxDisplacement(organ.model()), 1e-4) << "the tissue moved on the haptic side's copy";

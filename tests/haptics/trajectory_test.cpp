@@ -77,10 +77,38 @@ TEST(Trajectory, ErrorsNameTheLineAndWhatWasExpected) {
     expectError("t,x,y,z,button\n0,0,0,0,0\n0.1,0,zero,0,0\n", 3, "expected a finite number for y, found 'zero'");
     expectError("t,x,y,z,button\n0,0,0,0,0\n0.1,0,0,0\n", 3, "expected 5 comma-separated values, found 4");
     expectError("t,x,y,z,button\n0,0,0,0,0\n0,0,0,0,0\n", 3, "time must increase");
-    expectError("t,x,y,z,button\n0,0,0,0,2\n0.1,0,0,0,0\n", 2, "button must be 0 or 1");
+    expectError("t,x,y,z,button\n0,0,0,0,4\n0.1,0,0,0,0\n", 2, "button must be 0 or 1, or 2 and 3 with the second");
+    expectError("t,x,y,z,button,tool\n0,0,0,0,0,1.5\n0.1,0,0,0,0,0\n", 2,
+                "tool must be the index of one of the scene's");
+    expectError("t,x,y,z,button,tool\n0,0,0,0,0,-1\n0.1,0,0,0,0,0\n", 2, "tool must be the index");
+    expectError("t,x,y,z,button,tool,fx\n", 1, "header column 8 should be 'fy'");
+    expectError("t,x,y,z,button,fx,fy,fz,tool\n", 1, "then by 'tool' and then by 'fx,fy,fz'");
+    expectError("t,x,y,z,button,qw,qx\n", 1, "expected the header");
     expectError("t,x,y,z,button\n0,0,0,nan,0\n", 2, "expected a finite number for z");
     expectError("t,x,y,z,button\n0,0,0,0,0\n", 2, "at least two samples");
     expectError("t,x,y,z,button,qw,qx,qy,qz\n0,0,0,0,0,0,0,0,0\n", 2, "zero length");
+}
+
+// A session's columns: the second button (a mark) and the tool in hand read back; a recording's forces
+// after them are skipped; written out, the tool column comes back.
+TEST(Trajectory, ASessionsMarksAndToolsReadBackAndWriteOut) {
+    const auto session = parseTrajectory(
+        "t,x,y,z,button,qw,qx,qy,qz,tool,fx,fy,fz\n0,0,0,0,1,1,0,0,0,0,0,0,0\n0.001,0,0,0,3,1,0,0,0,1,0.5,0,0\n",
+        "s.csv");
+    ASSERT_TRUE(session) << session.error().toString();
+    ASSERT_EQ(session->points.size(), 2u);
+    EXPECT_EQ(session->points[1].sample.buttons, 3u);
+    EXPECT_EQ(session->points[0].tool, 0);
+    EXPECT_EQ(session->points[1].tool, 1);
+    EXPECT_TRUE(session->points[1].sample.oriented);
+    const std::string text = formatTrajectory(*session);
+    EXPECT_EQ(text.substr(0, text.find('\n')), "t,x,y,z,button,qw,qx,qy,qz,tool");
+    const auto again = parseTrajectory(text, "again.csv");
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->points[1].tool, 1);
+    const auto plain = parseTrajectory("t,x,y,z,button\n0,0,0,0,2\n0.1,0,0,0,0\n", "p.csv");
+    ASSERT_TRUE(plain);
+    EXPECT_EQ(plain->points[0].tool, -1) << "no tool column: none recorded";
 }
 
 }  // namespace

@@ -80,9 +80,9 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     auto expectError = [](const std::string& text, int line, const std::string& fragment) {
         test::expectError(parseScene(text, "s.toml", "."), line, fragment);
     };
-    expectError(
-        "[modle]\n", 1,
-        "modle: unknown key; allowed here: device, devices, material, model, regions, rendering, simulation, tools");
+    expectError("[modle]\n", 1,
+                "modle: unknown key; allowed here: device, devices, exercise, material, model, regions, rendering, "
+                "simulation, tools");
     expectError("[model]\ntriangle = 5\n", 2,
                 "model.triangle: unknown key; allowed here: center, fit_size_m, parts, rotate_deg, scale, source, "
                 "translate_m, triangles");

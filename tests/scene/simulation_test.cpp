@@ -65,7 +65,10 @@ TEST(Simulation, TheMouseGoesThroughTheOrganWithTheButtonUpAndPressesWithItHeld)
     mouse.setPosition(front + Vec3(0, 0, 0.005), 0);
     runFor(simulation, 50ms);
     mouse.setPosition(front - Vec3(0, 0, 0.015), 1);
+    // The force ramps in over the loop's first half second of steps, which a loaded machine under a
+    // sanitizer takes longer to step: held until it is past the threshold, for up to 3 s.
     double pressed_N = runFor(simulation, 300ms);
+    for (int wait = 0; wait < 9 && pressed_N <= 2.0; ++wait) pressed_N = std::max(pressed_N, runFor(simulation, 300ms));
     for (int i = 1; i <= 30; ++i) {
         mouse.setPosition(front + Vec3(0.0005 * i, 0, -0.015), 1);
         pressed_N = std::max(pressed_N, runFor(simulation, 15ms));
@@ -98,7 +101,7 @@ TEST(Simulation, ARecordingHasEveryStepOfTheLoopTimedFromZeroThroughARestart) {
     std::ifstream in(file);
     std::string line;
     ASSERT_TRUE(std::getline(in, line));
-    EXPECT_EQ(line.rfind("t,x,y,z,button,fx,fy,fz", 0), 0u) << line;
+    EXPECT_EQ(line.rfind("t,x,y,z,button,tool,fx,fy,fz", 0), 0u) << line;
     std::vector<double> t;
     double maxForce_N = 0;
     while (std::getline(in, line)) {
@@ -109,9 +112,10 @@ TEST(Simulation, ARecordingHasEveryStepOfTheLoopTimedFromZeroThroughARestart) {
             v.push_back(std::stod(line.substr(at, comma - at)));
             at = comma + 1;
         }
-        ASSERT_GE(v.size(), 8u) << line;
+        ASSERT_EQ(v.size(), 9u) << line;
         t.push_back(v[0]);
-        maxForce_N = std::max(maxForce_N, std::hypot(v[5], v[6], v[7]));
+        EXPECT_EQ(v[5], 0) << "the first tool in hand";
+        maxForce_N = std::max(maxForce_N, std::hypot(v[6], v[7], v[8]));
     }
     // At least 40% of 500 ms of a 1 kHz loop even on a loaded machine: a display-rate recording has 30.
     ASSERT_GT(t.size(), 200u);

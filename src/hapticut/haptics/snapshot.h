@@ -24,6 +24,9 @@ struct HandStep {
     bool cutting = false;  // its blade presses into uncut tissue at the end of its cut: it feels the resistance
     std::uint32_t face = 0;
     std::uint32_t buttons = 0;
+    /// Which of the scene's tools the hand holds, when its owner says (scene::Simulation, for a session's
+    /// recording); the loop knows thresholds and tips, not tools, and leaves -1.
+    int tool = -1;
 };
 
 /// What the renderer reads: the deformed positions, the faces when a cut changed them, and the tool state.

@@ -12,12 +12,14 @@ StepLogLayout StepLogLayout::of(StepLogColumns columns, const StepOutput& first)
     layout.columns = columns;
     layout.twoHands = columns == StepLogColumns::ForceLog && first.handCount > 1;
     layout.oriented = columns == StepLogColumns::Recording && first.hand().oriented;
+    layout.tools = columns == StepLogColumns::Recording && first.hand().tool >= 0;
     return layout;
 }
 
 std::string StepLogLayout::header() const {
     if (columns == StepLogColumns::Recording)
-        return oriented ? "t,x,y,z,button,qw,qx,qy,qz,fx,fy,fz\n" : "t,x,y,z,button,fx,fy,fz\n";
+        return std::string(oriented ? "t,x,y,z,button,qw,qx,qy,qz" : "t,x,y,z,button") + (tools ? ",tool" : "") +
+               ",fx,fy,fz\n";
     std::string out = "t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut";
     out += twoHands ? ",device_x2,device_y2,device_z2,proxy_x2,proxy_y2,proxy_z2,fx2,fy2,fz2,contact2,face2\n" : "\n";
     return out;
@@ -39,10 +41,15 @@ void StepLogLayout::appendRow(std::string& out, const StepOutput& s) const {
     out += formatDouble(s.t_s);
     if (columns == StepLogColumns::Recording) {
         vec(s.hand().device_m);
-        out += (s.hand().buttons & 1u) ? ",1" : ",0";
+        out += ',';
+        out += static_cast<char>('0' + (s.hand().buttons & 3u));  // the main button and the second (a mark)
         if (oriented) {
             const Eigen::Quaterniond& q = s.hand().orientation;
             number(q.w()), number(q.x()), number(q.y()), number(q.z());
+        }
+        if (tools) {
+            out += ',';
+            out += std::to_string(std::max(s.hand().tool, 0));
         }
         vec(s.hand().force_N);
     } else {

@@ -22,15 +22,16 @@ enum class StepLogColumns {
     /// t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut (cut: 1 when the
     /// scalpel changed the mesh in that step); with two hands the second hand's columns follow, suffixed 2.
     ForceLog,
-    /// t,x,y,z,button[,qw,qx,qy,qz],fx,fy,fz: the first hand's device path, readable as a trajectory
-    /// (with the stylus's orientation when its device reports one), with the forces it felt.
+    /// t,x,y,z,button[,qw,qx,qy,qz][,tool],fx,fy,fz: the first hand's device path, readable as a
+    /// trajectory (with the stylus's orientation when its device reports one, and the tool in hand when
+    /// HandStep::tool says), with the forces it felt.
     Recording,
 };
 
 /// The CSV's columns, whose choice depends on the first step (how many hands, whether oriented).
 struct StepLogLayout {
     StepLogColumns columns = StepLogColumns::ForceLog;
-    bool twoHands = false, oriented = false;
+    bool twoHands = false, oriented = false, tools = false;
 
     static StepLogLayout of(StepLogColumns columns, const StepOutput& first);
     std::string header() const;

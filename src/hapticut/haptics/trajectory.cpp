@@ -1,6 +1,8 @@
 // Device trajectories as CSV.
 #include "hapticut/haptics/trajectory.h"
 
+#include <cmath>
+
 #include "hapticut/common/line_reader.h"
 
 namespace hapticut::haptics {
@@ -27,37 +29,50 @@ Result<Trajectory, Error> parseTrajectory(std::string_view text, const std::file
     try {
         LineReader r(text);
         if (!r.next()) throw ParseFailure{0, "file is empty, expected the header 't,x,y,z,button'"};
-        // t,x,y,z,button, optionally qw,qx,qy,qz, optionally fx,fy,fz (a recording: forces are ignored).
+        // t,x,y,z,button, then optionally qw,qx,qy,qz (the stylus's orientation), tool (a session's: which
+        // of the scene's tools the hand held) and fx,fy,fz (a recording's forces, which are ignored).
         const auto header = splitCsv(r.rawLine());
         static constexpr std::string_view kNames[] = {"t", "x", "y", "z", "button", "qw", "qx", "qy", "qz"};
         static constexpr std::string_view kForces[] = {"fx", "fy", "fz"};
-        const bool recorded = header.size() >= 8 && header[header.size() - 3] == "fx";
-        const std::size_t columns = header.size() - (recorded ? 3 : 0);
-        const bool hasOrientation = columns == 9;
-        if (columns != 5 && columns != 9)
-            r.fail("expected the header 't,x,y,z,button', optionally followed by 'qw,qx,qy,qz' and then by 'fx,fy,fz'");
-        for (std::size_t i = 0; i < columns; ++i)
+        const auto expected = [&] {
+            r.fail(
+                "expected the header 't,x,y,z,button', optionally followed by 'qw,qx,qy,qz', then by 'tool' "
+                "and then by 'fx,fy,fz'");
+        };
+        if (header.size() < 5) expected();
+        for (std::size_t i = 0; i < 5; ++i)
             if (header[i] != kNames[i])
                 r.fail("header column " + std::to_string(i + 1) + " should be '" + std::string(kNames[i]) +
                        "', found '" + std::string(header[i]) + "'");
-        for (std::size_t i = 0; recorded && i < 3; ++i)
-            if (header[columns + i] != kForces[i])
-                r.fail("header column " + std::to_string(columns + i + 1) + " should be '" + std::string(kForces[i]) +
-                       "'");
-
+        std::size_t next = 5;
+        const bool hasOrientation = header.size() >= 9 && header[5] == "qw";
+        for (std::size_t i = 5; hasOrientation && i < 9; ++i, ++next)
+            if (header[i] != kNames[i])
+                r.fail("header column " + std::to_string(i + 1) + " should be '" + std::string(kNames[i]) +
+                       "', found '" + std::string(header[i]) + "'");
+        const std::size_t toolColumn = next < header.size() && header[next] == "tool" ? next++ : 0;
+        const bool recorded = next < header.size() && header[next] == "fx";
+        for (std::size_t i = 0; recorded && i < 3; ++i, ++next)
+            if (next >= header.size() || header[next] != kForces[i])
+                r.fail("header column " + std::to_string(next + 1) + " should be '" + std::string(kForces[i]) + "'");
+        if (next != header.size()) expected();
         Trajectory out;
         while (r.next()) {
             const auto fields = splitCsv(r.rawLine());
             if (fields.size() != header.size())
                 r.fail("expected " + std::to_string(header.size()) + " comma-separated values, found " +
                        std::to_string(fields.size()));
-            double v[12];
+            double v[13];
             for (std::size_t i = 0; i < fields.size(); ++i)
                 if (!parseFiniteDouble(fields[i], v[i]))
-                    r.fail("expected a finite number for " +
-                           std::string(i < columns ? kNames[i] : kForces[i - columns]) + ", found '" +
+                    r.fail("expected a finite number for " + std::string(header[i]) + ", found '" +
                            std::string(fields[i]) + "'");
-            if (v[4] != 0 && v[4] != 1) r.fail("button must be 0 or 1, found '" + std::string(fields[4]) + "'");
+            if (v[4] != 0 && v[4] != 1 && v[4] != 2 && v[4] != 3)
+                r.fail("button must be 0 or 1, or 2 and 3 with the second button (a mark) held, found '" +
+                       std::string(fields[4]) + "'");
+            if (toolColumn && (v[toolColumn] < 0 || v[toolColumn] > 255 || v[toolColumn] != std::floor(v[toolColumn])))
+                r.fail("tool must be the index of one of the scene's tools (0, 1, ...), found '" +
+                       std::string(fields[toolColumn]) + "'");
             if (!out.points.empty() && v[0] <= out.points.back().t_s)
                 r.fail("time must increase: " + std::string(fields[0]) + " s follows " +
                        formatDouble(out.points.back().t_s) + " s");
@@ -71,6 +86,7 @@ Result<Trajectory, Error> parseTrajectory(std::string_view text, const std::file
                 p.sample.orientation = q.normalized();
                 p.sample.oriented = true;
             }
+            if (toolColumn) p.tool = static_cast<int>(v[toolColumn]);
             out.points.push_back(p);
         }
         if (out.points.size() < 2) throw ParseFailure{r.line(), "a trajectory needs at least two samples"};
@@ -90,7 +106,10 @@ std::string formatTrajectory(const Trajectory& trajectory) {
     // The orientation columns only for a device that reported one: read back, they turn a blade.
     const bool oriented = std::any_of(trajectory.points.begin(), trajectory.points.end(),
                                       [](const TrajectoryPoint& p) { return p.sample.oriented; });
-    std::string out = oriented ? "t,x,y,z,button,qw,qx,qy,qz\n" : "t,x,y,z,button\n";
+    const bool tools = std::any_of(trajectory.points.begin(), trajectory.points.end(),
+                                   [](const TrajectoryPoint& p) { return p.tool >= 0; });
+    std::string out =
+        std::string(oriented ? "t,x,y,z,button,qw,qx,qy,qz" : "t,x,y,z,button") + (tools ? ",tool\n" : "\n");
     for (const TrajectoryPoint& p : trajectory.points) {
         const Vec3& x = p.sample.position_m;
         const Eigen::Quaterniond& q = p.sample.orientation;
@@ -99,6 +118,7 @@ std::string formatTrajectory(const Trajectory& trajectory) {
         if (oriented)
             out += "," + formatDouble(q.w()) + "," + formatDouble(q.x()) + "," + formatDouble(q.y()) + "," +
                    formatDouble(q.z());
+        if (tools) out += "," + std::to_string(std::max(p.tool, 0));
         out += "\n";
     }
     return out;

@@ -1,5 +1,6 @@
-// Device trajectories: CSV with header `t,x,y,z,button` (s, scene m, 0/1), optionally `qw,qx,qy,qz`,
-// and recordings of haptic runs, which append `fx,fy,fz` (N).
+// Device trajectories: CSV with header `t,x,y,z,button` (s, scene m, buttons: 1 the main one, 2 the
+// second, 3 both), optionally `qw,qx,qy,qz`, then `tool` (a session: the index of the scene's tool in
+// hand), and recordings of haptic runs, which append `fx,fy,fz` (N).
 #pragma once
 
 #include <filesystem>
@@ -17,6 +18,7 @@ namespace hapticut::haptics {
 struct TrajectoryPoint {
     double t_s = 0;
     DeviceSample sample;  // position, buttons, orientation (velocity unused)
+    int tool = -1;        // a session's: which of the scene's tools the hand held; -1: not recorded
 };
 
 struct Trajectory {

@@ -36,6 +36,8 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     const long steps = config.steps;
     if (steps < 0 && !(config.realtime && config.stopRequested))
         return unexpected(Error{{}, 0, "an open-ended haptic run needs real time and a way to stop"});
+    if (config.realtime && config.afterStep)
+        return unexpected(Error{{}, 0, "a real-time haptic run takes no afterStep: it would run in the loop's period"});
     const double mass_kg = physics::totalMass(organ.model());
     // What the organ breaks before anything cuts it is the model's own (an unrepaired import), not a
     // cut's: the report tells the two apart.
@@ -111,6 +113,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
         springCursor = springEnd == model.springs.size() ? 0 : springEnd;
         // Over the nodes the step moved, so that a measurement on a large organ costs the region, not the organ.
         r.maxDisplacement_m = std::max(r.maxDisplacement_m, physics::maxDisplacement(model, loop.movedNodes()));
+        if (config.afterStep) config.afterStep(s, loop);
     };
     if (config.realtime) {
         haptics::RealTimeScheduler clock(loop);

@@ -34,6 +34,10 @@ struct HapticRunConfig {
     /// Every step goes here as it happens (the force log, the recording), if set: a run of any length
     /// keeps nothing per step in memory.
     haptics::StepLogWriter* stepLog = nullptr;
+    /// Called after every step on the stepping thread, with the loop, for what watches a run closely
+    /// (an exercise's assessment reads the cutter and switches tools through the loop's commands).
+    /// Simulated time only: a real-time run refuses it.
+    std::function<void(const haptics::StepOutput&, haptics::HapticLoop&)> afterStep;
     /// The first this many steps are also kept in HapticRunResult::keptSteps (tests, short runs).
     long keepSteps = 0;
 };

@@ -1,6 +1,10 @@
 // The shipped sample trajectories: a press, a probe's stroke and a scalpel's cut across the front of an organ.
 #include "hapticut/scene/sample_trajectories.h"
 
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
 namespace hapticut::scene {
 
 namespace {
@@ -43,6 +47,56 @@ haptics::Trajectory strokeTrajectory(const mesh::SurfaceMesh& organ, const colli
     }
     t.points.push_back(at(2.2, Vec3(x1, y, frontSurfaceZ(organ, bvh, x1, y) + 0.03)));
     t.points.push_back(at(2.8, Vec3(x1, y, frontSurfaceZ(organ, bvh, x1, y) + 0.03)));
+    return t;
+}
+
+Vec3 frontPoint(const mesh::SurfaceMesh& organ, const collision::Bvh& bvh, double x, double y) {
+    return Vec3(x, y, frontSurfaceZ(organ, bvh, x, y));
+}
+
+Vec3 frontNormal(const mesh::SurfaceMesh& organ, const collision::Bvh& bvh, double x, double y) {
+    constexpr double d = 0.003;
+    const Vec3 alongX = frontPoint(organ, bvh, x + d, y) - frontPoint(organ, bvh, x - d, y);
+    const Vec3 alongY = frontPoint(organ, bvh, x, y + d) - frontPoint(organ, bvh, x, y - d);
+    return alongX.cross(alongY).normalized();
+}
+
+haptics::Trajectory incisionStroke(const mesh::SurfaceMesh& organ, const collision::Bvh& bvh, double y, double x0,
+                                   double x1, double depth_m) {
+    const auto surface = [&](double x, double offset_m) -> Vec3 {
+        return frontPoint(organ, bvh, x, y) + offset_m * frontNormal(organ, bvh, x, y);
+    };
+    haptics::Trajectory t;
+    t.points.push_back(at(0.0, surface(x0, 0.03)));
+    t.points.push_back(at(0.6, surface(x0, 0.003), 1));
+    const int samples = std::max(1, static_cast<int>(std::lround(std::abs(x1 - x0) / 0.001)));  // a sample a millimetre
+    const double end_s = 0.9 + std::abs(x1 - x0) / 0.03;
+    for (int i = 0; i <= samples; ++i) {
+        const double u = static_cast<double>(i) / samples;
+        t.points.push_back(at(0.9 + u * (end_s - 0.9), surface(x0 + u * (x1 - x0), -depth_m), 1));
+    }
+    t.points.push_back(at(end_s + 0.3, surface(x1, 0.03)));
+    return t;
+}
+
+haptics::Trajectory palpationSession(const mesh::SurfaceMesh& organ, const collision::Bvh& bvh,
+                                     const std::vector<Vec2>& presses, int mark) {
+    haptics::Trajectory t;
+    double start = 0;
+    for (std::size_t i = 0; i < presses.size(); ++i) {
+        const Vec3 p = frontPoint(organ, bvh, presses[i].x(), presses[i].y());
+        const Vec3 n = frontNormal(organ, bvh, presses[i].x(), presses[i].y());
+        const bool marked = static_cast<int>(i) == mark;
+        for (const auto& [time, offset, buttons] : {std::tuple{0.0, 0.02, 0u},
+                                                    {0.3, 0.004, 1u},
+                                                    {0.6, -0.005, 1u},
+                                                    {0.75, -0.005, marked ? 3u : 1u},
+                                                    {0.85, -0.005, 1u},
+                                                    {1.0, 0.004, 1u}})
+            t.points.push_back(at(start + time, p + offset * n, buttons));
+        start += 1.2;
+    }
+    t.points.push_back(at(start, t.points.back().sample.position_m + 0.02 * Vec3::UnitZ()));
     return t;
 }
 

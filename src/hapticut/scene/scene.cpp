@@ -4,6 +4,7 @@
 #include "hapticut/mesh/io/thesis_format.h"
 #include "hapticut/mesh/procedural/tools.h"
 #include "hapticut/physics/material.h"
+#include "hapticut/scene/assessment.h"
 #include "hapticut/scene/model_size.h"
 #include "hapticut/scene/tissue_regions.h"
 
@@ -103,6 +104,7 @@ Result<Scene, Error> assembleScene(std::filesystem::path file, SceneFile setting
     auto tissue = materialField(scene.settings.regions, scene.file);
     if (!tissue) return unexpected(tissue.error());
     scene.tissue = std::move(*tissue);
+    if (auto off = checkExercisePlacement(scene, kExercisePointTolerance_m)) return unexpected(std::move(*off));
     if (auto unusual = sizeWarning(scene.source.mesh.positions, scene.source.name))
         scene.source.warnings.push_back(std::move(*unusual));
     if (auto away = offCentreWarning(scene.source.mesh.positions, scene.source.name))

@@ -186,6 +186,70 @@ SceneRegion parseRegion(const toml::node& node, std::size_t index, const std::fi
     return r;
 }
 
+/// The [exercise] table; the scene's regions and tools are already read.
+SceneExercise parseExercise(const toml::table& t, const SceneFile& s) {
+    const std::string path = "exercise";
+    allowOnly(
+        t, path,
+        {"kind", "instructions", "time_limit_s", "tool", "path_m", "corridor_m", "depth_m", "radius_m", "max_force_N"});
+    SceneExercise e;
+    e.line = lineOf(t);
+    const std::string kind = text(t, path, "kind", "", {"incision", "palpation"});
+    if (kind.empty()) throw SceneError{e.line, "exercise.kind: every exercise needs one: incision or palpation"};
+    e.kind = kind == "incision" ? SceneExercise::Kind::Incision : SceneExercise::Kind::Palpation;
+    const auto refuse = [&](const char* key) {
+        if (const toml::node* n = t.get(key))
+            throw SceneError{lineOf(*n),
+                             path + "." + key + ": " + (kind == "incision" ? "an " : "a ") + kind + " has none"};
+    };
+    e.instructions = text(t, path, "instructions", "");
+    e.timeLimit_s = number(t, path, "time_limit_s", 0, 0, 24 * 3600);
+    e.tool = text(t, path, "tool", "");
+    if (!e.tool.empty()) {
+        std::set<std::string> names;
+        for (const SceneTool& tool : s.tools) names.insert(tool.name);
+        if (!names.count(e.tool))
+            throw SceneError{lineOf(*t.get("tool")),
+                             path + ".tool: '" + e.tool + "' is not one of the scene's tools: " + join(names)};
+    }
+    e.maxForce_N = number(t, path, "max_force_N", e.maxForce_N, 0.01, 50);
+    if (e.kind == SceneExercise::Kind::Incision) {
+        refuse("radius_m");
+        const toml::node* points = t.get("path_m");
+        if (!points) throw SceneError{e.line, "exercise.path_m: an incision needs its target line's points"};
+        const toml::array* list = points->as_array();
+        if (!list || list->size() < 2)
+            throw SceneError{lineOf(*points), "exercise.path_m: expected two or more points [[x, y, z], ...]"};
+        for (std::size_t i = 0; i < list->size(); ++i) {
+            const std::string at = "exercise.path_m[" + std::to_string(i) + "]";
+            const toml::array* p = (*list)[i].as_array();
+            Vec3 v;
+            for (Eigen::Index k = 0; p && p->size() == 3 && k < 3; ++k) {
+                const auto x = (*p)[static_cast<std::size_t>(k)].value<double>();
+                if (!x || !std::isfinite(*x) || std::abs(*x) > 100)
+                    p = nullptr;
+                else
+                    v[k] = *x;
+            }
+            if (!p || p->size() != 3)
+                throw SceneError{lineOf((*list)[i]), at + ": expected three finite numbers [x, y, z] within ±100"};
+            if (!e.path_m.empty() && (v - e.path_m.back()).norm() < 1e-6)
+                throw SceneError{lineOf((*list)[i]), at + ": the same point as the one before it"};
+            e.path_m.push_back(v);
+            e.pathLines.push_back(lineOf((*list)[i]));
+        }
+        e.corridor_m = number(t, path, "corridor_m", e.corridor_m, 1e-5, 0.1);
+        e.depth_m = number(t, path, "depth_m", e.depth_m, 1e-4, 0.1);
+    } else {
+        refuse("path_m"), refuse("corridor_m"), refuse("depth_m");
+        e.radius_m = number(t, path, "radius_m", e.radius_m, 1e-4, 0.1);
+        if (std::none_of(s.regions.begin(), s.regions.end(), [](const SceneRegion& r) { return r.hidden; }))
+            throw SceneError{e.line,
+                             "exercise: a palpation needs a lump to find: a [[regions]] table with hidden = true"};
+    }
+    return e;
+}
+
 /// One [[devices]] table; the scene's tools are already read.
 SceneDevice parseDevice(const toml::node& node, std::size_t index, const SceneFile& s,
                         const std::filesystem::path& directory) {
@@ -308,7 +372,9 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
     }
     try {
         SceneFile s = defaultScene();
-        allowOnly(root, "", {"model", "material", "regions", "tools", "device", "devices", "simulation", "rendering"});
+        allowOnly(
+            root, "",
+            {"model", "material", "regions", "tools", "device", "devices", "simulation", "rendering", "exercise"});
         if (const toml::table* m = subTable(root, "model")) {
             allowOnly(*m, "model",
                       {"source", "triangles", "translate_m", "rotate_deg", "scale", "center", "fit_size_m", "parts"});
@@ -421,6 +487,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
             s.rate_hz = number(*m, "simulation", "rate_hz", s.rate_hz, 100, 10'000);
             s.activeRegion = boolean(*m, "simulation", "active_region", s.activeRegion);
         }
+        if (const toml::table* e = subTable(root, "exercise")) s.exercise = parseExercise(*e, s);
         if (const toml::table* r = subTable(root, "rendering")) {
             allowOnly(*r, "rendering", {"stereo", "wireframe"});
             s.stereo = text(*r, "rendering", "stereo", s.stereo, {"off", "quad", "anaglyph", "side-by-side"});

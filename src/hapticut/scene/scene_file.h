@@ -38,6 +38,25 @@ struct SceneRegion {
     int line = 0;               // of its [[regions]] header, for errors about it
 };
 
+/// A training exercise: the scene's [exercise] table, in the scene's coordinates (scene/assessment
+/// scores a session of it).
+struct SceneExercise {
+    enum class Kind { Incision, Palpation } kind = Kind::Incision;
+    std::string instructions;  // shown in the viewer
+    double timeLimit_s = 0;    // 0: none; a session is scored on what it did within the limit
+    std::string tool;          // the tool it is done with, a [[tools]] name; empty: the scalpel or the probe
+    // Incision: the target line runs through these points of the rest surface, along the surface.
+    std::vector<Vec3> path_m;
+    std::vector<int> pathLines;  // each point's line, for errors about it
+    double corridor_m = 0.003;   // half the width a cut may stray from the target
+    double depth_m = 0.005;      // how deep the blade should go
+    // Palpation: how close a mark must be to the surface point above a hidden region.
+    double radius_m = 0.01;
+    /// The most force the tissue should feel; above it the force's part of the score shrinks.
+    double maxForce_N = 4;
+    int line = 0;  // of the [exercise] header
+};
+
 /// One hand's device: a [[devices]] table.
 struct SceneDevice {
     haptics::DeviceName device;  // as --device names it; a replay's file resolved against the scene's folder
@@ -75,6 +94,8 @@ struct SceneFile {
     std::vector<SceneRegion> regions;
     // [[tools]]
     std::vector<SceneTool> tools;
+    // [exercise]
+    std::optional<SceneExercise> exercise;
     // [device]
     std::string deviceBackend = "virtual";  // virtual or replay
     std::string trajectory;                 // replay: a trajectory CSV, resolved against the scene's folder

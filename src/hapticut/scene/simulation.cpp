@@ -101,6 +101,7 @@ void Simulation::observeStep(const haptics::StepOutput& step) noexcept {
         haptics::StepOutput row = step;  // on the stack: nothing allocates here
         row.hands[0] = step.hands[static_cast<std::size_t>(
             std::min(recordingHand_.load(std::memory_order_relaxed), step.handCount - 1))];
+        row.hands[0].tool = recordedTool_.load(std::memory_order_relaxed);
         row.handCount = 1;
         row.t_s = step.t_s + recordingOffset_s_;
         lastRecorded_s_ = row.t_s;
@@ -118,6 +119,7 @@ Status Simulation::startRecording(const std::string& file) {
     recorder_ = std::move(*recorder);
     recordingFile_ = file;
     recordingHand_.store(activeHand_, std::memory_order_relaxed);
+    recordedTool_.store(static_cast<int>(tool_[static_cast<std::size_t>(activeHand_)]), std::memory_order_relaxed);
     recordingClock_.store(kStartClock, std::memory_order_release);
     recording_.store(recorder_.get(), std::memory_order_release);
     return std::nullopt;
@@ -205,6 +207,8 @@ void Simulation::restartLoop() {
 void Simulation::setTool(std::size_t index) {
     if (index >= scene_.tools.size()) return;
     tool_[static_cast<std::size_t>(activeHand_)] = index;
+    if (recorder_ && activeHand_ == recordingHand_.load(std::memory_order_relaxed))
+        recordedTool_.store(static_cast<int>(index), std::memory_order_relaxed);
     setCutThreshold(scene_.tools[index].threshold_N);
     loop_->commands().push({haptics::LoopCommand::Kind::SetTipRadius, scene_.tools[index].tipRadius_m, activeHand_});
 }

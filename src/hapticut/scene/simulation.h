@@ -77,8 +77,9 @@ public:
     WriteStatus exportMesh(const std::string& file, const haptics::Snapshot& snapshot) const;
 
     /// Records the active hand's device path at the loop's rate: every step, handed off the loop's
-    /// thread through a lock-free ring (haptics::StepLogWriter), as `t,x,y,z,button,fx,fy,fz` with times
-    /// from 0 and the force the hand was sent; it replays as a trajectory. It goes on through loop
+    /// thread through a lock-free ring (haptics::StepLogWriter), as `t,x,y,z,button,tool,fx,fy,fz` with
+    /// times from 0, the tool in hand and the force the hand was sent: a session, which replays as a
+    /// trajectory and which `hapticut assess` scores. It goes on through loop
     /// restarts, its times continuing. An error when the file cannot be written.
     Status startRecording(const std::string& file);
     /// Ends the recording and completes its file (until then it is a temporary file beside it); the
@@ -131,6 +132,7 @@ private:
     std::string recordingFile_;
     std::atomic<haptics::StepLogWriter*> recording_{nullptr};
     std::atomic<int> recordingHand_{0};
+    std::atomic<int> recordedTool_{0};    // the recorded hand's tool: a session's tool column
     std::atomic<int> recordingClock_{0};  // what the next observed step sets the clock by (observeStep)
     std::atomic<long> observedSteps_{0};
     double recordingOffset_s_ = 0, lastRecorded_s_ = 0;  // the loop's thread's
