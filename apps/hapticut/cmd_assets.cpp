@@ -21,6 +21,9 @@ namespace hapticut::app {
 
 namespace {
 
+/// The exercises' heart: fine enough that a cut follows the blade to a fraction of a millimetre.
+constexpr int kExerciseHeartTriangles = 4000;
+
 constexpr std::size_t kLiverTriangles = 8000, kKidneyTriangles = 4000;
 const Vec2 kLiverCut(-0.04, 0.0);       // across the front of the right lobe
 const Vec2 kKidneyPress(-0.005, 0.01);  // the middle of its front
@@ -53,9 +56,17 @@ int assets(const std::filesystem::path& out) {
     fs::create_directories(out / "models", ec);
     fs::create_directories(out / "tools", ec);
     fs::create_directories(out / "trajectories", ec);
+    fs::create_directories(out / "sessions", ec);
     const mesh::SurfaceMesh heart = mesh::procedural::makeHeart({});
     collision::Bvh bvh;
     bvh.build({heart.positions, heart.faces});
+    // The exercises' heart (assets/scenes/incision-front.toml, palpation-lump.toml) and sample sessions
+    // of them: an incision along the line, one 4 mm beside it, and a palpation that finds the lump at
+    // the third press.
+    const mesh::SurfaceMesh exerciseHeart = mesh::procedural::makeHeart({kExerciseHeartTriangles});
+    collision::Bvh exerciseBvh;
+    exerciseBvh.build({exerciseHeart.positions, exerciseHeart.faces});
+    const auto session = [&](const haptics::Trajectory& t) { return haptics::formatTrajectory(t); };
     // The liver and the kidney are segmented from implicit shapes and made ready as a user's would be.
     mesh::SurfaceMesh liver, kidney;
     const WriteStatus liverWritten =
@@ -92,6 +103,19 @@ int assets(const std::filesystem::path& out) {
         {out / "trajectories/press-kidney.csv",
          writeTextFileAtomically(out / "trajectories/press-kidney.csv",
                                  haptics::formatTrajectory(scene::pressTrajectory(kidney, kidneyBvh, kKidneyPress)))},
+        {out / "sessions/incision-front.csv",
+         writeTextFileAtomically(
+             out / "sessions/incision-front.csv",
+             session(scene::incisionStroke(exerciseHeart, exerciseBvh, -0.01, -0.015, 0.015, 0.01)))},
+        {out / "sessions/incision-front-aside.csv",
+         writeTextFileAtomically(
+             out / "sessions/incision-front-aside.csv",
+             session(scene::incisionStroke(exerciseHeart, exerciseBvh, -0.014, -0.015, 0.015, 0.01)))},
+        {out / "sessions/palpation-lump.csv",
+         writeTextFileAtomically(
+             out / "sessions/palpation-lump.csv",
+             session(scene::palpationSession(exerciseHeart, exerciseBvh,
+                                             {Vec2(-0.012, -0.015), Vec2(0.025, -0.035), Vec2(0.017, -0.023)}, 2)))},
     };
     int status = 0;
     for (const auto& w : written) {
@@ -111,7 +135,8 @@ Command addAssetsCommand(CLI::App& app) {
     auto out = std::make_shared<std::string>("assets");
     CLI::App* cmd = app.add_subcommand(
         "assets",
-        "Regenerate the shipped heart (1,619 triangles), liver, kidney, scalpel, probe and sample trajectories");
+        "Regenerate the shipped heart (1,619 triangles), liver, kidney, scalpel, probe, sample trajectories and the "
+        "exercises' sample sessions");
     cmd->add_option("--out", *out, "Directory to write models/ and tools/ into")->capture_default_str();
     return [out] { return assets(*out); };
 }

@@ -1,6 +1,8 @@
 // `hapticut batch` and `hapticut plot`: the front doors to the package's Python (hapticut.cli, which
 // runs hapticut.batching and hapticut.plotting), which has Dask and matplotlib. The arguments go through as given; the
 // Python side checks them and answers --help.
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
@@ -36,10 +38,11 @@ std::optional<fs::path> packageFolder() {
 }
 #endif
 
-/// Replaces this process with `python -m hapticut.cli command args`; returns only on failure, with its exit code.
-int runPython(const std::string& command, const std::vector<std::string>& args) {
+}  // namespace
+
+int runPythonCommand(const std::string& command, const std::vector<std::string>& args, PythonProcess how) {
 #ifndef HAPTICUT_PYTHON_EXECUTABLE
-    (void)args;
+    (void)args, (void)how;
     std::cerr << "hapticut " << command
               << ": runs in Python, and this build has no Python module (scripts/install-deps installs python3-dev, "
                  "pybind11-dev and python3-numpy; then build again)\n";
@@ -62,11 +65,23 @@ int runPython(const std::string& command, const std::vector<std::string>& args) 
     for (std::string& w : words) argv.push_back(w.data());
     argv.push_back(nullptr);
     std::cout.flush();
-    ::execv(python, argv.data());
-    std::cerr << "hapticut " << command << ": could not start " << python << ": " << std::strerror(errno) << "\n";
-    return 1;
+    if (how == PythonProcess::Replace) {
+        ::execv(python, argv.data());
+        std::cerr << "hapticut " << command << ": could not start " << python << ": " << std::strerror(errno) << "\n";
+        return 1;
+    }
+    pid_t child = 0;
+    if (const int error = ::posix_spawn(&child, python, nullptr, nullptr, argv.data(), environ)) {
+        std::cerr << "hapticut " << command << ": could not start " << python << ": " << std::strerror(error) << "\n";
+        return 1;
+    }
+    int status = 0;
+    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 #endif
 }
+
+namespace {
 
 /// A subcommand whose every argument, --help included, is the Python module's.
 Command addPythonCommand(CLI::App& app, const std::string& name, const std::string& description) {
@@ -74,7 +89,7 @@ Command addPythonCommand(CLI::App& app, const std::string& name, const std::stri
     sub->set_help_flag();
     sub->allow_extras();
     sub->prefix_command();
-    return [sub, name] { return runPython(name, sub->remaining()); };
+    return [sub, name] { return runPythonCommand(name, sub->remaining(), PythonProcess::Replace); };
 }
 
 }  // namespace

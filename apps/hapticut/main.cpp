@@ -1,5 +1,5 @@
 // hapticut: one executable with git-style subcommands (view, screenshot, run, info, convert, bench, assets, soak,
-// devices, batch, plot).
+// devices, batch, plot, assess).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -95,7 +95,8 @@ int main(int argc, char** argv) {
 #endif
              hapticut::app::addRunCommand, hapticut::app::addInfoCommand, hapticut::app::addConvertCommand,
              hapticut::app::addBenchCommand, hapticut::app::addAssetsCommand, hapticut::app::addSoakCommand,
-             hapticut::app::addDevicesCommand, hapticut::app::addBatchCommand, hapticut::app::addPlotCommand}) {
+             hapticut::app::addDevicesCommand, hapticut::app::addBatchCommand, hapticut::app::addPlotCommand,
+             hapticut::app::addAssessCommand}) {
         Command run = add(app);
         commands.emplace_back(app.get_subcommands({}).back(), std::move(run));
     }

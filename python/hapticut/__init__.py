@@ -31,7 +31,7 @@ Model = _hapticut.Model
 _UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
 __all__ = ["BatchResult", "HapticutError", "Model", "RunResult", "Simulation", "batch", "info", "load_mesh",
-           "plot_batch", "plot_force_log", "run", "__version__"]
+           "plot_assessment", "plot_batch", "plot_force_log", "run", "__version__"]
 
 
 def _scale(units, scale):
@@ -141,4 +141,4 @@ def _step_log_array(text):
 
 
 from .batching import BatchResult, batch  # noqa: E402  (it uses run's C++ half, loaded above)
-from .plotting import plot_batch, plot_force_log  # noqa: E402  (matplotlib is imported when a plot is made)
+from .plotting import plot_assessment, plot_batch, plot_force_log  # noqa: E402  (matplotlib is imported when a plot is made)

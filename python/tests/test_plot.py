@@ -1,5 +1,6 @@
 """hapticut plot: PNGs are written, show what they claim (the contact shading, the cut marks, a panel per
-swept parameter), and a file that is not a force log or a batch's results is a clear error."""
+swept parameter, an assessment's target and cut), and a file that is not a force log or a batch's results
+is a clear error."""
 
 import subprocess
 
@@ -75,3 +76,24 @@ def test_what_is_not_a_force_log_is_a_clear_error(tmp_path, cli):
     assert "table.csv: not a force log (expected a header with t, fx" in done.stderr
     done = subprocess.run([cli, "plot", str(tmp_path / "missing.json")], capture_output=True, text=True)
     assert done.returncode == 1 and "no force log" in done.stderr
+
+
+TARGET = (0xF0, 0xC0, 0x00)  # the dashed target line
+CUT_LINE = (0x10, 0x60, 0xD0)  # the cut, and a lump's circle
+
+
+def test_assess_draws_the_organ_with_the_target_and_the_cut(tmp_path, assets, cli):
+    png = tmp_path / "incision.png"
+    done = subprocess.run([cli, "assess", "--scene", str(assets / "scenes" / "incision-front.toml"), "--session",
+                           str(assets / "sessions" / "incision-front.csv"), "--png", str(png)],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "incision.json").is_file(), "the report goes beside the picture"
+    rgb = pixels(png)
+    assert not_blank(rgb)
+    assert share_of(rgb, CUT_LINE) > 0.0001, "the cut is drawn"
+    assert share_of(rgb, TARGET) > 0.0001, "the target is drawn"
+    tissue = np.mean((rgb[..., 0] > 120) & (rgb[..., 0] > rgb[..., 1] + 40))
+    assert tissue > 0.1, "the organ is drawn"
+    again = hapticut.plot_assessment(tmp_path / "incision.json", tmp_path / "again.png")
+    assert not_blank(pixels(again))

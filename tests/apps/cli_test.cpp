@@ -221,7 +221,8 @@ TEST_F(Cli, ShippedAssetsAreWhatTheCodeGenerates) {
     for (const char* file :
          {"models/heart.txt", "models/liver.obj", "models/kidney.obj", "tools/scalpel.txt", "tools/probe.txt",
           "trajectories/press-front.csv", "trajectories/stroke-front.csv", "trajectories/cut-front.csv",
-          "trajectories/cut-liver.csv", "trajectories/press-kidney.csv"})
+          "trajectories/cut-liver.csv", "trajectories/press-kidney.csv", "sessions/incision-front.csv",
+          "sessions/incision-front-aside.csv", "sessions/palpation-lump.csv"})
         EXPECT_TRUE(slurp(fs::path(HAPTICUT_SOURCE_DIR) / "assets" / file) == slurp(dir_ / file))
             << file << " is stale: run 'hapticut assets' and commit the result";
     const auto heart =
@@ -699,6 +700,61 @@ TEST_F(Cli, ExportsTheDeformedMesh) {
 }  // namespace
 
 namespace {
+
+// The shipped exercises with their sample sessions: an incision along the line and one beside it, and a
+// palpation that finds the lump; the same report twice; and what cannot be assessed, said clearly.
+TEST_F(Cli, AssessScoresTheShippedExercisesSampleSessions) {
+    const std::string assets = std::string(HAPTICUT_SOURCE_DIR) + "/assets/";
+    const auto assess = [&](const std::string& scene, const std::string& session, const std::string& report) {
+        return run("assess --scene " + assets + "scenes/" + scene + " --session " + assets + "sessions/" + session +
+                   " --report " + path(report));
+    };
+    const CliResult along = assess("incision-front.toml", "incision-front.csv", "along.json");
+    ASSERT_EQ(along.exitCode, 0) << along.err;
+    EXPECT_NE(along.out.find("incision: score"), std::string::npos) << along.out;
+    const auto j = nlohmann::json::parse(slurp(path("along.json")));
+    for (const char* key :
+         {"score", "parts", "deviation_rms_mm", "deviation_max_mm", "coverage_pct", "outside_corridor_mm",
+          "max_force_N", "mean_force_N", "duration_s", "strokes", "figure", "exercise"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_LT(j["deviation_rms_mm"].get<double>(), 1.0);
+    EXPECT_GT(j["coverage_pct"].get<double>(), 90);
+    EXPECT_GT(j["score"].get<double>(), 85);
+    EXPECT_EQ(j["parts"].size(), 5u);
+    EXPECT_EQ(j["exercise"]["corridor_mm"], 3.0) << "the thresholds the parts are judged against";
+    ASSERT_EQ(assess("incision-front.toml", "incision-front.csv", "again.json").exitCode, 0);
+    auto again = nlohmann::json::parse(slurp(path("again.json")));
+    auto first = j;
+    first.erase("provenance"), again.erase("provenance");
+    EXPECT_EQ(first, again) << "the same session, the same report";
+
+    const CliResult aside = assess("incision-front.toml", "incision-front-aside.csv", "aside.json");
+    ASSERT_EQ(aside.exitCode, 0) << aside.err;
+    const auto a = nlohmann::json::parse(slurp(path("aside.json")));
+    EXPECT_GT(a["deviation_rms_mm"].get<double>(), 3);
+    EXPECT_LT(a["coverage_pct"].get<double>(), 20);
+    EXPECT_LT(a["score"].get<double>(), 20);
+
+    const CliResult palpation = assess("palpation-lump.toml", "palpation-lump.csv", "lump.json");
+    ASSERT_EQ(palpation.exitCode, 0) << palpation.err;
+    const auto p = nlohmann::json::parse(slurp(path("lump.json")));
+    EXPECT_EQ(p["found"], 1);
+    EXPECT_EQ(p["marks"], 1);
+    EXPECT_LT(p["localisation_error_mm"].get<double>(), 8);
+    EXPECT_GT(p["score"].get<double>(), 70);
+
+    const CliResult none =
+        run("assess --scene " + assets + "scenes/heart.toml --session " + assets + "sessions/incision-front.csv");
+    EXPECT_EQ(none.exitCode, 2);
+    EXPECT_NE(none.err.find("the scene has no [exercise]"), std::string::npos) << none.err;
+    std::ofstream(path("bad.csv")) << "t,x,y,z,button\n0,0,0,0,0\n0.1,0,0,0,5\n";
+    const CliResult bad = run("assess --scene " + assets + "scenes/incision-front.toml --session " + path("bad.csv") +
+                              " --report " + path("b.json"));
+    EXPECT_EQ(bad.exitCode, 1);
+    EXPECT_NE(bad.err.find("bad.csv:3: button must be"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(path("b.json")));
+    EXPECT_EQ(run("assess --scene " + assets + "scenes/incision-front.toml").exitCode, 2) << "--session is required";
+}
 
 TEST_F(Cli, SoakCutsWithRandomStrokesAndReportsTheInvariants) {
     const CliResult r = run("soak --strokes 60 --per-organ 30 --seed 9 --report " + path("soak.json"));

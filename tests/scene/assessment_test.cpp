@@ -45,9 +45,12 @@ protected:
     }
     /// The heart of 4,000 triangles with an incision 3 cm across its front, 1 cm below its centre.
     Scene incision() {
-        auto scene = load("[model]\ntriangles = 4000\n[exercise]\nkind = \"incision\"\ninstructions = \"Cut along the dashed line.\"\n"
-                          "path_m = [" + point(front(-0.015, -0.01)) + ", " + point(front(0, -0.01)) + ", " +
-                          point(front(0.015, -0.01)) + "]\ncorridor_m = 0.003\ndepth_m = 0.01\n");
+        auto scene = load(
+            "[model]\ntriangles = 4000\n[exercise]\nkind = \"incision\"\ninstructions = \"Cut along the dashed "
+            "line.\"\n"
+            "path_m = [" +
+            point(front(-0.015, -0.01)) + ", " + point(front(0, -0.01)) + ", " + point(front(0.015, -0.01)) +
+            "]\ncorridor_m = 0.003\ndepth_m = 0.01\n");
         EXPECT_TRUE(scene) << scene.error().toString();
         return std::move(*scene);
     }
@@ -103,7 +106,8 @@ TEST(IncisionMeasures, ACutBesideTheTargetDeviatesByTheOffsetAndCoversNothingOfI
     EXPECT_NEAR(beside.deviationMax_m, 0.005, 1e-12);
     EXPECT_EQ(beside.coverage_pct, 0);
     EXPECT_NEAR(beside.outsideCorridor_m, 0.03, 1e-12);
-    const auto half = measureIncision(target, {{Vec3(0, 0, 0), Vec3(0.015, 0, 0)}, {Vec3(-0.015, 0.01, 0), Vec3(-0.01, 0.01, 0)}}, 0.003);
+    const auto half = measureIncision(
+        target, {{Vec3(0, 0, 0), Vec3(0.015, 0, 0)}, {Vec3(-0.015, 0.01, 0), Vec3(-0.01, 0.01, 0)}}, 0.003);
     EXPECT_NEAR(half.coverage_pct, 60, 2) << "half the target, and the 3 mm corridor's reach beyond its start";
     EXPECT_NEAR(half.outsideCorridor_m, 0.005, 1e-12);
     const auto none = measureIncision(target, {}, 0.003);
@@ -136,7 +140,8 @@ TEST_F(Assessing, TheSameSessionGivesTheSameAssessment) {
 TEST_F(Assessing, AToolColumnSwitchesToolsMidSession) {
     // The same stroke twice, the second 2.3 s after the first: with the tools of each in hand.
     const Scene scene = incision();
-    const int probe = static_cast<int>(*scene.toolIndex("probe")), scalpel = static_cast<int>(*scene.toolIndex("scalpel"));
+    const int probe = static_cast<int>(*scene.toolIndex("probe")),
+              scalpel = static_cast<int>(*scene.toolIndex("scalpel"));
     const auto twice = [&](int first, int second, double secondY = -0.01) {
         haptics::Trajectory session = stroke(-0.01), again = stroke(secondY);
         for (haptics::TrajectoryPoint& p : session.points) p.tool = first;
@@ -162,10 +167,10 @@ TEST_F(Assessing, AToolColumnSwitchesToolsMidSession) {
 
 TEST_F(Assessing, AMarkOnTheHiddenLumpFindsItAndOneAwayFromItDoesNot) {
     const Vec3 top = front(0, -0.01);
-    const auto scene =
-        load("[model]\ntriangles = 4000\n[[regions]]\nshape = \"sphere\"\ncenter_m = " + point(top - 0.008 * normal(0, -0.01)) +
-             "\nradius_m = 0.006\nstiffness_scale = 5\nhidden = true\n"
-             "[exercise]\nkind = \"palpation\"\nradius_m = 0.01\nmax_force_N = 3\n");
+    const auto scene = load("[model]\ntriangles = 4000\n[[regions]]\nshape = \"sphere\"\ncenter_m = " +
+                            point(top - 0.008 * normal(0, -0.01)) +
+                            "\nradius_m = 0.006\nstiffness_scale = 5\nhidden = true\n"
+                            "[exercise]\nkind = \"palpation\"\nradius_m = 0.01\nmax_force_N = 3\n");
     ASSERT_TRUE(scene) << scene.error().toString();
     const auto near = assess(*scene, pressAndMark(0.003, -0.008), "near.csv");
     ASSERT_TRUE(near) << near.error().toString();
@@ -229,8 +234,9 @@ TEST_F(Assessing, EveryMalformedExerciseKeyIsAnErrorAtItsLine) {
     expectError(parse(lump + "[exercise]\nkind = \"palpation\"\n" + path), 8, "exercise.path_m: a palpation has none");
     expectError(parse(lump + "[exercise]\nkind = \"palpation\"\nradius_m = 1\n"), 8,
                 "exercise.radius_m: 1 is out of range");
-    const auto good = parse(lump + "[exercise]\nkind = \"palpation\"\nradius_m = 0.008\ntime_limit_s = 60\n"
-                                   "instructions = \"Find the lump.\"\n");
+    const auto good = parse(lump +
+                            "[exercise]\nkind = \"palpation\"\nradius_m = 0.008\ntime_limit_s = 60\n"
+                            "instructions = \"Find the lump.\"\n");
     ASSERT_TRUE(good) << good.error().toString();
     ASSERT_TRUE(good->exercise);
     EXPECT_EQ(good->exercise->kind, SceneExercise::Kind::Palpation);
@@ -245,7 +251,8 @@ TEST_F(Assessing, AnIncisionsPointsMustLieOnTheOrgan) {
                           point(front(0.01, -0.01) + Vec3(0, 0, 0.02)) + "]\n");
     ASSERT_FALSE(off);
     EXPECT_EQ(off.error().line, 5) << off.error().toString();
-    EXPECT_NE(off.error().message.find("mm from the organ's surface; the target's points must lie on it"), std::string::npos)
+    EXPECT_NE(off.error().message.find("mm from the organ's surface; the target's points must lie on it"),
+              std::string::npos)
         << off.error().toString();
     const Scene none = *loadScene({});
     const auto refused = assess(none, stroke(-0.01), "s.csv");
