@@ -106,7 +106,8 @@ nlohmann::ordered_json reportOf(const scene::Assessment& a, const AssessOptions&
     for (std::size_t i = 0; i < n; i += stride) {
         const std::size_t end = std::min(n, i + stride);
         t.push_back(a.forceTime_s[i]);
-        force.push_back(*std::max_element(a.force_N.begin() + static_cast<long>(i), a.force_N.begin() + static_cast<long>(end)));
+        force.push_back(
+            *std::max_element(a.force_N.begin() + static_cast<long>(i), a.force_N.begin() + static_cast<long>(end)));
     }
     f["force_t_s"] = std::move(t);
     f["force_N"] = std::move(force);
@@ -124,11 +125,12 @@ void printScoreCard(const scene::Assessment& a, std::ostream& out) {
         out << line;
     }
     if (incision)
-        std::snprintf(line, sizeof line, "  %ld strokes, %.1f mm cut, deviation max %.2f mm; mean force %.2f N; %.1f s\n",
-                      a.strokes, a.cutLength_mm, a.deviationMax_mm, a.meanForce_N, a.duration_s);
+        std::snprintf(line, sizeof line,
+                      "  %ld strokes, %.1f mm cut, deviation max %.2f mm; mean force %.2f N; %.1f s\n", a.strokes,
+                      a.cutLength_mm, a.deviationMax_mm, a.meanForce_N, a.duration_s);
     else
-        std::snprintf(line, sizeof line, "  %zu marks, %ld of %zu lumps found; mean force %.2f N; %.1f s\n", a.marks.size(),
-                      a.found, a.lumps.size(), a.meanForce_N, a.duration_s);
+        std::snprintf(line, sizeof line, "  %zu marks, %ld of %zu lumps found; mean force %.2f N; %.1f s\n",
+                      a.marks.size(), a.found, a.lumps.size(), a.meanForce_N, a.duration_s);
     out << line;
     if (a.timeLimitReached)
         out << "  the session went on past the exercise's " << a.exercise.timeLimit_s

@@ -93,27 +93,33 @@ Result<Vec3, Error> centreOf(const SceneRegion& region, const std::filesystem::p
     return Vec3(sum / static_cast<double>(std::max<std::size_t>(1, p.size())));
 }
 
+/// A part of the score: `share` (0-1) of its weight.
+void addPart(Assessment& a, std::string metric, double value, double threshold, std::string rule, double weight,
+             double share) {
+    a.parts.push_back({std::move(metric), value, threshold, std::move(rule), weight, weight * share});
+}
+
 void scoreIncision(Assessment& a) {
     const SceneExercise& e = a.exercise;
     const double covered = a.coverage_pct / 100;
     const double corridor_mm = 1e3 * e.corridor_m, depth_mm = 1e3 * e.depth_m;
-    const auto part = [&](std::string metric, double value, double threshold, std::string rule, double weight,
-                          double share) { a.parts.push_back({std::move(metric), value, threshold, std::move(rule), weight, weight * share}); };
     // The parts after coverage count only for the share of the line that was cut: a session that cuts
     // nothing scores nothing, however gently it did so.
-    part("coverage_pct", a.coverage_pct, 100, "points in proportion to the share of the target cut within the corridor",
-         40, covered);
-    part("deviation_rms_mm", a.deviationRms_mm, corridor_mm,
-         "all at 0 mm, none at the corridor's half width; times the coverage", 30,
-         covered * std::clamp(1 - a.deviationRms_mm / corridor_mm, 0.0, 1.0));
+    addPart(a, "coverage_pct", a.coverage_pct, 100,
+            "points in proportion to the share of the target cut within the corridor", 40, covered);
+    addPart(a, "deviation_rms_mm", a.deviationRms_mm, corridor_mm,
+            "all at 0 mm, none at the corridor's half width; times the coverage", 30,
+            covered * std::clamp(1 - a.deviationRms_mm / corridor_mm, 0.0, 1.0));
     const double allowedOutside_mm = 0.25 * a.targetLength_mm;
-    part("outside_corridor_mm", a.outsideCorridor_mm, allowedOutside_mm,
-         "all at 0 mm, none at a quarter of the target's length; times the coverage", 10,
-         covered * std::clamp(1 - a.outsideCorridor_mm / std::max(allowedOutside_mm, 1e-9), 0.0, 1.0));
-    part("depth_mean_mm", a.depthMean_mm, depth_mm, "all at the exercise's depth, none at 0 or twice it; times the coverage",
-         10, covered * std::clamp(1 - std::abs(a.depthMean_mm - depth_mm) / depth_mm, 0.0, 1.0));
-    part("max_force_N", a.maxForce_N, e.maxForce_N, "all up to the exercise's maximum, none at twice it; times the coverage",
-         10, covered * underThreshold(a.maxForce_N, e.maxForce_N));
+    addPart(a, "outside_corridor_mm", a.outsideCorridor_mm, allowedOutside_mm,
+            "all at 0 mm, none at a quarter of the target's length; times the coverage", 10,
+            covered * std::clamp(1 - a.outsideCorridor_mm / std::max(allowedOutside_mm, 1e-9), 0.0, 1.0));
+    addPart(a, "depth_mean_mm", a.depthMean_mm, depth_mm,
+            "all at the exercise's depth, none at 0 or twice it; times the coverage", 10,
+            covered * std::clamp(1 - std::abs(a.depthMean_mm - depth_mm) / depth_mm, 0.0, 1.0));
+    addPart(a, "max_force_N", a.maxForce_N, e.maxForce_N,
+            "all up to the exercise's maximum, none at twice it; times the coverage", 10,
+            covered * underThreshold(a.maxForce_N, e.maxForce_N));
 }
 
 void scorePalpation(Assessment& a) {
@@ -127,16 +133,15 @@ void scorePalpation(Assessment& a) {
     const long onLumps =
         std::count_if(a.marks.begin(), a.marks.end(), [](const Assessment::Mark& m) { return m.lump >= 0; });
     const double rightMarks = a.marks.empty() ? 0 : static_cast<double>(onLumps) / static_cast<double>(a.marks.size());
-    const auto part = [&](std::string metric, double value, double threshold, std::string rule, double weight,
-                          double share) { a.parts.push_back({std::move(metric), value, threshold, std::move(rule), weight, weight * share}); };
-    part("found", static_cast<double>(a.found), lumps, "points in proportion to the lumps found (a mark within the radius)",
-         50, foundShare);
-    part("localisation_error_mm", a.localisationError_mm.value_or(0), radius_mm,
-         "for each lump found: all at 0 mm, none at the radius", 30, closeness);
-    part("marks_on_lumps_pct", 100 * rightMarks, 100, "points in proportion to the marks that found a lump; times the share found",
-         10, foundShare * rightMarks);
-    part("max_force_N", a.maxForce_N, e.maxForce_N, "all up to the exercise's maximum, none at twice it; times the share found",
-         10, foundShare * underThreshold(a.maxForce_N, e.maxForce_N));
+    addPart(a, "found", static_cast<double>(a.found), lumps,
+            "points in proportion to the lumps found (a mark within the radius)", 50, foundShare);
+    addPart(a, "localisation_error_mm", a.localisationError_mm.value_or(0), radius_mm,
+            "for each lump found: all at 0 mm, none at the radius", 30, closeness);
+    addPart(a, "marks_on_lumps_pct", 100 * rightMarks, 100,
+            "points in proportion to the marks that found a lump; times the share found", 10, foundShare * rightMarks);
+    addPart(a, "max_force_N", a.maxForce_N, e.maxForce_N,
+            "all up to the exercise's maximum, none at twice it; times the share found", 10,
+            foundShare * underThreshold(a.maxForce_N, e.maxForce_N));
 }
 
 }  // namespace
@@ -201,8 +206,8 @@ Result<Assessment, Error> assess(const Scene& scene, const haptics::Trajectory& 
     for (const haptics::TrajectoryPoint& p : session.points)
         if (p.tool >= static_cast<int>(scene.tools.size()))
             return unexpected(Error{sessionFile, 0,
-                                    "tool " + std::to_string(p.tool) + " at " + seconds(p.t_s) +
-                                        ": the scene has " + std::to_string(scene.tools.size()) + " tools"});
+                                    "tool " + std::to_string(p.tool) + " at " + seconds(p.t_s) + ": the scene has " +
+                                        std::to_string(scene.tools.size()) + " tools"});
     // The tool: the session's, else the exercise's, else the one the exercise needs.
     const std::string toolName = !e.tool.empty() ? e.tool : incision ? "scalpel" : "probe";
     std::size_t tool = scene.toolIndex(toolName).value_or(0);
@@ -261,7 +266,8 @@ Result<Assessment, Error> assess(const Scene& scene, const haptics::Trajectory& 
         if (points.size() < pointsSeen) pointsSeen = 0, inStroke = false;
         if (incision && points.size() > pointsSeen) {
             if (!inStroke) a.cuts_m.emplace_back(), ++a.strokes, inStroke = true;
-            for (std::size_t i = pointsSeen; i < points.size(); ++i) a.cuts_m.back().push_back(organ.mesh().positions[points[i]]);
+            for (std::size_t i = pointsSeen; i < points.size(); ++i)
+                a.cuts_m.back().push_back(organ.mesh().positions[points[i]]);
             depths_m.push_back(rest.closest(h.device_m).distance);
             lastEvent_s = s.t_s;
         }
@@ -306,7 +312,8 @@ Result<Assessment, Error> assess(const Scene& scene, const haptics::Trajectory& 
         a.coverage_pct = m.coverage_pct, a.outsideCorridor_mm = 1e3 * m.outsideCorridor_m;
         a.cutLength_mm = 1e3 * m.cutLength_m;
         if (!depths_m.empty()) {
-            a.depthMean_mm = 1e3 * std::accumulate(depths_m.begin(), depths_m.end(), 0.0) / static_cast<double>(depths_m.size());
+            a.depthMean_mm =
+                1e3 * std::accumulate(depths_m.begin(), depths_m.end(), 0.0) / static_cast<double>(depths_m.size());
             a.depthMax_mm = 1e3 * *std::max_element(depths_m.begin(), depths_m.end());
         }
         scoreIncision(a);
