@@ -337,6 +337,35 @@ TEST(ViewCommand, APhantomThroughOpenHapticsDrivesTheLoopFromItsServo) {
     EXPECT_NE(readAll(dir / "err").find("hapticut devices"), std::string::npos) << readAll(dir / "err");
 }
 
+// A scene with an exercise opens in its exercise mode: the target is drawn on the organ (amber dashes),
+// the exercise's scalpel is in hand, and the session is recorded from the start with the tool in hand.
+TEST(ViewCommand, AnExerciseShowsItsTargetAndRecordsTheSessionWithItsTool) {
+    test::ScratchDir dir;
+    const std::string assets = std::string(HAPTICUT_SOURCE_DIR) + "/assets/";
+    ASSERT_EQ(runHapticut("view --scene " + assets + "scenes/incision-front.toml --trajectory " + assets +
+                              "sessions/incision-front.csv --quit-after 1.0 --no-panel --screenshot " +
+                              (dir / "exercise.png").string() + " --record " + (dir / "session.csv").string(),
+                          dir),
+              0)
+        << readAll(dir / "err");
+    std::string error;
+    const auto image = loadPng(dir / "exercise.png", error);
+    ASSERT_TRUE(image) << error;
+    long amber = 0;
+    for (int y = 0; y < image->height; ++y)
+        for (int x = 0; x < image->width; ++x) {
+            const std::uint8_t* p = image->at(x, y);
+            amber += std::abs(p[0] - 240) < 12 && std::abs(p[1] - 192) < 12 && p[2] < 30;
+        }
+    EXPECT_GT(amber, 100) << "the target's dashes";
+    const std::string recorded = readAll(dir / "session.csv");
+    ASSERT_EQ(recorded.rfind("t,x,y,z,button,tool,fx,fy,fz\n", 0), 0u) << recorded.substr(0, 80);
+    const std::size_t rowStart = recorded.find('\n') + 1;
+    const std::string firstRow = recorded.substr(rowStart, recorded.find('\n', rowStart) - rowStart);
+    EXPECT_NE(firstRow.find(",1,0,0,0"), std::string::npos)
+        << "the scalpel (tool 1) in hand, no force yet: " << firstRow;
+}
+
 // Without --size the window fits the screen (Xvfb's here is 1280x1024, the default size), so an ordinary
 // laptop's screen shows all of it; --quit-after ends a run that --screenshot captures the last frame of;
 // --record writes the device path at the loop's rate.

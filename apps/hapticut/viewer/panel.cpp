@@ -25,6 +25,7 @@ const std::vector<KeyHelp> kKeyHelp = {
     {"s", "stereo: off, anaglyph, side-by-side, quad buffer"},
     {"4 / 5", "eye separation down / up"},
     {"6 / 7", "focal length down / up"},
+    {"m", "mark where a lump is (a palpation exercise), like a stylus's second button"},
     {"r", "reset the model (undo every cut)"},
     {"space", "pause / resume the physics"},
     {"f", "frame the organ"},

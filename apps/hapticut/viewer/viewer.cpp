@@ -27,6 +27,7 @@
 #include "render/offscreen.h"
 #include "render/renderer.h"
 #include "render/snapshot_frame.h"
+#include "viewer/exercise_mode.h"
 #include "viewer/force_plot.h"
 #include "viewer/mouse_device.h"
 #include "viewer/overlay.h"
@@ -45,7 +46,11 @@ class Viewer {
 public:
     Viewer(const ViewerOptions& options, std::unique_ptr<render::GlWindow> window,
            std::unique_ptr<render::Renderer> renderer, scene::Scene scene)
-        : options_(options), window_(std::move(window)), renderer_(std::move(renderer)), session_(std::move(scene)) {
+        : options_(options),
+          window_(std::move(window)),
+          renderer_(std::move(renderer)),
+          session_(std::move(scene)),
+          exercise_(session_.scene(), options.record) {
         view_.stereo = options.stereo;
         view_.quadBufferAvailable = window_->hasQuadStereo();
         view_.wireframe = options.wireframe || session_.scene().settings.wireframe;
@@ -81,6 +86,8 @@ private:
     MouseDriver mouse_;
     ForcePlot plot_;
     PanelState panel_;
+    ExerciseMode exercise_;    // after session_, whose scene it reads
+    double markUntil_s_ = -1;  // the mouse holds its second button (a mark, key m) until then (ImGui's clock)
     bool showPanel_ = true, showHelp_ = false, paused_ = false;
     double bladeTurn_deg_ = 0;  // the mouse's blade, about its handle ([ and ])
     bool bladeTurned_ = false;
@@ -131,6 +138,11 @@ void Viewer::onKey(int key, int mods) {
             // faces; before it, the blade cuts the way the mouse moves it.
             bladeTurn_deg_ += key == GLFW_KEY_LEFT_BRACKET ? -15 : 15;
             bladeTurned_ = true;
+            break;
+        case GLFW_KEY_M:
+            // A mark: the second button for a few steps of the loop, wherever the mouse holds the tool.
+            markUntil_s_ = ImGui::GetTime() + 0.15;
+            panel_.notice.say("marked", false);
             break;
         case GLFW_KEY_1: session_.setTool(0); break;
         case GLFW_KEY_2: session_.setTool(1); break;
@@ -184,6 +196,7 @@ void Viewer::drawOverlay(const haptics::Snapshot& s) {
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     drawForceMarks(std::span(marks.data(), static_cast<std::size_t>(count)), session_.scene().settings.maxForce_N,
                    view_.camera, view_.stereo, display.x, display.y);
+    exercise_.draw(session_, panel_, view_.camera, view_.stereo, left, ImGui::GetTime());
 }
 
 void Viewer::onMouseButton(int button, int action, int mods) {
@@ -241,7 +254,8 @@ void Viewer::updateDevice(const haptics::Snapshot& snapshot) {
         session_.mouseDevice().setOrientation(
             Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), render::toolHandleDirection(view_.camera)) *
             Eigen::AngleAxisd(bladeTurn_deg_ * 3.14159265358979323846 / 180, Vec3::UnitZ()));
-    session_.mouseDevice().setPosition(position, mouse_.engaged() ? 1u : 0u);
+    const std::uint32_t mark = ImGui::GetTime() < markUntil_s_ ? 2u : 0u;
+    session_.mouseDevice().setPosition(position, (mouse_.engaged() ? 1u : 0u) | mark);
 }
 
 int Viewer::run() {
@@ -318,7 +332,14 @@ int Viewer::run() {
     ImGui_ImplOpenGL3_Init("#version 330 core");
     glfwSwapInterval(options_.frames >= 0 ? 0 : 1);  // scripted runs measure the frame rate, unthrottled
 
-    if (!options_.record.empty()) {  // --record: from the first step
+    if (exercise_.active()) {  // an exercise: recorded from the start, to --record's file if given
+        exercise_.start(session_, panel_, ImGui::GetTime());
+        if (!session_.recording()) {
+            std::cerr << "hapticut view: cannot record the exercise's session to " << exercise_.sessionFile() << "\n";
+            return 1;
+        }
+        panel_.recordPath = exercise_.sessionFile();
+    } else if (!options_.record.empty()) {  // --record: from the first step
         if (const Status failed = session_.startRecording(options_.record)) {
             std::cerr << "hapticut view: " << failed->toString() << "\n";
             return 1;
@@ -345,6 +366,7 @@ int Viewer::run() {
         if (session_.scene().source.name != framedModel_) frameOrgan();  // a model loaded from the panel
         while (renderer_->toolCount() < session_.scene().tools.size())
             renderer_->addTool(session_.scene().tools[renderer_->toolCount()].mesh);
+        exercise_.update(session_, panel_, ImGui::GetTime());
         const haptics::Snapshot& s = session_.loop().snapshots().readLatest();
         updateDevice(s);
         const double t_s = std::chrono::duration<double>(Clock::now() - start).count();

@@ -54,17 +54,15 @@ double lengthOf(const std::vector<Vec3>& line) {
     return length;
 }
 
-/// The line through `points` with a point at least every kSample_m; each onto the surface when given.
-std::vector<Vec3> densify(const std::vector<Vec3>& points, const RestSurface* onto) {
+/// The line through `points` with a point at least every kSample_m.
+std::vector<Vec3> densify(const std::vector<Vec3>& points) {
     std::vector<Vec3> out;
     for (std::size_t i = 0; i + 1 < points.size(); ++i) {
         const int n = std::max(1, static_cast<int>(std::ceil((points[i + 1] - points[i]).norm() / kSample_m)));
-        for (int k = 0; k < n; ++k) {
-            const Vec3 p = points[i] + (points[i + 1] - points[i]) * (static_cast<double>(k) / n);
-            out.push_back(onto ? onto->closest(p).point : p);
-        }
+        for (int k = 0; k < n; ++k)
+            out.push_back(points[i] + (points[i + 1] - points[i]) * (static_cast<double>(k) / n));
     }
-    if (!points.empty()) out.push_back(onto ? onto->closest(points.back()).point : points.back());
+    if (!points.empty()) out.push_back(points.back());
     return out;
 }
 
@@ -146,13 +144,33 @@ void scorePalpation(Assessment& a) {
 
 }  // namespace
 
+std::string exerciseTool(const SceneExercise& exercise) {
+    if (!exercise.tool.empty()) return exercise.tool;
+    return exercise.kind == SceneExercise::Kind::Incision ? "scalpel" : "probe";
+}
+
+TargetLine targetLine(const Scene& scene) {
+    TargetLine line;
+    const auto& e = scene.settings.exercise;
+    if (!e || e->kind != SceneExercise::Kind::Incision) return line;
+    const RestSurface rest(scene.source.mesh);
+    for (const Vec3& p : densify(e->path_m)) {
+        const collision::SurfacePoint at = rest.closest(p);
+        const mesh::Face& f = rest.mesh().faces[at.face];
+        const auto& x = rest.mesh().positions;
+        line.points.push_back(at.point);
+        line.normals.push_back((x[f[1]] - x[f[0]]).cross(x[f[2]] - x[f[0]]).normalized());
+    }
+    return line;
+}
+
 IncisionMeasures measureIncision(const std::vector<Vec3>& target, const std::vector<std::vector<Vec3>>& cuts,
                                  double corridor_m) {
     IncisionMeasures m;
     std::vector<std::vector<Vec3>> lines;
     double squares = 0, samples = 0;
     for (const std::vector<Vec3>& stroke : cuts) {
-        lines.push_back(densify(stroke, nullptr));
+        lines.push_back(densify(stroke));
         const std::vector<Vec3>& line = lines.back();
         m.cutLength_m += lengthOf(line);
         for (const Vec3& p : line) {
@@ -166,7 +184,7 @@ IncisionMeasures measureIncision(const std::vector<Vec3>& target, const std::vec
     }
     m.deviationRms_m = samples > 0 ? std::sqrt(squares / samples) : 0;
     // Coverage: the pieces of the target whose middle has a cut within the corridor.
-    const std::vector<Vec3> along = densify(target, nullptr);
+    const std::vector<Vec3> along = densify(target);
     double covered = 0;
     for (std::size_t i = 0; i + 1 < along.size(); ++i) {
         const Vec3 middle = 0.5 * (along[i] + along[i + 1]);
@@ -208,9 +226,8 @@ Result<Assessment, Error> assess(const Scene& scene, const haptics::Trajectory& 
             return unexpected(Error{sessionFile, 0,
                                     "tool " + std::to_string(p.tool) + " at " + seconds(p.t_s) + ": the scene has " +
                                         std::to_string(scene.tools.size()) + " tools"});
-    // The tool: the session's, else the exercise's, else the one the exercise needs.
-    const std::string toolName = !e.tool.empty() ? e.tool : incision ? "scalpel" : "probe";
-    std::size_t tool = scene.toolIndex(toolName).value_or(0);
+    // The tool: the session's, else the exercise's.
+    std::size_t tool = scene.toolIndex(exerciseTool(e)).value_or(0);
     if (!session.points.empty() && session.points.front().tool >= 0)
         tool = static_cast<std::size_t>(session.points.front().tool);
     if (tool >= scene.tools.size())
@@ -218,7 +235,7 @@ Result<Assessment, Error> assess(const Scene& scene, const haptics::Trajectory& 
 
     const RestSurface rest(scene.source.mesh);
     if (incision) {
-        a.target_m = densify(e.path_m, &rest);
+        a.target_m = targetLine(scene).points;
         a.targetLength_mm = 1e3 * lengthOf(a.target_m);
     } else {
         for (const SceneRegion& region : scene.settings.regions) {

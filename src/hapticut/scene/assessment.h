@@ -67,6 +67,16 @@ struct Assessment {
     HapticRunResult run;
 };
 
+/// The tool an exercise is done with: its own, else the scalpel for an incision and the probe for a palpation.
+std::string exerciseTool(const SceneExercise& exercise);
+
+/// An incision's target line, sampled every half millimetre along the rest surface, with the surface's
+/// outward normal at each sample (what the viewer draws it by); empty without an incision.
+struct TargetLine {
+    std::vector<Vec3> points, normals;
+};
+TargetLine targetLine(const Scene& scene);
+
 /// An incision's cut against its target, both lines on the rest surface.
 struct IncisionMeasures {
     double deviationRms_m = 0, deviationMax_m = 0;  // over the cut, every half millimetre, from the target
