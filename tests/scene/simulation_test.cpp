@@ -92,7 +92,9 @@ TEST(Simulation, ARecordingHasEveryStepOfTheLoopTimedFromZeroThroughARestart) {
     mouse.setPosition(front + Vec3(0, 0, 0.01), 0);
     runFor(simulation, 150ms);
     mouse.setPosition(front - Vec3(0, 0, 0.004), 1);  // held: a press
-    runFor(simulation, 150ms);
+    runFor(simulation, 100ms);
+    mouse.setPosition(front - Vec3(0, 0, 0.004), 3);  // and a mark (the viewer's m, a stylus's second button)
+    runFor(simulation, 50ms);
     simulation.restartLoop();  // a new integrator or rate chosen in the panel
     runFor(simulation, 200ms);
     EXPECT_TRUE(simulation.stopRecording().empty());
@@ -104,6 +106,7 @@ TEST(Simulation, ARecordingHasEveryStepOfTheLoopTimedFromZeroThroughARestart) {
     EXPECT_EQ(line.rfind("t,x,y,z,button,tool,fx,fy,fz", 0), 0u) << line;
     std::vector<double> t;
     double maxForce_N = 0;
+    long marked = 0;
     while (std::getline(in, line)) {
         std::vector<double> v;
         std::size_t at = 0;
@@ -115,6 +118,7 @@ TEST(Simulation, ARecordingHasEveryStepOfTheLoopTimedFromZeroThroughARestart) {
         ASSERT_EQ(v.size(), 9u) << line;
         t.push_back(v[0]);
         EXPECT_EQ(v[5], 0) << "the first tool in hand";
+        marked += v[4] == 3;
         maxForce_N = std::max(maxForce_N, std::hypot(v[6], v[7], v[8]));
     }
     // At least 40% of 500 ms of a 1 kHz loop even on a loaded machine: a display-rate recording has 30.
@@ -123,6 +127,7 @@ TEST(Simulation, ARecordingHasEveryStepOfTheLoopTimedFromZeroThroughARestart) {
     for (std::size_t i = 1; i < t.size(); ++i)
         ASSERT_NEAR(t[i] - t[i - 1], 0.001, 1e-9) << "row " << i << ": every step, one period apart, a restart too";
     EXPECT_GT(maxForce_N, 0.1) << "the press's force is recorded";
+    EXPECT_GT(marked, 10) << "the mark is recorded as the second button";
 }
 
 }  // namespace
