@@ -364,6 +364,19 @@ TEST(ViewCommand, AnExerciseShowsItsTargetAndRecordsTheSessionWithItsTool) {
     const std::string firstRow = recorded.substr(rowStart, recorded.find('\n', rowStart) - rowStart);
     EXPECT_NE(firstRow.find(",1,0,0,0"), std::string::npos)
         << "the scalpel (tool 1) in hand, no force yet: " << firstRow;
+
+    // At the time limit the attempt ends and is scored: the card shows, and the terminal keeps its score.
+    std::ofstream(dir / "timed.toml") << "[model]\ntriangles = 4000\n[exercise]\nkind = \"incision\"\n"
+                                         "path_m = [[-0.015, -0.01, 0.0304], [0.015, -0.01, 0.0275]]\n"
+                                         "time_limit_s = 0.5\n";
+    ASSERT_EQ(runHapticut("view --scene " + (dir / "timed.toml").string() + " --trajectory " + assets +
+                              "sessions/incision-front.csv --quit-after 1.5 --no-panel --record " +
+                              (dir / "timed.csv").string(),
+                          dir),
+              0)
+        << readAll(dir / "err");
+    EXPECT_NE(readAll(dir / "out").find("exercise: score 0 of 100 (the time ran out); session"), std::string::npos)
+        << readAll(dir / "out") << readAll(dir / "err");
 }
 
 // Without --size the window fits the screen (Xvfb's here is 1280x1024, the default size), so an ordinary

@@ -3,8 +3,10 @@
 
 #include <imgui.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 
 #include "hapticut/haptics/trajectory.h"
 #include "viewer/overlay.h"
@@ -40,6 +42,7 @@ void ExerciseMode::start(scene::Simulation& session, PanelState& panel, double n
     if (const auto tool = session.scene().toolIndex(scene::exerciseTool(*exercise_))) session.setTool(*tool);
     scored_.reset();
     failure_.clear();
+    timedOut_ = false;
     if (const Status failed = session.startRecording(file_)) {
         failure_ = failed->toString();
         running_ = false;
@@ -50,7 +53,10 @@ void ExerciseMode::start(scene::Simulation& session, PanelState& panel, double n
 }
 
 void ExerciseMode::update(scene::Simulation& session, PanelState& panel, double now_s) {
-    if (running_ && exercise_->timeLimit_s > 0 && now_s - started_s_ >= exercise_->timeLimit_s) finish(session, panel);
+    if (running_ && exercise_->timeLimit_s > 0 && now_s - started_s_ >= exercise_->timeLimit_s) {
+        timedOut_ = true;
+        finish(session, panel);
+    }
 }
 
 void ExerciseMode::finish(scene::Simulation& session, PanelState& panel) {
@@ -66,9 +72,13 @@ void ExerciseMode::finish(scene::Simulation& session, PanelState& panel) {
     auto a = scene::assess(session.scene(), *recorded, file_);
     if (!a) {
         failure_ = a.error().toString();
+        std::cerr << "hapticut view: could not score the exercise: " << failure_ << "\n";
         return;
     }
     scored_ = std::move(*a);
+    // The terminal keeps what the card shows once the window is gone.
+    std::cout << "exercise: score " << std::lround(scored_->score) << " of 100"
+              << (timedOut_ ? " (the time ran out)" : "") << "; session " << file_ << "\n";
 }
 
 void ExerciseMode::draw(scene::Simulation& session, PanelState& panel, const render::OrbitCamera& camera,
@@ -141,7 +151,7 @@ void ExerciseMode::drawScoreCard(scene::Simulation& session, PanelState& panel, 
         const scene::Assessment& a = *scored_;
         ImGui::Text("Score: %.0f of 100", a.score);
         if (ImGui::BeginTable("parts", 4, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) {
-            for (const char* heading : {"", "yours", "asked", "points"}) ImGui::TableSetupColumn(heading);
+            for (const char* heading : {"part", "yours", "asked", "points"}) ImGui::TableSetupColumn(heading);
             ImGui::TableHeadersRow();
             for (const scene::ScorePart& p : a.parts) {
                 ImGui::TableNextRow();
@@ -157,7 +167,7 @@ void ExerciseMode::drawScoreCard(scene::Simulation& session, PanelState& panel, 
             }
             ImGui::EndTable();
         }
-        if (a.timeLimitReached) ImGui::TextUnformatted("The time ran out.");
+        if (timedOut_ || a.timeLimitReached) ImGui::TextUnformatted("The time ran out.");
         ImGui::Text("Session: %s", file_.c_str());
         ImGui::TextDisabled("hapticut assess --scene SCENE --session that file --png card.png draws it");
     }

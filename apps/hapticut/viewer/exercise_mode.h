@@ -43,7 +43,7 @@ private:
     scene::TargetLine target_;
     std::string file_;
     double started_s_ = 0;
-    bool running_ = false;
+    bool running_ = false, timedOut_ = false;
     std::optional<scene::Assessment> scored_;
     std::string failure_;  // why the last attempt could not be scored
 };
