@@ -31,11 +31,10 @@ protected:
 };
 
 /// Where the heart's front is at `where`: on its surface, by a ray from in front.
-Vec3 frontPoint(const Scene& scene, const Vec2& where) {
+Vec3 frontOf(const Scene& scene, const Vec2& where) {
     collision::Bvh bvh;
     bvh.build({scene.source.mesh.positions, scene.source.mesh.faces});
-    const haptics::Trajectory press = pressTrajectory(scene.source.mesh, bvh, where);
-    return press.points.front().sample.position_m - Vec3(0, 0, 0.03);  // the press starts 3 cm in front
+    return frontPoint(scene.source.mesh, bvh, where.x(), where.y());
 }
 
 /// The probe's hold force in the shipped 6 mm press at `where`.
@@ -61,7 +60,7 @@ TEST_F(TissueRegions, APressAboveAFiveTimesStifferLumpFeelsItAndTheSamePressAway
     const Vec2 above = kHeartFront, away(0.025, -0.01);
     const auto plain = load("[model]\nsource = \"heart\"\n");
     ASSERT_TRUE(plain) << plain.error().toString();
-    const Vec3 surface = frontPoint(*plain, above);
+    const Vec3 surface = frontOf(*plain, above);
     const Vec3 centre = surface - Vec3(0, 0, 0.003);  // 3 mm under the front, 1 cm across
     const auto lumpy = load("[model]\nsource = \"heart\"\n[[regions]]\nshape = \"sphere\"\ncenter_m = [" +
                             std::to_string(centre.x()) + ", " + std::to_string(centre.y()) + ", " +

@@ -18,7 +18,7 @@ namespace {
 /// A dash and a gap, each this many of the target's half-millimetre samples.
 constexpr std::size_t kDashSamples = 4;
 
-std::string clock(double s) {
+std::string minutesAndSeconds(double s) {
     char text[16];
     const int whole = static_cast<int>(std::max(s, 0.0));
     std::snprintf(text, sizeof text, "%d:%02d", whole / 60, whole % 60);
@@ -126,9 +126,9 @@ void ExerciseMode::drawInstructions(scene::Simulation& session, PanelState& pane
     ImGui::PopTextWrapPos();
     const double elapsed = running_ ? now_s - started_s_ : 0;
     if (exercise_->timeLimit_s > 0)
-        ImGui::Text("%s of %s", clock(elapsed).c_str(), clock(exercise_->timeLimit_s).c_str());
+        ImGui::Text("%s of %s", minutesAndSeconds(elapsed).c_str(), minutesAndSeconds(exercise_->timeLimit_s).c_str());
     else
-        ImGui::Text("%s", clock(elapsed).c_str());
+        ImGui::Text("%s", minutesAndSeconds(elapsed).c_str());
     ImGui::SameLine();
     if (ImGui::Button(running_ ? "Finish and score" : "Start")) {
         if (running_)

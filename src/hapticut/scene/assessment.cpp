@@ -72,7 +72,7 @@ std::string millimetres(double m) {
     return text;
 }
 
-std::string seconds(double s) {
+std::string secondsText(double s) {
     char text[32];
     std::snprintf(text, sizeof text, "%g s", s);
     return text;
@@ -224,8 +224,8 @@ Result<Assessment, Error> assess(const Scene& scene, const haptics::Trajectory& 
     for (const haptics::TrajectoryPoint& p : session.points)
         if (p.tool >= static_cast<int>(scene.tools.size()))
             return unexpected(Error{sessionFile, 0,
-                                    "tool " + std::to_string(p.tool) + " at " + seconds(p.t_s) + ": the scene has " +
-                                        std::to_string(scene.tools.size()) + " tools"});
+                                    "tool " + std::to_string(p.tool) + " at " + secondsText(p.t_s) +
+                                        ": the scene has " + std::to_string(scene.tools.size()) + " tools"});
     // The tool: the session's, else the exercise's.
     std::size_t tool = scene.toolIndex(exerciseTool(e)).value_or(0);
     if (!session.points.empty() && session.points.front().tool >= 0)
