@@ -86,7 +86,7 @@ TEST(Trajectory, ErrorsNameTheLineAndWhatWasExpected) {
     expectError("t,x,y,z,button,qw,qx\n", 1, "expected the header");
     expectError("t,x,y,z,button\n0,0,0,nan,0\n", 2, "expected a finite number for z");
     expectError("t,x,y,z,button\n0,0,0,0,0\n", 2, "at least two samples");
-    expectError("t,x,y,z,button,qw,qx,qy,qz\n0,0,0,0,0,0,0,0,0\n", 2, "zero length");
+    expectError("t,x,y,z,button,qw,qx,qy,qz\n0,0,0,0,0,1e-12,0,0,0\n", 2, "zero length");
 }
 
 // A session's columns: the second button (a mark) and the tool in hand read back; a recording's forces
@@ -106,6 +106,14 @@ TEST(Trajectory, ASessionsMarksAndToolsReadBackAndWriteOut) {
     const auto again = parseTrajectory(text, "again.csv");
     ASSERT_TRUE(again);
     EXPECT_EQ(again->points[1].tool, 1);
+    // A session's blade turned halfway: no orientation (0,0,0,0) before, one after, and so again when written.
+    const auto turned =
+        parseTrajectory("t,x,y,z,button,qw,qx,qy,qz\n0,0,0,0,1,0,0,0,0\n0.1,0,0,0,1,0,0,0,2\n", "t.csv");
+    ASSERT_TRUE(turned) << turned.error().toString();
+    EXPECT_FALSE(turned->points[0].sample.oriented);
+    EXPECT_TRUE(turned->points[1].sample.oriented);
+    EXPECT_DOUBLE_EQ(turned->points[1].sample.orientation.z(), 1.0) << "normalised";
+    EXPECT_EQ(formatTrajectory(*turned), "t,x,y,z,button,qw,qx,qy,qz\n0,0,0,0,1,0,0,0,0\n0.1,0,0,0,1,0,0,0,1\n");
     const auto plain = parseTrajectory("t,x,y,z,button\n0,0,0,0,2\n0.1,0,0,0,0\n", "p.csv");
     ASSERT_TRUE(plain);
     EXPECT_EQ(plain->points[0].tool, -1) << "no tool column: none recorded";

@@ -359,7 +359,7 @@ TEST(ViewCommand, AnExerciseShowsItsTargetAndRecordsTheSessionWithItsTool) {
         }
     EXPECT_GT(amber, 100) << "the target's dashes";
     const std::string recorded = readAll(dir / "session.csv");
-    ASSERT_EQ(recorded.rfind("t,x,y,z,button,tool,fx,fy,fz\n", 0), 0u) << recorded.substr(0, 80);
+    ASSERT_EQ(recorded.rfind("t,x,y,z,button,qw,qx,qy,qz,tool,fx,fy,fz\n", 0), 0u) << recorded.substr(0, 80);
     const std::size_t rowStart = recorded.find('\n') + 1;
     const std::string firstRow = recorded.substr(rowStart, recorded.find('\n', rowStart) - rowStart);
     EXPECT_NE(firstRow.find(",1,0,0,0"), std::string::npos)
@@ -395,7 +395,7 @@ TEST(ViewCommand, FitsTheScreenQuitsAfterATimeWithItsLastFrameAndRecordsEverySte
     EXPECT_LE(image->width, 1280 * 95 / 100);
     EXPECT_LE(image->height, 1024 * 90 / 100);
     const std::string recorded = readAll(dir / "path.csv");
-    EXPECT_EQ(recorded.rfind("t,x,y,z,button,tool,fx,fy,fz\n0,", 0), 0u) << recorded.substr(0, 80);
+    EXPECT_EQ(recorded.rfind("t,x,y,z,button,qw,qx,qy,qz,tool,fx,fy,fz\n0,", 0), 0u) << recorded.substr(0, 80);
     const long rows = static_cast<long>(std::count(recorded.begin(), recorded.end(), '\n')) - 1;
     EXPECT_GT(rows, 200) << "every step of a 1 kHz loop over 0.8 s, not one a frame";
     EXPECT_EQ(runHapticut("view --record " + (dir / "missing" / "p.csv").string() + " --frames 1", dir), 2);

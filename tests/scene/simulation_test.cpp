@@ -103,7 +103,7 @@ TEST(Simulation, ARecordingHasEveryStepOfTheLoopTimedFromZeroThroughARestart) {
     std::ifstream in(file);
     std::string line;
     ASSERT_TRUE(std::getline(in, line));
-    EXPECT_EQ(line.rfind("t,x,y,z,button,tool,fx,fy,fz", 0), 0u) << line;
+    EXPECT_EQ(line.rfind("t,x,y,z,button,qw,qx,qy,qz,tool,fx,fy,fz", 0), 0u) << line;
     std::vector<double> t;
     double maxForce_N = 0;
     long marked = 0;
@@ -115,11 +115,12 @@ TEST(Simulation, ARecordingHasEveryStepOfTheLoopTimedFromZeroThroughARestart) {
             v.push_back(std::stod(line.substr(at, comma - at)));
             at = comma + 1;
         }
-        ASSERT_EQ(v.size(), 9u) << line;
+        ASSERT_EQ(v.size(), 13u) << line;
         t.push_back(v[0]);
-        EXPECT_EQ(v[5], 0) << "the first tool in hand";
+        EXPECT_EQ(v[5] * v[5] + v[6] * v[6] + v[7] * v[7] + v[8] * v[8], 0) << "the mouse reports no orientation";
+        EXPECT_EQ(v[9], 0) << "the first tool in hand";
         marked += v[4] == 3;
-        maxForce_N = std::max(maxForce_N, std::hypot(v[6], v[7], v[8]));
+        maxForce_N = std::max(maxForce_N, std::hypot(v[10], v[11], v[12]));
     }
     // At least 40% of 500 ms of a 1 kHz loop even on a loaded machine: a display-rate recording has 30.
     ASSERT_GT(t.size(), 200u);

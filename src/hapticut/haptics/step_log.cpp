@@ -11,13 +11,14 @@ StepLogLayout StepLogLayout::of(StepLogColumns columns, const StepOutput& first)
     StepLogLayout layout;
     layout.columns = columns;
     layout.twoHands = columns == StepLogColumns::ForceLog && first.handCount > 1;
-    layout.oriented = columns == StepLogColumns::Recording && first.hand().oriented;
-    layout.tools = columns == StepLogColumns::Recording && first.hand().tool >= 0;
+    const bool session = columns == StepLogColumns::Session;
+    layout.oriented = session || (columns == StepLogColumns::Recording && first.hand().oriented);
+    layout.tools = session || (columns == StepLogColumns::Recording && first.hand().tool >= 0);
     return layout;
 }
 
 std::string StepLogLayout::header() const {
-    if (columns == StepLogColumns::Recording)
+    if (columns != StepLogColumns::ForceLog)
         return std::string(oriented ? "t,x,y,z,button,qw,qx,qy,qz" : "t,x,y,z,button") + (tools ? ",tool" : "") +
                ",fx,fy,fz\n";
     std::string out = "t,device_x,device_y,device_z,proxy_x,proxy_y,proxy_z,fx,fy,fz,contact,face,cut";
@@ -39,12 +40,13 @@ void StepLogLayout::appendRow(std::string& out, const StepOutput& s) const {
         out += std::to_string(h.face);
     };
     out += formatDouble(s.t_s);
-    if (columns == StepLogColumns::Recording) {
+    if (columns != StepLogColumns::ForceLog) {
         vec(s.hand().device_m);
         out += ',';
         out += static_cast<char>('0' + (s.hand().buttons & 3u));  // the main button and the second (a mark)
         if (oriented) {
-            const Eigen::Quaterniond& q = s.hand().orientation;
+            // A step without an orientation (a session's before its blade turns) reads back as none.
+            const Eigen::Quaterniond q = s.hand().oriented ? s.hand().orientation : Eigen::Quaterniond(0, 0, 0, 0);
             number(q.w()), number(q.x()), number(q.y()), number(q.z());
         }
         if (tools) {

@@ -26,6 +26,9 @@ enum class StepLogColumns {
     /// trajectory (with the stylus's orientation when its device reports one, and the tool in hand when
     /// HandStep::tool says), with the forces it felt.
     Recording,
+    /// t,x,y,z,button,qw,qx,qy,qz,tool,fx,fy,fz: a recording with every column from the first row, so
+    /// that a blade turned later in the session is kept: 0,0,0,0 while the device reports no orientation.
+    Session,
 };
 
 /// The CSV's columns, whose choice depends on the first step (how many hands, whether oriented).

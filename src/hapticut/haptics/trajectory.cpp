@@ -29,8 +29,8 @@ Result<Trajectory, Error> parseTrajectory(std::string_view text, const std::file
     try {
         LineReader r(text);
         if (!r.next()) throw ParseFailure{0, "file is empty, expected the header 't,x,y,z,button'"};
-        // t,x,y,z,button, then optionally qw,qx,qy,qz (the stylus's orientation), tool (a session's: which
-        // of the scene's tools the hand held) and fx,fy,fz (a recording's forces, which are ignored).
+        // t,x,y,z,button, then optionally qw,qx,qy,qz (the stylus's orientation; 0,0,0,0 in a sample without), tool (a
+        // session's: which of the scene's tools the hand held) and fx,fy,fz (a recording's forces, which are ignored).
         const auto header = splitCsv(r.rawLine());
         static constexpr std::string_view kNames[] = {"t", "x", "y", "z", "button", "qw", "qx", "qy", "qz"};
         static constexpr std::string_view kForces[] = {"fx", "fy", "fz"};
@@ -80,9 +80,10 @@ Result<Trajectory, Error> parseTrajectory(std::string_view text, const std::file
             p.t_s = v[0];
             p.sample.position_m = Vec3(v[1], v[2], v[3]);
             p.sample.buttons = static_cast<std::uint32_t>(v[4]);
-            if (hasOrientation) {
+            // 0,0,0,0: no orientation in this sample (a session's, before its blade was turned).
+            if (hasOrientation && (v[5] != 0 || v[6] != 0 || v[7] != 0 || v[8] != 0)) {
                 const Eigen::Quaterniond q(v[5], v[6], v[7], v[8]);
-                if (q.norm() < 1e-9) r.fail("orientation quaternion has zero length");
+                if (q.norm() < 1e-9) r.fail("orientation quaternion has zero length (0,0,0,0 says there is none)");
                 p.sample.orientation = q.normalized();
                 p.sample.oriented = true;
             }
@@ -115,7 +116,8 @@ std::string formatTrajectory(const Trajectory& trajectory) {
         const Eigen::Quaterniond& q = p.sample.orientation;
         out += formatDouble(p.t_s) + "," + formatDouble(x.x()) + "," + formatDouble(x.y()) + "," + formatDouble(x.z()) +
                "," + std::to_string(p.sample.buttons);
-        if (oriented)
+        if (oriented && !p.sample.oriented) out += ",0,0,0,0";
+        if (oriented && p.sample.oriented)
             out += "," + formatDouble(q.w()) + "," + formatDouble(q.x()) + "," + formatDouble(q.y()) + "," +
                    formatDouble(q.z());
         if (tools) out += "," + std::to_string(std::max(p.tool, 0));

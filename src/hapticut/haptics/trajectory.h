@@ -1,6 +1,7 @@
 // Device trajectories: CSV with header `t,x,y,z,button` (s, scene m, buttons: 1 the main one, 2 the
-// second, 3 both), optionally `qw,qx,qy,qz`, then `tool` (a session: the index of the scene's tool in
-// hand), and recordings of haptic runs, which append `fx,fy,fz` (N).
+// second, 3 both), optionally `qw,qx,qy,qz` (0,0,0,0 in a sample without an orientation), then `tool`
+// (a session: the index of the scene's tool in hand), and recordings of haptic runs, which append
+// `fx,fy,fz` (N).
 #pragma once
 
 #include <filesystem>

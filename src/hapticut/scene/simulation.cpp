@@ -113,7 +113,7 @@ void Simulation::observeStep(const haptics::StepOutput& step) noexcept {
 
 Status Simulation::startRecording(const std::string& file) {
     if (recorder_) stopRecording();
-    auto recorder = haptics::StepLogWriter::open({{file, haptics::StepLogColumns::Recording}},
+    auto recorder = haptics::StepLogWriter::open({{file, haptics::StepLogColumns::Session}},
                                                  haptics::StepLogWriter::WhenFull::Drop);
     if (!recorder) return recorder.error();
     recorder_ = std::move(*recorder);

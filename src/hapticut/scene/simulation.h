@@ -77,9 +77,10 @@ public:
     WriteStatus exportMesh(const std::string& file, const haptics::Snapshot& snapshot) const;
 
     /// Records the active hand's device path at the loop's rate: every step, handed off the loop's
-    /// thread through a lock-free ring (haptics::StepLogWriter), as `t,x,y,z,button,tool,fx,fy,fz` with
-    /// times from 0, the tool in hand and the force the hand was sent: a session, which replays as a
-    /// trajectory and which `hapticut assess` scores. It goes on through loop
+    /// thread through a lock-free ring (haptics::StepLogWriter), as `t,x,y,z,button,qw,qx,qy,qz,tool,
+    /// fx,fy,fz` with times from 0, the stylus's orientation (0,0,0,0 until the device reports one), the
+    /// tool in hand and the force the hand was sent: a session, which replays as a trajectory and which
+    /// `hapticut assess` scores. It goes on through loop
     /// restarts, its times continuing. An error when the file cannot be written.
     Status startRecording(const std::string& file);
     /// Ends the recording and completes its file (until then it is a temporary file beside it); the
