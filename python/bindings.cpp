@@ -31,6 +31,7 @@ namespace hapticut::python {
 void bindSimulation(py::module_& module);
 void bindRun(py::module_& module);
 void bindBatch(py::module_& module);
+void bindAssess(py::module_& module);
 
 namespace {
 
@@ -106,6 +107,7 @@ PYBIND11_MODULE(_hapticut, module) {
     bindSimulation(module);
     bindRun(module);
     bindBatch(module);
+    bindAssess(module);
     module.def("_load", &load, py::arg("model"), py::arg("triangles"), py::arg("parts"), py::arg("scale"));
     module.def(
         "_info_json",

@@ -30,7 +30,7 @@ Model = _hapticut.Model
 
 _UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
-__all__ = ["BatchResult", "HapticutError", "Model", "RunResult", "Simulation", "batch", "info", "load_mesh",
+__all__ = ["BatchResult", "HapticutError", "Model", "RunResult", "Simulation", "assess", "batch", "info", "load_mesh",
            "plot_assessment", "plot_batch", "plot_force_log", "run", "__version__"]
 
 
@@ -53,6 +53,13 @@ def load_mesh(model, triangles=1619, parts=None, units="m", scale=1.0):
 def info(model, triangles=1619, parts=None, units="m", scale=1.0):
     """The validation report of a model as a dict, the same as `hapticut info --json` prints."""
     return json.loads(_hapticut._info_json(str(model), int(triangles), list(parts or []), _scale(units, scale)))
+
+
+def assess(scene, session):
+    """A session of the scene's exercise replayed and scored, as a dict: the report `hapticut assess
+    --report` writes (score, parts with their thresholds, every metric, the figure's data). The same
+    session gives the same report. Errors name the file and line."""
+    return json.loads(_hapticut._assess(str(scene), str(session)))
 
 
 class RunResult:

@@ -97,3 +97,4 @@ def test_assess_draws_the_organ_with_the_target_and_the_cut(tmp_path, assets, cl
     assert tissue > 0.1, "the organ is drawn"
     again = hapticut.plot_assessment(tmp_path / "incision.json", tmp_path / "again.png")
     assert not_blank(pixels(again))
+
