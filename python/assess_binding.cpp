@@ -41,8 +41,6 @@ std::string assess(const std::string& sceneFile, const std::string& sessionFile)
 
 }  // namespace
 
-void bindAssess(py::module_& module) {
-    module.def("_assess", &assess, py::arg("scene"), py::arg("session"));
-}
+void bindAssess(py::module_& module) { module.def("_assess", &assess, py::arg("scene"), py::arg("session")); }
 
 }  // namespace hapticut::python
