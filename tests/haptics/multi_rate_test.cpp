@@ -148,15 +148,17 @@ TEST(MultiRate, InRealTimeThePhysicsRunsOnItsOwnThreadAndKeepsUp) {
     EXPECT_EQ(st.steps, 1000);
     EXPECT_GT(st.physicsSteps, 50);
     // A sanitizer's build steps the 9,714 heart many times slower, with a test beside it: its physics
-    // steps outlast maxPhysicsStep_s and fall behind, as they should; the thread must still step on.
+    // steps outlast maxPhysicsStep_s and fall behind, as they should, and its late steps are stalls that
+    // zero the force and ramp it back in, so the press does not build its force within the second. There
+    // the thread must still step on and the press push back at all; the release build asks for both.
 #ifdef HAPTICUT_SANITIZED
-    constexpr double kLeastPhysicsShare = 0.1;
+    constexpr double kLeastPhysicsShare = 0.1, kLeastForce_N = 0.01;
 #else
-    constexpr double kLeastPhysicsShare = 0.7;
+    constexpr double kLeastPhysicsShare = 0.7, kLeastForce_N = 0.1;
 #endif
     EXPECT_GT(st.physicsTime_s, kLeastPhysicsShare * st.wallTime_s) << "the tissue keeps up with the wall clock";
     EXPECT_LT(st.physicsTime_s, 1.05 * st.wallTime_s);
-    EXPECT_GT(maxForce, 0.1) << "the press pushes back";
+    EXPECT_GT(maxForce, kLeastForce_N) << "the press pushes back";
     EXPECT_GT(physics::maxDisplacement(organ.model()), 1e-4) << "the tissue moved on the haptic side's copy";
 }
 
