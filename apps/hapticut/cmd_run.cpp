@@ -249,6 +249,7 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     config.realtime = o.realtime || live;
     StopSignal stopSignal;
     config.stopRequested = [] { return StopSignal::requested(); };
+    config.stopRequestedAgo_s = [] { return StopSignal::secondsSinceRequest(); };
     Progress progress("hapticut run: steps (Ctrl-C ends the run)");
     config.progress = [&](long steps) { progress.update(steps, config.steps); };
     config.tool = firstTool;
@@ -285,7 +286,8 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     const scene::HapticRunResult& r = *run;
     if (StopSignal::requested())
         std::cerr << "hapticut run: stopped by signal " << StopSignal::signalNumber() << " after " << r.steps
-                  << " steps; the devices were left at zero force\n";
+                  << " steps; the devices were left at zero force " << std::lround(std::max(r.stopLatency_s, 0.0) * 1e3)
+                  << " ms after the signal\n";
 
     std::cout << r.steps << " haptic steps (" << r.simTime_s << " s simulated) in " << r.wallTime_s
               << " s wall: " << r.hapticRate_hz << " steps/s; step " << r.stepTime_us.p50 << " us p50, "

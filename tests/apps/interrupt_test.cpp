@@ -178,6 +178,11 @@ TEST(Interrupt, EveryLongCommandStoppedAtARandomMomentLeavesCompleteFilesOrNone)
                 ASSERT_TRUE(fs::exists(dir / c.report)) << "the command finished its report\n" << err;
                 const auto j = nlohmann::json::parse(slurp(dir / c.report));
                 EXPECT_EQ(j["stopped_by_signal"], true);
+                if (j.contains("stop_latency_ms")) {
+                    // Measured from the signal's own time: positive, and not the whole run's length.
+                    EXPECT_GT(j["stop_latency_ms"].get<double>(), 0);
+                    EXPECT_LT(j["stop_latency_ms"].get<double>(), 1e3 * j["wall_time_s"].get<double>());
+                }
                 EXPECT_LT(j[c.stepsKey].get<long>(), 10'000'000L);
                 EXPECT_NE(err.find("stopped by signal " + std::to_string(number)), std::string::npos) << err;
                 if (fs::exists(dir / "f.csv")) {

@@ -16,6 +16,9 @@ public:
     static bool requested();
     /// The signal that asked, 0 if none: the exit status is 128 + it.
     static int signalNumber();
+    /// Seconds since the signal was caught on the steady clock, or a negative number if none was:
+    /// how long a command took to honour it.
+    static double secondsSinceRequest();
 };
 
 }  // namespace hapticut

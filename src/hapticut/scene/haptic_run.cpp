@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <thread>
 
 #include "hapticut/collision/point_inside.h"
@@ -119,9 +120,13 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
         haptics::RealTimeScheduler clock(loop);
         if (auto error = clock.start(steps, observe)) return unexpected(std::move(*error));
         auto lastProgress = std::chrono::steady_clock::now();
+        std::optional<std::chrono::steady_clock::time_point> noticed;
         while (clock.running()) {
             std::this_thread::sleep_for(std::chrono::milliseconds(2));
-            if (config.stopRequested && config.stopRequested()) break;
+            if (config.stopRequested && config.stopRequested()) {
+                noticed = std::chrono::steady_clock::now();
+                break;
+            }
             if (config.progress && std::chrono::steady_clock::now() - lastProgress > std::chrono::seconds(1)) {
                 lastProgress = std::chrono::steady_clock::now();
                 config.progress(stepsDone.load(std::memory_order_relaxed));
@@ -129,6 +134,10 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
         }
         clock.stop();
         r.stoppedEarly = config.stopRequested && config.stopRequested();
+        if (noticed)
+            r.stopLatency_s = config.stopRequestedAgo_s
+                                  ? config.stopRequestedAgo_s()
+                                  : std::chrono::duration<double>(std::chrono::steady_clock::now() - *noticed).count();
     } else {
         auto lastProgress = std::chrono::steady_clock::now();
         auto keepGoing = [&] {
@@ -140,6 +149,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
             return !r.stoppedEarly;
         };
         haptics::runSimulated(loop, steps, observe, keepGoing);
+        if (r.stoppedEarly && config.stopRequestedAgo_s) r.stopLatency_s = config.stopRequestedAgo_s();
     }
     if (config.stepLog) r.droppedLogSteps = config.stepLog->droppedSteps();
     const haptics::LoopStats& st = loop.stats();

@@ -29,6 +29,9 @@ struct HapticRunConfig {
     /// Polled every few milliseconds (real time) or every few steps (simulated time); true ends the
     /// run (Ctrl-C). With steps < 0 a real-time run goes on until it says so.
     std::function<bool()> stopRequested;
+    /// Seconds since the stop was asked for (the signal's own time), read once the loop has stopped:
+    /// the run's stop latency. Unset: timed from when the run noticed the request.
+    std::function<double()> stopRequestedAgo_s;
     /// Called about once a second with the steps done so far.
     std::function<void(long)> progress;
     /// Every step goes here as it happens (the force log, the recording), if set: a run of any length
@@ -99,6 +102,7 @@ struct HapticRunResult {
     haptics::StepOutput lastStep;                // the run's last step
     long droppedLogSteps = 0;                    // steps the step log's ring had no room for (real time)
     bool stoppedEarly = false;                   // stopRequested ended a run before its step count
+    double stopLatency_s = -1;                   // from the request to the loop stopped, forces zeroed; -1: none
 };
 
 /// Replays the trajectory through the haptic loop on the organ, which the tool cuts when

@@ -70,6 +70,9 @@ nlohmann::ordered_json hapticRunReport(const ModelSource& source, const cutting:
     }
     j["hands"] = handsJson;
     j["stopped_by_signal"] = request.stoppedBySignal;
+    // From the signal to the loop stopped with every device at zero force (before the report is written).
+    j["stop_latency_ms"] = result.stopLatency_s >= 0 ? nlohmann::ordered_json(result.stopLatency_s * 1e3)
+                                                     : nlohmann::ordered_json(nullptr);
     j["steps_requested"] =
         request.stepsRequested >= 0 ? nlohmann::ordered_json(request.stepsRequested) : nlohmann::ordered_json(nullptr);
     j["log_dropped_steps"] = result.droppedLogSteps;
