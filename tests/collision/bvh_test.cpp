@@ -104,6 +104,29 @@ TEST(Bvh, QueriesMatchBruteForceOnRandomTriangles) {
     expectMatchesBruteForce(bvh, s, rng, 300);
 }
 
+// Segments along an axis through a vertex lie in the planes of the boxes round it: the slab test must
+// neither lose those boxes nor let the run along their faces decide (a zero direction component).
+TEST(Bvh, SegmentsAlongTheAxesInTheBoxesFacePlanesMatchBruteForce) {
+    const Soup s = heartSoup(1619);
+    Bvh bvh;
+    bvh.build(s.view());
+    for (std::size_t v = 0; v < s.positions.size(); v += 7)
+        for (int axis = 0; axis < 3; ++axis) {
+            const Vec3& through = s.positions[v];
+            Vec3 a = through, b = through;
+            a[axis] -= 0.2;
+            b[axis] += 0.2;
+            int crossings = 0;
+            const auto brute = bruteFirstHit(s, a, b, &crossings);
+            const auto hit = bvh.firstHit(s.view(), a, b);
+            ASSERT_EQ(hit.has_value(), brute.has_value()) << "vertex " << v << ", axis " << axis;
+            if (hit) {
+                EXPECT_DOUBLE_EQ(hit->t, *brute);
+            }
+            EXPECT_EQ(bvh.countCrossings(s.view(), a, b), crossings);
+        }
+}
+
 TEST(Bvh, QueriesMatchBruteForceOnTheHeartAfterDeformingAndRefitting) {
     std::mt19937 rng(2);
     Soup s = heartSoup(9714);

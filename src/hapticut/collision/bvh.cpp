@@ -19,22 +19,34 @@ double boxDistanceSquared(const geometry::Aabb& box, const Vec3& p) {
     return d.squaredNorm();
 }
 
-/// Slab test: does the segment from + t·dir, t in [0, t_max], touch the box?
-bool segmentTouchesBox(const geometry::Aabb& box, const Vec3& from, const Vec3& inv_dir, double t_max) {
-    double t0 = 0, t1 = t_max;
-    for (int k = 0; k < 3; ++k) {
-        double a = (box.min[k] - from[k]) * inv_dir[k], b = (box.max[k] - from[k]) * inv_dir[k];
-        if (std::isnan(a) || std::isnan(b)) {  // 0 * inf: the segment runs inside this slab's plane
-            if (from[k] < box.min[k] || from[k] > box.max[k]) return false;
-            continue;
+/// A segment from + t·dir, t in [0, 1], ready for slab tests: 1 / dir per axis, and which axes it runs
+/// parallel to (there 1 / dir is infinite, and a segment in a box's face plane would give 0 · inf).
+struct SlabSegment {
+    Vec3 from, invDir;
+    std::array<bool, 3> parallel{};
+    SlabSegment(const Vec3& a, const Vec3& b) : from(a) {
+        const Vec3 dir = b - a;
+        for (int k = 0; k < 3; ++k) {
+            parallel[static_cast<std::size_t>(k)] = dir[k] == 0;
+            invDir[k] = dir[k] != 0 ? 1 / dir[k] : 0;
         }
-        if (a > b) std::swap(a, b);
-        t0 = std::max(t0, a);
-        t1 = std::min(t1, b);
-        if (t0 > t1) return false;
     }
-    return true;
-}
+    /// Where the segment enters the box within [0, t_max], or infinity if it misses it. Boxes touching
+    /// the segment only on their faces count.
+    double enters(const geometry::Aabb& box, double t_max) const {
+        double t0 = 0, t1 = t_max;
+        for (int k = 0; k < 3; ++k) {
+            if (parallel[static_cast<std::size_t>(k)]) {  // the same branch for every box of a query
+                if (from[k] < box.min[k] || from[k] > box.max[k]) return std::numeric_limits<double>::infinity();
+                continue;
+            }
+            const double a = (box.min[k] - from[k]) * invDir[k], b = (box.max[k] - from[k]) * invDir[k];
+            t0 = std::max(t0, std::min(a, b));
+            t1 = std::min(t1, std::max(a, b));
+        }
+        return t0 <= t1 ? t0 : std::numeric_limits<double>::infinity();
+    }
+};
 
 }  // namespace
 
@@ -260,24 +272,51 @@ std::optional<SegmentHit> Bvh::firstHit(const SurfaceView& s, const Vec3& from, 
     std::optional<SegmentHit> best;
     double bestT = 1;
     const Vec3 dir = to - from;
-    const Vec3 invDir = dir.cwiseInverse();
-    traverse([&](const geometry::Aabb& box) { return segmentTouchesBox(box, from, invDir, bestT); },
-             [&](std::uint32_t f) {
-                 const mesh::Face& face = s.faces[f];
-                 const auto hit = geometry::intersectSegmentTriangle(from, to, s.positions[face[0]],
-                                                                     s.positions[face[1]], s.positions[face[2]]);
-                 if (hit && (hit->t < bestT || !best)) {
-                     bestT = hit->t;
-                     best = SegmentHit{f, hit->t, from + hit->t * dir, hit->bary};
-                 }
-             });
+    const SlabSegment segment(from, to);
+    auto consider = [&](std::uint32_t f) {
+        const mesh::Face& face = s.faces[f];
+        const auto hit = geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]],
+                                                            s.positions[face[2]]);
+        if (hit && (hit->t < bestT || !best)) {
+            bestT = hit->t;
+            best = SegmentHit{f, hit->t, from + hit->t * dir, hit->bary};
+        }
+    };
+    if (nodes_.empty()) return best;
+    // A box is skipped only where the segment enters it clearly after the best hit: faces meeting at
+    // a vertex on the segment give hits within rounding of each other and of their boxes' entries.
+    auto reachable = [&](double t) { return t <= bestT + 1e-9; };
+    // Nearer child first, so that the first hit found cuts the segment short for the rest.
+    struct Entry {
+        std::uint32_t node;
+        double t;  // where the segment enters its box: skipped if a hit found since is nearer
+    };
+    std::array<Entry, kMaxDepth> stack;
+    int top = 0;
+    if (const double t = segment.enters(nodes_[0].box, 1); reachable(t)) stack[top++] = {0, t};
+    while (top > 0) {
+        const Entry entry = stack[--top];
+        if (!reachable(entry.t)) continue;
+        const Node& node = nodes_[entry.node];
+        if (node.count > 0) {
+            visitLeaf(node, consider);
+            continue;
+        }
+        const auto left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+        const double tl = segment.enters(nodes_[left].box, 1), tr = segment.enters(nodes_[node.right].box, 1);
+        const bool leftFirst = tl <= tr;
+        const std::uint32_t nearChild = leftFirst ? left : node.right, farChild = leftFirst ? node.right : left;
+        const double tNear = leftFirst ? tl : tr, tFar = leftFirst ? tr : tl;
+        if (reachable(tFar)) stack[top++] = {farChild, tFar};
+        if (reachable(tNear)) stack[top++] = {nearChild, tNear};
+    }
     return best;
 }
 
 int Bvh::countCrossings(const SurfaceView& s, const Vec3& from, const Vec3& to) const {
     int crossings = 0;
-    const Vec3 invDir = (to - from).cwiseInverse();
-    traverse([&](const geometry::Aabb& box) { return segmentTouchesBox(box, from, invDir, 1); },
+    const SlabSegment segment(from, to);
+    traverse([&](const geometry::Aabb& box) { return segment.enters(box, 1) <= 1; },
              [&](std::uint32_t f) {
                  const mesh::Face& face = s.faces[f];
                  if (geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]],
