@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include "hapticut/collision/point_inside.h"
+#include "hapticut/collision/surface_side.h"
 #include "hapticut/geometry/triangle.h"
 #include "hapticut/geometry/triangle_queries.h"
 
@@ -35,28 +36,58 @@ void GodObjectProxy::carryWithSurface(const collision::SurfaceView& s) {
     position_ = pointOnFace(s, contact_.face, contact_.bary) + params_.offset_m * n;
 }
 
-void GodObjectProxy::pushOutIfInside(const collision::SurfaceView& s, const collision::Bvh& bvh) {
+void GodObjectProxy::pushOutIfInside(const collision::SurfaceView& s, const collision::Bvh& bvh,
+                                     std::optional<std::uint32_t> near_face) {
     // The guarantee that the proxy is never inside, whatever happened: a surface that swept over a
     // free proxy, or a contact face carrying the proxy behind a neighbour that folded over it in a deep
-    // crease. On a closed surface the ray-parity test decides (robust at edges and vertex pits, where
-    // face normals disagree), checked while in contact (a jump inside can be deep) or near the surface
-    // (a sweep is shallow). On an open surface only the nearest face's normal can say, where the
-    // nearest point is inside a face.
-    const double reach = 2e-3;  // m: more than tissue moves in one haptic step
-    std::optional<collision::SurfacePoint> near;
-    if (params_.closedSurface) {
-        if (!contact_.active && !bvh.closestPoint(s, position_, reach)) return;
+    // crease. A sweep leaves it within a step's tissue motion of the surface, where the nearest surface
+    // point decides (insideNear), at a cost independent of the organ's size.
+    double reach = 2e-3;  // m: more than tissue moves in one haptic step
+    // A face known to be near bounds the search to what is nearer still: a few boxes, not all within 2 mm.
+    if (near_face && *near_face < s.faces.size()) {
+        const mesh::Face& f = s.faces[*near_face];
+        const auto c =
+            geometry::closestPointOnTriangle(position_, s.positions[f[0]], s.positions[f[1]], s.positions[f[2]]);
+        reach = std::min(reach, (c.point - position_).norm() * (1 + 1e-9) + 1e-15);
+    }
+    auto near = bvh.closestPoint(s, position_, reach);
+    if (!near) {
+        // Nothing within reach: outside, unless a touching proxy went deep into the tissue in one
+        // update, which only one already behind a fold can (it slides on freely there): parity decides.
+        if (!params_.closedSurface || !startedInContact_) return;
+        ++paritySideChecks_;
         if (!collision::insideClosedSurface(bvh, s, position_)) return;
         near = bvh.closestPoint(s, position_);
-    } else {
-        near = bvh.closestPoint(s, position_, reach);
-        if (!near || near->bary.minCoeff() <= 1e-9 || faceNormal(s, near->face).dot(position_ - near->point) >= 0)
-            return;
+        if (!near) return;
+    } else if (!insideNear(s, bvh, *near)) {
+        return;
     }
-    if (!near) return;
     const Vec3 out = near->point - position_;
     const double len = out.norm();
     position_ = near->point + params_.offset_m * (len > 0 ? Vec3(out / len) : faceNormal(s, near->face));
+}
+
+bool GodObjectProxy::insideNear(const collision::SurfaceView& s, const collision::Bvh& bvh,
+                                const collision::SurfacePoint& near) {
+    const Vec3 away = position_ - near.point;
+    // On an open surface only the nearest face's normal can say, where the nearest point is inside a face.
+    if (!params_.closedSurface) return near.bary.minCoeff() > 1e-9 && faceNormal(s, near.face).dot(away) < 0;
+    // On a closed surface the faces round the nearest point decide when they agree (surface_side.h),
+    // and ray parity where they do not (robust at creases and vertex pits).
+    collision::Side side =
+        topology_ ? collision::sideOfClosedSurface(s, *topology_, near, position_) : collision::Side::Unsure;
+    // A hard press can fold the tissue over the proxy until the surface crosses itself. The faces round
+    // the nearest point then say outside while parity counts the fold as a layer: a surface crossed on
+    // a short way out says so. A fold farther away than that does not hold this contact.
+    if (side == collision::Side::Outside) {
+        constexpr double kFoldReach_m = 5e-3;
+        const Vec3 wayOut = away.norm() > 0 ? Vec3(away.normalized()) : faceNormal(s, near.face);
+        if (bvh.countCrossings(s, position_, position_ + kFoldReach_m * wayOut) == 0) return false;
+        side = collision::Side::Unsure;
+    }
+    if (side == collision::Side::Inside) return true;
+    ++paritySideChecks_;
+    return collision::insideClosedSurface(bvh, s, position_);
 }
 
 Vec3 GodObjectProxy::constrainedGoal(const Vec3& device_m) const {
@@ -156,7 +187,7 @@ void GodObjectProxy::surfaceRemeshed(const collision::SurfaceView& s, const coll
 
 void GodObjectProxy::followSurface(const collision::SurfaceView& s, const collision::Bvh& bvh) {
     carryWithSurface(s);
-    pushOutIfInside(s, bvh);
+    pushOutIfInside(s, bvh, contact_.active ? std::optional(contact_.face) : std::nullopt);
     findContact(s, bvh);
 }
 
@@ -164,11 +195,13 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
     carryWithSurface(s);
     // A free proxy may have been swept over by the surface; a touching one is checked once, at the
     // end of the update, which also catches a carry that put it behind a folded neighbour.
+    startedInContact_ = contact_.active;
     if (!contact_.active) pushOutIfInside(s, bvh);
     contactStart_ = position_;  // where a sticking proxy stays
-    startedInContact_ = contact_.active;
     planeCount_ = 0;
     Vec3 goal = device_m;
+    std::optional<std::uint32_t> lastHitFace;
+    if (contact_.active) lastHitFace = contact_.face;
     for (int iteration = 0; iteration < params_.maxIterations; ++iteration) {
         if ((goal - position_).squaredNorm() < 1e-24) break;
         const auto hit = bvh.firstHit(s, position_, goal);
@@ -185,6 +218,7 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
             goal = device_m;
             continue;
         }
+        lastHitFace = hit->face;
         Vec3 n = faceNormal(s, hit->face);
         if (n.dot(position_ - hit->point) < 0) n = -n;  // the side the proxy came from (back faces count, R10)
         // Back off along the way in as well as lifting along the normal: a hit on an edge lifted only

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 
 #include "hapticut/collision/bvh.h"
 #include "hapticut/mesh/vertex_faces.h"
@@ -54,6 +55,9 @@ public:
     /// a cut has opened it.
     void surfaceRemeshed(const collision::SurfaceView& surface, const collision::Bvh& bvh, bool closed_surface);
     long treeContactQueries() const { return treeContactQueries_; }
+    /// How often ray parity decided the proxy's side of a closed surface: the faces round the nearest
+    /// point disagreed (collision/surface_side.h), a fold lay over the proxy, or it was deep inside.
+    long paritySideChecks() const { return paritySideChecks_; }
 
     const Vec3& position() const { return position_; }
     const Contact& contact() const { return contact_; }
@@ -65,7 +69,12 @@ private:
         double offset = 0;           // the plane is normal·x = offset
     };
     void carryWithSurface(const collision::SurfaceView& surface);
-    void pushOutIfInside(const collision::SurfaceView& surface, const collision::Bvh& bvh);
+    /// `near_face`, when known, is a face near the proxy; it bounds the search for the nearest.
+    void pushOutIfInside(const collision::SurfaceView& surface, const collision::Bvh& bvh,
+                         std::optional<std::uint32_t> near_face = std::nullopt);
+    /// Whether the proxy is inside, given the surface's nearest point to it.
+    bool insideNear(const collision::SurfaceView& surface, const collision::Bvh& bvh,
+                    const collision::SurfacePoint& near);
     Vec3 constrainedGoal(const Vec3& device_m) const;
     Vec3 applyFriction(const Vec3& goal, const Vec3& device_m, const Vec3& from) const;
     void findContact(const collision::SurfaceView& surface, const collision::Bvh& bvh);
@@ -78,7 +87,7 @@ private:
     std::array<Plane, 3> planes_{};
     int planeCount_ = 0;
     const mesh::VertexFaces* topology_ = nullptr;
-    long fastPathContacts_ = 0, treeContactQueries_ = 0;
+    long fastPathContacts_ = 0, treeContactQueries_ = 0, paritySideChecks_ = 0;
 };
 
 /// Unit normal of a face on the current (deformed) positions.
