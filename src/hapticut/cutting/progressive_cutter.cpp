@@ -116,15 +116,18 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
         crossings.push_back({((from + t * d1) - (m.positions[a] + u * d2)).norm(), a, b, u});
     }
     std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) { return x.gap < y.gap; });
-    auto inCut = [&](std::uint32_t v) { return std::find(points_.begin(), points_.end(), v) != points_.end(); };
+    auto ownLip = [&](std::uint32_t v) {
+        return std::find(lipVertices_.begin(), lipVertices_.end(), v) != lipVertices_.end();
+    };
     for (const Crossing& c : crossings) {
         // A boundary edge is an open end of the organ or an earlier wound: the cut runs into it there
         // and joins it (on the edge, or at an end of it rather than make a sliver).
         const bool boundaryEdge = model_.onRim(c.a, c.b);
         const std::uint32_t next = pointOnEdge(c.a, c.b, c.u);
-        if (inCut(next)) {
+        // Snapped onto the cut itself or onto a lip it opened (the far side of its own wound).
+        if (ownLip(next)) {
             if (boundaryEdge) return false;  // along a lip of its own: nothing to join
-            continue;                        // would step back along the cut
+            continue;                        // would step back along the cut, or across its wound
         }
         advanceTo(next);
         return true;
@@ -167,12 +170,21 @@ bool ProgressiveCutter::reachBoundary(const Vec3& q) {
     auto ownLip = [&](std::uint32_t v) {
         return std::find(lipVertices_.begin(), lipVertices_.end(), v) != lipVertices_.end();
     };
+    auto borderSurface = [&](std::uint32_t a, std::uint32_t b) {
+        for (std::uint32_t f : model_.facesAround(a)) {
+            const mesh::Face& face = m.faces[f];
+            if ((face[0] == b || face[1] == b || face[2] == b) && !model_.isWall(f)) return true;
+        }
+        return false;
+    };
     for (std::uint32_t f : model_.facesAround(last)) {
         const mesh::Face& face = m.faces[f];
         int k = 0;
         while (face[k] != last) ++k;
         const std::uint32_t a = face[(k + 1) % 3], b = face[(k + 2) % 3];
-        if (!model_.onRim(a, b) || (ownLip(a) && ownLip(b))) continue;
+        // Only the organ's surface leads anywhere: the edges inside this cut's walls, down to its floor,
+        // lie under the lip the blade follows, and snapping to them would join the cut to itself.
+        if (!model_.onRim(a, b) || (ownLip(a) && ownLip(b)) || !borderSurface(a, b)) continue;
         const Vec3 ab = m.positions[b] - m.positions[a];
         const double u = std::clamp(ab.dot(q - m.positions[a]) / ab.squaredNorm(), 0.0, 1.0);
         if ((m.positions[a] + u * ab - q).norm() >= params_.snapFraction * ab.norm()) continue;
