@@ -116,18 +116,15 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
         crossings.push_back({((from + t * d1) - (m.positions[a] + u * d2)).norm(), a, b, u});
     }
     std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) { return x.gap < y.gap; });
-    auto ownLip = [&](std::uint32_t v) {
-        return std::find(lipVertices_.begin(), lipVertices_.end(), v) != lipVertices_.end();
-    };
+    auto inCut = [&](std::uint32_t v) { return std::find(points_.begin(), points_.end(), v) != points_.end(); };
     for (const Crossing& c : crossings) {
         // A boundary edge is an open end of the organ or an earlier wound: the cut runs into it there
         // and joins it (on the edge, or at an end of it rather than make a sliver).
         const bool boundaryEdge = model_.onRim(c.a, c.b);
         const std::uint32_t next = pointOnEdge(c.a, c.b, c.u);
-        // Snapped onto the cut itself or onto a lip it opened (the far side of its own wound).
-        if (ownLip(next)) {
+        if (inCut(next)) {
             if (boundaryEdge) return false;  // along a lip of its own: nothing to join
-            continue;                        // would step back along the cut, or across its wound
+            continue;                        // would step back along the cut
         }
         advanceTo(next);
         return true;
