@@ -85,15 +85,24 @@ std::vector<std::uint32_t> CutModel::facesOfEdge(std::uint32_t a, std::uint32_t 
     return out;
 }
 
-bool CutModel::onRim(std::uint32_t a, std::uint32_t b) const {
-    int faces = 0;
+CutModel::EdgeFaces CutModel::edgeFaces(std::uint32_t a, std::uint32_t b) const {
+    EdgeFaces count;
     for (std::uint32_t f : facesAround_.around[a]) {
         const mesh::Face& face = mesh_.faces[f];
         if (face[0] != b && face[1] != b && face[2] != b) continue;
-        if (isWall(f)) return true;
-        ++faces;
+        ++(isWall(f) ? count.wall : count.surface);
     }
-    return faces < 2;
+    return count;
+}
+
+bool CutModel::onRim(std::uint32_t a, std::uint32_t b) const {
+    const EdgeFaces e = edgeFaces(a, b);
+    return e.wall > 0 || e.surface < 2;
+}
+
+bool CutModel::onSurfaceRim(std::uint32_t a, std::uint32_t b) const {
+    const EdgeFaces e = edgeFaces(a, b);
+    return e.surface > 0 && (e.wall > 0 || e.surface < 2);
 }
 
 std::uint32_t CutModel::addVertex(Vec3 rest, Vec3 position, Vec3 velocity, double mass) {

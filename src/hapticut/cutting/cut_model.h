@@ -57,6 +57,9 @@ public:
     /// Whether edge (a, b) is an open end of the organ, a wound's lip or inside its walls: on fewer than
     /// two faces, or on a wall. Cuts stop there and openings do not shorten its spring. Allocates nothing.
     bool onRim(std::uint32_t a, std::uint32_t b) const;
+    /// The rim as the blade on the surface meets it: an open end or a wound's lip, with the organ's
+    /// surface on at least one side; not an edge inside a wound's walls, down to its floor.
+    bool onSurfaceRim(std::uint32_t a, std::uint32_t b) const;
 
     /// R15: a new vertex inside `face` at barycentric `bary` of the face's rest triangle, which becomes
     /// three faces. The rest position lies on the undeformed face, so the new springs get correct rest
@@ -127,6 +130,10 @@ public:
     std::vector<std::vector<Vec3>> takeRetiredPositions() { return std::exchange(retiredPositions_, {}); }
 
 private:
+    struct EdgeFaces {
+        int surface = 0, wall = 0;  // faces on edge (a, b) of the organ's surface and of wounds' walls
+    };
+    EdgeFaces edgeFaces(std::uint32_t a, std::uint32_t b) const;
     /// By value: callers pass elements of the very arrays this grows (a copy of vertex v), which a
     /// reallocation would leave dangling mid-call.
     std::uint32_t addVertex(Vec3 rest, Vec3 position, Vec3 velocity, double mass);

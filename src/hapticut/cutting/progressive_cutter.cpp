@@ -167,13 +167,6 @@ bool ProgressiveCutter::reachBoundary(const Vec3& q) {
     auto ownLip = [&](std::uint32_t v) {
         return std::find(lipVertices_.begin(), lipVertices_.end(), v) != lipVertices_.end();
     };
-    auto borderSurface = [&](std::uint32_t a, std::uint32_t b) {
-        for (std::uint32_t f : model_.facesAround(a)) {
-            const mesh::Face& face = m.faces[f];
-            if ((face[0] == b || face[1] == b || face[2] == b) && !model_.isWall(f)) return true;
-        }
-        return false;
-    };
     for (std::uint32_t f : model_.facesAround(last)) {
         const mesh::Face& face = m.faces[f];
         int k = 0;
@@ -181,7 +174,7 @@ bool ProgressiveCutter::reachBoundary(const Vec3& q) {
         const std::uint32_t a = face[(k + 1) % 3], b = face[(k + 2) % 3];
         // Only the organ's surface leads anywhere: the edges inside this cut's walls, down to its floor,
         // lie under the lip the blade follows, and snapping to them would join the cut to itself.
-        if (!model_.onRim(a, b) || (ownLip(a) && ownLip(b)) || !borderSurface(a, b)) continue;
+        if (!model_.onSurfaceRim(a, b) || (ownLip(a) && ownLip(b))) continue;
         const Vec3 ab = m.positions[b] - m.positions[a];
         const double u = std::clamp(ab.dot(q - m.positions[a]) / ab.squaredNorm(), 0.0, 1.0);
         if ((m.positions[a] + u * ab - q).norm() >= params_.snapFraction * ab.norm()) continue;
