@@ -206,6 +206,7 @@ void bindSimulation(py::module_& module) {
                 d["vertices_added"] = c.verticesAdded;
                 d["faces_added"] = c.facesAdded;
                 d["joins"] = c.joins;
+                d["wounds_crossed"] = c.woundsCrossed;
                 d["openings"] = c.openings;
                 d["walls_closed"] = c.wallsClosed;
                 d["cut_length_m"] = c.length_m;

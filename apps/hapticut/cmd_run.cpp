@@ -327,6 +327,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
                   << (r.cut.opened ? "opened " + std::to_string(r.cut.openings) + " point(s), " +
                                          std::to_string(r.cut.wallsClosed) + " closed with walls"
                                    : "not opened")
+                  << (r.cut.woundsCrossed > 0
+                          ? ", " + std::to_string(r.cut.woundsCrossed) + " earlier wound(s) cut through"
+                          : std::string())
                   << (r.cut.joins > 0
                           ? ", " + std::to_string(r.cut.joins) + " join(s) with a boundary or an earlier wound"
                           : std::string())

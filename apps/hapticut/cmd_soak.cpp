@@ -53,7 +53,8 @@ int soak(SoakOptions& o) {
     std::cout << r.strokes << " strokes on " << r.organs << " organs in " << r.wallTime_s << " s: " << r.operations
               << " operations, " << r.meshChanges << " changed the mesh; " << r.cutPoints << " cut points, "
               << r.verticesAdded << " vertices and " << r.facesAdded << " faces added (largest organ " << r.largestFaces
-              << " faces), " << r.wallsClosed << " openings closed with walls, " << r.joins << " joins"
+              << " faces), " << r.wallsClosed << " openings closed with walls, " << r.woundsCrossed
+              << " earlier wounds cut through, " << r.joins << " joins"
               << (r.closedOrgan ? ", the organ closed throughout" : "") << "; " << r.invariantChecks
               << " invariant checks: " << (r.ok() ? "all held" : r.problems.front()) << "\n"
               << "cuts that changed the mesh took " << r.cutAt_us.p50 << " us p50, " << r.cutAt_us.p99 << " us p99, "
@@ -76,6 +77,7 @@ int soak(SoakOptions& o) {
         j["faces_added"] = r.facesAdded;
         j["joins"] = r.joins;
         j["walls_closed"] = r.wallsClosed;
+        j["wounds_crossed"] = r.woundsCrossed;
         j["cut_us"] = toJson(r.cutAt_us);
         j["closed_organ"] = r.closedOrgan;
         j["largest_faces"] = r.largestFaces;

@@ -46,7 +46,7 @@ def test_stepping_from_python_feels_what_the_replay_felt(tmp_path, assets, cli):
     cut = sim.cut_stats
     assert sim.cut_model == cut
     assert cut["cuts"] == report["cuts"] == 1
-    for key in ("cut_points", "faces_added", "walls_closed", "cut_length_m"):
+    for key in ("cut_points", "faces_added", "walls_closed", "wounds_crossed", "cut_length_m"):
         assert cut[key] == report[key], key
     assert len(sim.faces) == report["faces"]
     sim.export(tmp_path / "cut.obj")

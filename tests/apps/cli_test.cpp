@@ -380,8 +380,9 @@ TEST_F(Cli, AScalpelStrokeCutsTheHeartWithWallsThatTheExportedMeshKeepsAndAProbe
                             " --export-mesh " + path("cut.obj"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto j = nlohmann::json::parse(slurp(path("cut.json")));
-    for (const char* key : {"cut_points", "vertices_added", "faces_added", "cut_length_m", "opened", "invariants_ok",
-                            "cut_event_us", "boundary_edges", "min_angle_deg", "shortest_edge_m", "tool_threshold_N"})
+    for (const char* key :
+         {"cut_points", "vertices_added", "faces_added", "cut_length_m", "opened", "invariants_ok", "cut_event_us",
+          "boundary_edges", "min_angle_deg", "shortest_edge_m", "tool_threshold_N", "wounds_crossed", "joins"})
         EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_EQ(j["opened"], true);
     EXPECT_EQ(j["invariants_ok"], true) << j["invariant_problems"];

@@ -9,6 +9,7 @@
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/cutting/progressive_cutter.h"
 #include "hapticut/cutting/stroke_fuzzer.h"
+#include "hapticut/geometry/triangle.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"
@@ -200,21 +201,47 @@ TEST(ProgressiveCutter, ACutAcrossTheWholeGridJoinsBothRimsAndLeavesTwoPiecesTha
     }
 }
 
-TEST(ProgressiveCutter, AStrokeAcrossAnEarlierWoundEndsAtItsLipAndGoesOnBeyondIt) {
+TEST(ProgressiveCutter, AStrokeAcrossAnEarlierWoundCutsItsWallsDownToTheFloorAndGoesOnBeyondIt) {
     CutModel cut = cuttable(mesh::procedural::makeGrid(12, 0.01));
     const double mass = physics::totalMass(cut.model());
     ProgressiveCutter cutter(cut);
     stroke(cut, cutter, Vec3(-0.035, 0.0043, 0), Vec3(0.035, 0.0043, 0), 140);  // the earlier wound
     ASSERT_EQ(countGroups(cut.mesh(), true), 1) << "the grid's rim only: walls close the wound";
-    const long walls = cutter.stats().wallsClosed;
+    const long walls = cutter.stats().wallsClosed, cuts = cutter.stats().cuts;
+    const double length = cutter.stats().length_m;
+    std::vector<bool> oldFloor(cut.mesh().positions.size());
+    for (std::uint32_t v = 0; v < oldFloor.size(); ++v) oldFloor[v] = cut.isFloor(v);
+    const std::size_t oldFaces = cut.mesh().faces.size();
     stroke(cut, cutter, Vec3(0.0031, -0.03, 0), Vec3(0.0031, 0.03, 0), 120);  // across it
     const InvariantReport r = checkInvariants(cut, mass);
     ASSERT_TRUE(r.ok()) << r.problems.front();
     EXPECT_EQ(countGroups(cut.mesh(), true), 1) << "both wounds closed by their walls";
-    EXPECT_EQ(countGroups(cut.mesh(), false), 1) << "and the grid is still one piece";
+    EXPECT_EQ(countGroups(cut.mesh(), false), 1) << "and the grid is still one piece (joined under the floor)";
     EXPECT_GT(cutter.stats().wallsClosed, walls + 4);
-    // The second cut ended at the first wound's lip (it does not go down into the walls) and started
-    // again on the far side, opening points well past it.
+    // One cut, through the first wound: down its near wall to the floor and up the far wall. Both lips
+    // there opened, so the new cut's walls (on either side of the first wound) reach the old floor.
+    EXPECT_EQ(cutter.stats().cuts, cuts + 1);
+    EXPECT_EQ(cutter.stats().woundsCrossed, 1);
+    EXPECT_NEAR(cutter.stats().length_m - length, 0.06, 0.01) << "along the surface, across the gap";
+    int newWallsAtOldFloor = 0;
+    double nearSide = 0, farSide = 0;
+    for (std::size_t f = oldFaces; f < cut.mesh().faces.size(); ++f) {
+        if (!cut.isWall(static_cast<std::uint32_t>(f))) continue;
+        const mesh::Face& face = cut.mesh().faces[f];
+        if (std::none_of(face.begin(), face.end(), [&](std::uint32_t v) { return v < oldFloor.size() && oldFloor[v]; }))
+            continue;
+        ++newWallsAtOldFloor;
+        // Floors among the hole's corners (CutModel::closeOpening): one under the lip would make 2-3 degrees.
+        EXPECT_GT(geometry::minAngle(cut.mesh().positions[face[0]], cut.mesh().positions[face[1]],
+                                     cut.mesh().positions[face[2]]),
+                  5 * 3.14159265358979323846 / 180);
+        const double y =
+            (cut.mesh().positions[face[0]] + cut.mesh().positions[face[1]] + cut.mesh().positions[face[2]]).y() / 3;
+        (y < 0.0043 ? nearSide : farSide) += 1;
+    }
+    EXPECT_GE(nearSide, 2) << "the near wall is cut down to the floor";
+    EXPECT_GE(farSide, 2) << "and the far wall";
+    EXPECT_EQ(newWallsAtOldFloor, nearSide + farSide);
     double yMax = -1;
     for (std::uint32_t v = 0; v < cut.mesh().positions.size(); ++v) {
         const Vec3& p = cut.mesh().positions[v];

@@ -4,6 +4,8 @@
 // (the long runs under AddressSanitizer are by hand: docs/testing.md).
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "hapticut/common/assert.h"
 #include "hapticut/cutting/stroke_fuzzer.h"
 #include "hapticut/mesh/procedural/heart.h"
@@ -33,10 +35,12 @@ TEST_P(StrokeFuzz, TwoAndAHalfThousandRandomStrokesKeepEveryInvariant) {
     EXPECT_GT(r.invariantChecks, r.strokes * 2);
     EXPECT_TRUE(r.opened);
     // Every opening was closed with walls, and the closed heart stayed closed through every check;
-    // a stroke that runs into an earlier wound ends at its lip and goes on beyond it.
+    // a stroke that runs into an earlier wound cuts through its walls and goes on beyond it.
     EXPECT_TRUE(r.closedOrgan);
     EXPECT_GT(r.wallsClosed, r.cutPoints / 3);
+    EXPECT_GT(r.woundsCrossed, kStrokes / 50);
     EXPECT_EQ(r.joins, 0);
+    std::printf("%ld strokes: %ld earlier wounds crossed, %ld joins\n", r.strokes, r.woundsCrossed, r.joins);
     EXPECT_GT(r.largestFaces, 2000);
 }
 

@@ -3,6 +3,7 @@
 // through the cut, and the proxy never sinks into the organ, whose walls keep it closed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <tuple>
 
@@ -223,6 +224,69 @@ TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyS
         EXPECT_LT(r.maxProxyPenetration_m, 1e-4);
         EXPECT_TRUE(r.invariantProblems.empty()) << r.invariantProblems.front();
     }
+}
+
+// A stroke across an earlier incision on the 9,714 heart: the cut goes through the first wound (down its
+// near wall to the floor, up the far wall) in one cut, the hand feels the blade all the way across, and
+// the heart stays closed with the proxy outside.
+TEST(CuttingFeel, AStrokeAcrossAnEarlierIncisionCutsThroughItAndTheHandFeelsTheBladeAllTheWay) {
+    const mesh::SurfaceMesh heart = mesh::procedural::makeHeart({.triangles = 9714});
+    collision::Bvh bvh;
+    bvh.build({heart.positions, heart.faces});
+    cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
+    scene::HapticRunConfig config;
+    config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
+    config.loop.tipRadius_m = mesh::procedural::kScalpelTipRadius_m;
+    const auto first = scene::runHaptic(organ, scene::incisionStroke(heart, bvh, -0.01, -0.015, 0.015, 0.01), config);
+    ASSERT_TRUE(first) << first.error().message;
+    ASSERT_GT(first->cut.length_m, 0.02);
+    std::vector<bool> oldFloor(organ.mesh().positions.size());
+    for (std::uint32_t v = 0; v < oldFloor.size(); ++v) oldFloor[v] = organ.isFloor(v);
+    const std::size_t oldFaces = organ.mesh().faces.size();
+
+    // Top to bottom across it at x = 0, a centimetre deep, as the exercise's incision stroke is made.
+    Trajectory across;
+    auto at = [&](double t, double y, double offset, unsigned buttons) {
+        TrajectoryPoint p;
+        p.t_s = t;
+        p.sample.position_m = scene::frontPoint(heart, bvh, 0, y) + offset * scene::frontNormal(heart, bvh, 0, y);
+        p.sample.buttons = buttons;
+        across.points.push_back(p);
+    };
+    at(0, 0.005, 0.03, 0);
+    at(0.6, 0.005, 0.003, 1);
+    for (int i = 0; i <= 30; ++i) at(0.9 + i * 0.033, 0.005 - i * 0.001, -0.01, 1);
+    at(2.3, -0.025, 0.03, 0);
+    config.keepSteps = 1'000'000;
+    const auto run = scene::runHaptic(organ, across, config);
+    ASSERT_TRUE(run) << run.error().message;
+    const scene::HapticRunResult& r = *run;
+    EXPECT_EQ(r.cut.woundsCrossed, 1);
+    EXPECT_EQ(r.cut.joins, 0);
+    EXPECT_GT(r.cut.length_m, 0.025) << "one cut across the whole stroke";
+    int newWallsAtOldFloor = 0;
+    for (std::size_t f = oldFaces; f < organ.mesh().faces.size(); ++f) {
+        const mesh::Face& face = organ.mesh().faces[f];
+        newWallsAtOldFloor +=
+            organ.isWall(static_cast<std::uint32_t>(f)) &&
+            std::any_of(face.begin(), face.end(), [&](std::uint32_t v) { return v < oldFloor.size() && oldFloor[v]; });
+    }
+    EXPECT_GE(newWallsAtOldFloor, 4) << "the first wound's walls cut down to its floor on both sides";
+    long firstCut = -1, lastCut = -1;
+    for (std::size_t i = 0; i < r.keptSteps.size(); ++i)
+        if (r.keptSteps[i].cut) {
+            if (firstCut < 0) firstCut = static_cast<long>(i);
+            lastCut = static_cast<long>(i);
+        }
+    ASSERT_GE(firstCut, 0);
+    long felt = 0;
+    for (long i = firstCut; i <= lastCut; ++i)
+        felt += r.keptSteps[static_cast<std::size_t>(i)].hand().force_N.norm() >= 0.3;
+    EXPECT_GE(static_cast<double>(felt), 0.95 * static_cast<double>(lastCut - firstCut + 1))
+        << felt << " of " << lastCut - firstCut + 1 << " steps";
+    EXPECT_EQ(r.penetrationMeasuredSteps, r.steps);
+    EXPECT_LT(r.maxProxyPenetration_m, 1e-4);
+    EXPECT_TRUE(r.invariantProblems.empty()) << r.invariantProblems.front();
 }
 
 // A device that jumps a metre between two samples (a glitch of the driver, a tracker losing its

@@ -105,6 +105,11 @@ bool CutModel::onSurfaceRim(std::uint32_t a, std::uint32_t b) const {
     return e.surface > 0 && (e.wall > 0 || e.surface < 2);
 }
 
+bool CutModel::isOpenEdge(std::uint32_t a, std::uint32_t b) const {
+    const EdgeFaces e = edgeFaces(a, b);
+    return e.surface + e.wall < 2;
+}
+
 std::uint32_t CutModel::addVertex(Vec3 rest, Vec3 position, Vec3 velocity, double mass) {
     const auto v = static_cast<std::uint32_t>(mesh_.positions.size());
     mesh_.positions.push_back(rest);
@@ -399,7 +404,13 @@ Vec3 CutModel::restNormalAround(std::uint32_t v, std::initializer_list<std::uint
     return normal.norm() > 0 ? Vec3(normal.normalized()) : Vec3::Zero();
 }
 
-std::optional<std::uint32_t> CutModel::closeOpening(std::uint32_t v, std::uint32_t w, double depth_m) {
+bool CutModel::isFloor(std::uint32_t v) const {
+    const auto& around = facesAround_.around[v];
+    return !around.empty() && std::all_of(around.begin(), around.end(), [&](std::uint32_t f) { return isWall(f); });
+}
+
+std::optional<std::uint32_t> CutModel::closeOpening(std::uint32_t v, std::uint32_t w, double depth_m,
+                                                    bool amongCorners) {
     // The boundary edge leaving x in its face's winding, if there is exactly one (two: a pinch).
     auto boundaryFrom = [&](std::uint32_t x) -> std::optional<std::uint32_t> {
         std::optional<std::uint32_t> out;
@@ -432,22 +443,21 @@ std::optional<std::uint32_t> CutModel::closeOpening(std::uint32_t v, std::uint32
     const double fromV = n.mass[v] / 3, fromW = n.mass[w] / 3;  // the floor's share (total conserved)
     setMass(v, n.mass[v] - fromV);
     setMass(w, n.mass[w] - fromW);
-    const Vec3 offset = -depth_m * normal;
-    const Vec3 middle = 0.5 * (mesh_.positions[v] + mesh_.positions[w]);
-    const std::uint32_t q = addVertex(middle + offset, 0.5 * (n.position[v] + n.position[w]) + offset,
-                                      0.5 * (n.velocity[v] + n.velocity[w]), fromV + fromW);
+    Vec3 rest = 0.5 * (mesh_.positions[v] + mesh_.positions[w]) - depth_m * normal;
+    Vec3 position = 0.5 * (n.position[v] + n.position[w]) - depth_m * normal;
+    if (amongCorners) {
+        rest = position = Vec3::Zero();
+        for (std::uint32_t x : hole) rest += 0.25 * mesh_.positions[x], position += 0.25 * n.position[x];
+    }
+    const std::uint32_t q = addVertex(rest, position, 0.5 * (n.velocity[v] + n.velocity[w]), fromV + fromW);
     floorUnder_[v] = floorUnder_[w] = q;
 
     // The walls' own UVs for their material: v from 0 at a lip to 1 at the floor, u along the cut in
     // wall depths, so the shader darkens toward the floor and streaks along the cut.
     const Vec3 along = (mesh_.positions[hole[1]] - mesh_.positions[hole[3]]).normalized();
-    auto onlyWalls = [&](std::uint32_t x) {
-        const auto& around = facesAround_.around[x];
-        return !around.empty() && std::all_of(around.begin(), around.end(), [&](std::uint32_t f) { return isWall(f); });
-    };
     auto uvOf = [&](std::uint32_t x) {
         const double u = mesh_.positions[x].dot(along) / depth_m;
-        return Vec2(u, x == q || onlyWalls(x) ? 1.0 : 0.0);
+        return Vec2(u, x == q || isFloor(x) ? 1.0 : 0.0);
     };
     std::array<Vec2, 4> uv{};
     for (std::size_t i = 0; i < 4; ++i) uv[i] = uvOf(hole[i]);

@@ -60,6 +60,8 @@ public:
     /// The rim as the blade on the surface meets it: an open end or a wound's lip, with the organ's
     /// surface on at least one side; not an edge inside a wound's walls, down to its floor.
     bool onSurfaceRim(std::uint32_t a, std::uint32_t b) const;
+    /// Whether edge (a, b) is an open end: on one face only.
+    bool isOpenEdge(std::uint32_t a, std::uint32_t b) const;
 
     /// R15: a new vertex inside `face` at barycentric `bary` of the face's rest triangle, which becomes
     /// three faces. The rest position lies on the undeformed face, so the new springs get correct rest
@@ -94,12 +96,18 @@ public:
     /// anchor, and four wall faces join q to the hole's edges, with springs from q to each corner. The
     /// floor vertices of a cut form its floor curve, where its two walls meet. Returns q, or nothing when
     /// the gap is not such a hole (it ran into the organ's open rim), which is then left open.
-    std::optional<std::uint32_t> closeOpening(std::uint32_t v, std::uint32_t w, double depth_m);
+    /// `amongCorners`: the floor vertex goes to the middle of the hole's four corners instead, for a cut
+    /// through an earlier wound's wall (one corner is that wound's floor, right under v): a floor under v
+    /// would lie on the wall's own line and make its faces slivers.
+    std::optional<std::uint32_t> closeOpening(std::uint32_t v, std::uint32_t w, double depth_m,
+                                              bool amongCorners = false);
     /// The floor vertex the walls under v's opening meet at, if v opened with walls.
     std::optional<std::uint32_t> floorUnder(std::uint32_t v) const;
     /// Per face: 1 for a wound's wall (closeOpening made it, or a cut split one), 0 for the organ's surface.
     const std::vector<std::uint8_t>& wallFaces() const { return wall_; }
     bool isWall(std::uint32_t face) const { return wall_[face] != 0; }
+    /// Whether every face round v is a wall: a wound's floor vertex, down inside the organ.
+    bool isFloor(std::uint32_t v) const;
 
     /// Where a cut meets an open boundary or an earlier wound, or starts on one, the vertex there is left
     /// joining two fans of faces that touch only at it. This gives each fan beyond the first its own

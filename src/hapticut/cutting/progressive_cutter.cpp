@@ -52,7 +52,10 @@ void ProgressiveCutter::addPoint(std::uint32_t vertex) {
                 const double depth =
                     std::clamp(bladeDepth_m_,
                                std::min(params_.wallDepthPerEdge * 0.5 * (edgeBefore + edgeAfter), deepest), deepest);
-                if (model_.closeOpening(v, *copy, depth)) ++stats_.wallsClosed;
+                // Next to an earlier wound's floor (crossWound) the opening's floor goes among its
+                // corners: under v it would lie on that wound's wall.
+                const bool throughWall = model_.isFloor(prev) || model_.isFloor(next);
+                if (model_.closeOpening(v, *copy, depth, throughWall)) ++stats_.wallsClosed;
             }
         }
         stats_.facesAdded += static_cast<long>(model_.mesh().faces.size() - faces);
@@ -72,6 +75,76 @@ void ProgressiveCutter::joinAt(std::uint32_t vertex) {
         stats_.verticesAdded += static_cast<long>(model_.mesh().positions.size() - before);
     }
     endCut();
+}
+
+std::optional<std::uint32_t> ProgressiveCutter::floorBeside(std::uint32_t lip) const {
+    if (const auto floor = model_.floorUnder(lip)) return floor;
+    // A lip vertex a cut split off an edge: the floor vertex its wall face reaches down to.
+    const mesh::SurfaceMesh& m = model_.mesh();
+    std::optional<std::uint32_t> floor;
+    double nearest = 1e300;
+    for (std::uint32_t f : model_.facesAround(lip))
+        for (std::uint32_t y : m.faces[f])
+            if (const double d2 = (m.positions[y] - m.positions[lip]).squaredNorm(); model_.isFloor(y) && d2 < nearest)
+                floor = y, nearest = d2;
+    return floor;
+}
+
+std::optional<ProgressiveCutter::WoundCrossing> ProgressiveCutter::crossingAt(std::uint32_t lip) const {
+    // Only a closed wound has a floor to cross by; the organ's open rim and wounds left open are joined.
+    // This cut's own lips are joined too: crossing back over them would cut the tissue it just opened.
+    if (!params_.walls || std::find(lipVertices_.begin(), lipVertices_.end(), lip) != lipVertices_.end())
+        return std::nullopt;
+    const mesh::SurfaceMesh& m = model_.mesh();
+    const auto& x = m.positions;
+    auto neighbours = [&](std::uint32_t v, auto&& visit) {
+        for (std::uint32_t f : model_.facesAround(v))
+            for (std::uint32_t y : m.faces[f])
+                if (y != v) visit(y);
+    };
+    // A vertex on the organ's open rim as well is joined: the wound there is open to the outside.
+    for (std::uint32_t f : model_.facesAround(lip))
+        for (std::uint32_t y : m.faces[f])
+            if (y != lip && model_.isOpenEdge(lip, y)) return std::nullopt;
+    const std::optional<std::uint32_t> floor = floorBeside(lip);
+    if (!floor) return std::nullopt;
+    // Across the gap: a lip vertex at the same floor that shares no face with this lip (the walls meet
+    // only at the floor), the nearest; the lip's own neighbours along the wound share a face with it.
+    auto sharesFace = [&](std::uint32_t y) {
+        for (std::uint32_t f : model_.facesAround(lip))
+            for (std::uint32_t c : m.faces[f])
+                if (c == y) return true;
+        return false;
+    };
+    auto onSurface = [&](std::uint32_t y) {
+        const auto& around = model_.facesAround(y);
+        return std::any_of(around.begin(), around.end(), [&](std::uint32_t f) { return !model_.isWall(f); });
+    };
+    std::optional<std::uint32_t> farLip;
+    double nearest = 1e300;
+    neighbours(*floor, [&](std::uint32_t y) {
+        if (y == lip || !onSurface(y) || sharesFace(y)) return;
+        if (std::find(points_.begin(), points_.end(), y) != points_.end()) return;
+        if (const double d2 = (x[y] - x[lip]).squaredNorm(); d2 < nearest) farLip = y, nearest = d2;
+    });
+    if (!farLip) return std::nullopt;
+    return WoundCrossing{*floor, *farLip};
+}
+
+void ProgressiveCutter::crossWound(std::uint32_t lip, const WoundCrossing& crossing) {
+    // With the floor as the cut's next point the lip opens down to it (addPoint opens a point once the
+    // next is known), so the new wound opens into the old one. The cut then starts again from the floor
+    // up the far wall, whose lip opens once the cut has left it. The floor is never opened: the blade
+    // passes from one wall to the other over it, and the tissue under an earlier wound stays whole.
+    addPoint(lip);
+    // The cut's length is along the surface: across the gap, not down one wall and up the other.
+    const auto& x = model_.mesh().positions;
+    const double length = stats_.length_m + (x[crossing.farLip] - x[lip]).norm();
+    addPoint(crossing.floor);
+    ++stats_.woundsCrossed;
+    points_.assign(1, crossing.floor);
+    addPoint(crossing.farLip);
+    stats_.length_m = length;
 }
 
 bool ProgressiveCutter::fanContains(std::uint32_t vertex, const Vec3& q) const {
@@ -100,6 +173,9 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
     };
     std::vector<Crossing> crossings;
     for (std::uint32_t f : model_.facesAround(last)) {
+        // Over the organ's surface only: a wound's walls are crossed by crossWound, from lip to floor to
+        // lip, and a walk down a wall's faces would split them edge by edge.
+        if (model_.isWall(f)) continue;
         const mesh::Face& face = m.faces[f];
         int k = 0;
         while (face[k] != last) ++k;
@@ -154,10 +230,20 @@ void ProgressiveCutter::advanceTo(std::uint32_t next) {
         lipVertices_.assign(1, next);
         return;
     }
-    if (onBoundary(next))
-        joinAt(next);
-    else
+    // Just across a wound (the floor and the far lip so far), the same along the far lip: the cut comes
+    // up that wall from the floor under where it leaves the lip, and never crosses back.
+    if (points_.size() == 2 && model_.isFloor(points_[0]) && onBoundary(next))
+        if (const auto floor = floorBeside(next)) {
+            points_ = {*floor, next};
+            lipVertices_.push_back(next);
+            return;
+        }
+    if (!onBoundary(next))
         addPoint(next);
+    else if (const auto crossing = crossingAt(next))
+        crossWound(next, *crossing);
+    else
+        joinAt(next);
 }
 
 bool ProgressiveCutter::reachBoundary(const Vec3& q) {

@@ -36,11 +36,12 @@ struct CutterParams {
 
 struct CutStats {
     long cutPoints = 0, verticesAdded = 0, facesAdded = 0, cuts = 0;
-    long joins = 0;        // cuts that ran into an open boundary or an earlier wound and joined it
-    double length_m = 0;   // along the cut, on the rest shape
-    long openings = 0;     // cut points opened (R17)
-    long wallsClosed = 0;  // openings closed with walls (CutterParams::walls)
-    bool opened = false;   // true once any cut point has opened
+    long joins = 0;          // cuts that ran into an open boundary or an earlier wound and joined it
+    long woundsCrossed = 0;  // earlier wounds a cut went through, cutting their walls down to the floor
+    double length_m = 0;     // along the cut, on the rest shape
+    long openings = 0;       // cut points opened (R17)
+    long wallsClosed = 0;    // openings closed with walls (CutterParams::walls)
+    bool opened = false;     // true once any cut point has opened
 };
 
 class ProgressiveCutter {
@@ -91,8 +92,18 @@ private:
     /// wounds become one opening there (CutModel::separateFans), and this cut ends.
     void joinAt(std::uint32_t vertex);
     /// On an open end of the organ or the lip of a wound (CutModel::onRim): a cut stops there and joins
-    /// what it ran into; it does not go down into a wound's walls.
+    /// what it ran into, unless it can cross the wound (crossingAt).
     bool onBoundary(std::uint32_t vertex) const;
+    /// The way through an earlier wound from `lip`, a vertex on its lip: down the wall to the floor
+    /// vertex under it, and up the far wall to the lip vertex nearest it across the gap.
+    struct WoundCrossing {
+        std::uint32_t floor, farLip;
+    };
+    std::optional<WoundCrossing> crossingAt(std::uint32_t lip) const;
+    /// The floor vertex under a wound's lip vertex, if it has one.
+    std::optional<std::uint32_t> floorBeside(std::uint32_t lip) const;
+    /// Cuts the near wall from `lip` down to the floor and goes on from the floor up the far wall.
+    void crossWound(std::uint32_t lip, const WoundCrossing& crossing);
 
     CutModel& model_;
     CutterParams params_;

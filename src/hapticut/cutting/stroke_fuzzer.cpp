@@ -99,6 +99,7 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
         r.facesAdded += st.facesAdded;
         r.joins += st.joins;
         r.wallsClosed += st.wallsClosed;
+        r.woundsCrossed += st.woundsCrossed;
         r.closedOrgan = cut.closedBeforeCuts();
         r.opened |= st.opened;
         r.largestFaces = std::max(r.largestFaces, static_cast<long>(cut.mesh().faces.size()));

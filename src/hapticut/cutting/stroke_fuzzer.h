@@ -49,6 +49,7 @@ struct StrokeFuzzResult {
     long cutPoints = 0, verticesAdded = 0, facesAdded = 0;
     long joins = 0;            // cuts that ran into an open edge (or an earlier wound left open) and joined it
     long wallsClosed = 0;      // openings closed with walls
+    long woundsCrossed = 0;    // earlier wounds a stroke cut through (their walls down to the floor)
     bool closedOrgan = false;  // the organ was closed, and every check also found it closed
     long largestFaces = 0;     // the largest a cut organ grew
     bool opened = false;       // some cut opened

@@ -266,6 +266,7 @@ Result<Assessment, Error> assess(const Scene& scene, const haptics::Trajectory& 
     std::uint32_t buttonsBefore = 0;
     bool inStroke = false;
     std::size_t pointsSeen = 0;  // of the cutter's current cut
+    long woundsCrossedSeen = 0;
     double firstTouch_s = -1, lastEvent_s = -1, contactForce_N = 0;
     long contactSteps = 0;
     config.afterStep = [&](const haptics::StepOutput& s, haptics::HapticLoop& loop) {
@@ -278,13 +279,16 @@ Result<Assessment, Error> assess(const Scene& scene, const haptics::Trajectory& 
             contactForce_N += f, ++contactSteps;
         }
         // The cut: the cutter's points where the mesh was cut, on the rest shape, as they are made (before
-        // the lips gape); a cut that ends and starts again is another stroke.
+        // the lips gape); a cut that ends and starts again is another stroke, one that went on through an
+        // earlier wound (from its floor, which is not on the surface) is the same.
         const std::vector<std::uint32_t>& points = loop.cutter().points();
-        if (points.size() < pointsSeen) pointsSeen = 0, inStroke = false;
+        const long crossed = loop.cutter().stats().woundsCrossed;
+        if (points.size() < pointsSeen) pointsSeen = 0, inStroke = inStroke && crossed > woundsCrossedSeen;
+        woundsCrossedSeen = crossed;
         if (incision && points.size() > pointsSeen) {
             if (!inStroke) a.cuts_m.emplace_back(), ++a.strokes, inStroke = true;
             for (std::size_t i = pointsSeen; i < points.size(); ++i)
-                a.cuts_m.back().push_back(organ.mesh().positions[points[i]]);
+                if (!organ.isFloor(points[i])) a.cuts_m.back().push_back(organ.mesh().positions[points[i]]);
             depths_m.push_back(rest.closest(h.device_m).distance);
             lastEvent_s = s.t_s;
         }

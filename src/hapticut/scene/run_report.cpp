@@ -114,6 +114,7 @@ nlohmann::ordered_json hapticRunReport(const ModelSource& source, const cutting:
     j["vertices_added"] = result.cut.verticesAdded;
     j["faces_added"] = result.cut.facesAdded;
     j["joins"] = result.cut.joins;
+    j["wounds_crossed"] = result.cut.woundsCrossed;
     j["openings"] = result.cut.openings;
     j["walls_closed"] = result.cut.wallsClosed;
     j["wall_faces"] = std::count(organ.wallFaces().begin(), organ.wallFaces().end(), std::uint8_t{1});
