@@ -446,8 +446,11 @@ std::optional<std::uint32_t> CutModel::closeOpening(std::uint32_t v, std::uint32
     Vec3 rest = 0.5 * (mesh_.positions[v] + mesh_.positions[w]) - depth_m * normal;
     Vec3 position = 0.5 * (n.position[v] + n.position[w]) - depth_m * normal;
     if (amongCorners) {
-        rest = position = Vec3::Zero();
-        for (std::uint32_t x : hole) rest += 0.25 * mesh_.positions[x], position += 0.25 * n.position[x];
+        // The middle of the three places the hole spans: the lips (v and w, side by side), next and behind.
+        auto middle = [&](const std::vector<Vec3>& x) {
+            return (0.5 * (x[hole[0]] + x[hole[2]]) + x[hole[1]] + x[hole[3]]) / 3.0;
+        };
+        rest = middle(mesh_.positions), position = middle(n.position);
     }
     const std::uint32_t q = addVertex(rest, position, 0.5 * (n.velocity[v] + n.velocity[w]), fromV + fromW);
     floorUnder_[v] = floorUnder_[w] = q;

@@ -96,9 +96,9 @@ public:
     /// anchor, and four wall faces join q to the hole's edges, with springs from q to each corner. The
     /// floor vertices of a cut form its floor curve, where its two walls meet. Returns q, or nothing when
     /// the gap is not such a hole (it ran into the organ's open rim), which is then left open.
-    /// `amongCorners`: the floor vertex goes to the middle of the hole's four corners instead, for a cut
-    /// through an earlier wound's wall (one corner is that wound's floor, right under v): a floor under v
-    /// would lie on the wall's own line and make its faces slivers.
+    /// `amongCorners`: the floor vertex goes to the middle of the hole's corners instead (v and w side by
+    /// side counted as one place), for a cut through an earlier wound's wall (one corner is that wound's
+    /// floor, right under v): a floor under v would lie on the wall's own line and make its faces slivers.
     std::optional<std::uint32_t> closeOpening(std::uint32_t v, std::uint32_t w, double depth_m,
                                               bool amongCorners = false);
     /// The floor vertex the walls under v's opening meet at, if v opened with walls.
