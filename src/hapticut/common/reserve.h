@@ -11,13 +11,23 @@ namespace hapticut {
 /// organs. One policy for the organ, the stepper, the tree and the snapshots.
 inline std::size_t roomToGrow(std::size_t n) { return n + n / 2 + 1024; }
 
+/// A value whose copies write every byte: a default-constructed Eigen vector is left uninitialised,
+/// so resizing with it would reserve pages and never touch them.
+template <class T>
+T touchingValue() {
+    if constexpr (requires { T::Zero(); })
+        return T::Zero();
+    else
+        return T{};
+}
+
 /// Reserves room for `capacity` elements and writes every one of them once, keeping the size.
 template <class T>
 void reserveTouched(std::vector<T>& v, std::size_t capacity) {
     if (capacity <= v.size()) return;
     const std::size_t size = v.size();
     v.reserve(capacity);
-    v.resize(capacity);
+    v.resize(capacity, touchingValue<T>());
     v.resize(size);
 }
 

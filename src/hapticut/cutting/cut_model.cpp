@@ -28,7 +28,8 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model, physi
     for (std::size_t e = 0; e < adjacency.edges.size() && closedBeforeCuts_; ++e)
         closedBeforeCuts_ = adjacency.facesOfEdge(e).size() == 2;
     const physics::Springs& s = model_.springs;
-    for (std::uint32_t k = 0; k < s.size(); ++k) springOfEdge_[edgeKey(s.a[k], s.b[k])] = k;
+    springOfEdge_.reserve(roomToGrow(s.size()));  // as the arrays below
+    for (std::uint32_t k = 0; k < s.size(); ++k) springOfEdge_.set(edgeKey(s.a[k], s.b[k]), k);
     // New springs and anchors follow the model's material: springs scale as 1/L (as the
     // resolution-independent material does), anchors with the node's mass (mass follows area). The means
     // are of the tissue without its regions, whose scale each new one takes where it is.
@@ -60,7 +61,6 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model, physi
     for (auto* v : {&sp.a, &sp.b}) reserveTouched(*v, springs);
     for (auto* v : {&sp.restLength, &sp.stiffness, &sp.damping}) reserveTouched(*v, springs);
     reserveTouched(mesh_.edges, springs);
-    springOfEdge_.reserve(springs);
     reserveTouched(mesh_.faces, faces);
     reserveTouched(mesh_.uvs, faces);
     reserveTouched(mesh_.normals, faces);
@@ -68,30 +68,31 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model, physi
     reserveTouched(wall_, faces);
     wall_.assign(mesh_.faces.size(), 0);
     reserveTouched(floorUnder_, nodes);
+    // Scratch that keeps its memory: a cut in the loop allocates nothing it does not keep.
+    for (auto* v : {&shortened_, &fanFaces_, &fanStart_, &edgeFaces_, &left_, &leftVertices_}) v->reserve(64);
     floorUnder_.assign(mesh_.positions.size(), kNoFloor);
 }
 
 std::optional<std::uint32_t> CutModel::springOf(std::uint32_t a, std::uint32_t b) const {
-    const auto it = springOfEdge_.find(edgeKey(a, b));
-    return it == springOfEdge_.end() ? std::nullopt : std::optional<std::uint32_t>(it->second);
+    return springOfEdge_.find(edgeKey(a, b));
 }
 
 std::vector<std::uint32_t> CutModel::facesOfEdge(std::uint32_t a, std::uint32_t b) const {
     std::vector<std::uint32_t> out;
-    for (std::uint32_t f : facesAround_.around[a]) {
-        const mesh::Face& face = mesh_.faces[f];
-        if (face[0] == b || face[1] == b || face[2] == b) out.push_back(f);
-    }
+    facesOfEdge(a, b, out);
     return out;
+}
+
+void CutModel::facesOfEdge(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    for (std::uint32_t f : facesAround_.around[a])
+        if (hasCorner(f, b)) out.push_back(f);
 }
 
 CutModel::EdgeFaces CutModel::edgeFaces(std::uint32_t a, std::uint32_t b) const {
     EdgeFaces count;
-    for (std::uint32_t f : facesAround_.around[a]) {
-        const mesh::Face& face = mesh_.faces[f];
-        if (face[0] != b && face[1] != b && face[2] != b) continue;
-        ++(isWall(f) ? count.wall : count.surface);
-    }
+    for (std::uint32_t f : facesAround_.around[a])
+        if (hasCorner(f, b)) ++(isWall(f) ? count.wall : count.surface);
     return count;
 }
 
@@ -157,17 +158,17 @@ void CutModel::moveSpringEnd(std::uint32_t k, std::uint32_t from, std::uint32_t 
     const std::uint32_t other = s.a[k] == from ? s.b[k] : s.a[k];
     springOfEdge_.erase(edgeKey(from, other));
     (s.a[k] == from ? s.a[k] : s.b[k]) = to;
-    springOfEdge_[edgeKey(to, other)] = k;
+    springOfEdge_.set(edgeKey(to, other), k);
     mesh_.edges[k] = {s.a[k], s.b[k]};  // mesh_.edges stays parallel to the springs: edge k is spring k
     changes_.nodes.push_back(from);
     touchSpring(k);
 }
 
 void CutModel::addSpring(std::uint32_t a, std::uint32_t b) {
-    if (springOfEdge_.count(edgeKey(a, b))) return;
+    if (springOfEdge_.contains(edgeKey(a, b))) return;
     physics::Springs& s = model_.springs;
     const double length = (mesh_.positions[b] - mesh_.positions[a]).norm();
-    springOfEdge_[edgeKey(a, b)] = static_cast<std::uint32_t>(s.size());
+    springOfEdge_.set(edgeKey(a, b), static_cast<std::uint32_t>(s.size()));
     s.a.push_back(a);
     s.b.push_back(b);
     s.restLength.push_back(length);
@@ -238,7 +239,8 @@ std::uint32_t CutModel::splitFace(std::uint32_t face, const Vec3& bary) {
 
 std::uint32_t CutModel::splitEdge(std::uint32_t a, std::uint32_t b, double u) {
     HAPTICUT_ASSERT(u > 0 && u < 1);
-    const std::vector<std::uint32_t> faces = facesOfEdge(a, b);
+    std::vector<std::uint32_t>& faces = edgeFaces_;
+    facesOfEdge(a, b, faces);
     physics::Nodes& n = model_.nodes;
     const Vec3 rest = (1 - u) * mesh_.positions[a] + u * mesh_.positions[b];
     const Vec3 position = (1 - u) * n.position[a] + u * n.position[b];
@@ -293,7 +295,8 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     // prev (or to prev's floor, past the wall that closed the cut's tip) or a boundary: those faces are
     // the left side.
     const std::uint32_t prevFloor = floorUnder_[prev];
-    std::vector<std::uint32_t> left;
+    std::vector<std::uint32_t>& left = left_;
+    left.clear();
     std::uint32_t face = *start;
     for (std::size_t guard = 0; guard <= facesAround_.around[v].size(); ++guard) {
         left.push_back(face);
@@ -318,7 +321,8 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     setMass(v, half);
 
     // Left faces take the duplicate; their vertices other than the cut ends move their springs to it.
-    std::vector<std::uint32_t> leftVertices;
+    std::vector<std::uint32_t>& leftVertices = leftVertices_;
+    leftVertices.clear();
     for (std::uint32_t f : left) {
         mesh::Face corners = mesh_.faces[f];
         for (std::uint32_t& c : corners) {
@@ -335,8 +339,7 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
     for (std::uint32_t x : leftVertices) {
         const auto k = springOf(v, x);
         if (!k) continue;
-        if (!facesOfEdge(v, x)
-                 .empty()) {  // the edge still has a right-side face: it is a cut edge, both lips need a spring
+        if (edgeFaces(v, x).total() > 0) {  // the edge still has a right-side face: a cut edge, both lips need a spring
             addSpring(w, x);
             continue;
         }
@@ -349,10 +352,11 @@ std::optional<std::uint32_t> CutModel::openCut(std::uint32_t prev, std::uint32_t
         for (std::uint32_t f : facesAround_.around[copy])
             for (std::uint32_t x : mesh_.faces[f]) {
                 if (x == copy || onRim(copy, x)) continue;
-                if (const auto k = springOf(copy, x); k && shortened_.insert(*k).second) {
-                    s.restLength[*k] *= 1 - shorten;
-                    touchSpring(*k);
-                }
+                const auto k = springOf(copy, x);
+                if (!k || std::find(shortened_.begin(), shortened_.end(), *k) != shortened_.end()) continue;
+                shortened_.push_back(*k);
+                s.restLength[*k] *= 1 - shorten;
+                touchSpring(*k);
             }
     shortened_.clear();
     if (retract > 0) {
@@ -419,7 +423,7 @@ std::optional<std::uint32_t> CutModel::closeOpening(std::uint32_t v, std::uint32
             int k = 0;
             while (face[k] != x) ++k;
             const std::uint32_t y = face[(k + 1) % 3];
-            if (facesOfEdge(x, y).size() != 1) continue;
+            if (edgeFaces(x, y).total() != 1) continue;
             if (out) return std::nullopt;
             out = y;
         }
@@ -491,10 +495,9 @@ void CutModel::fansAround(std::uint32_t v, std::vector<std::uint32_t>& faces,
             const mesh::Face f = mesh_.faces[faces[i]];
             for (std::uint32_t x : f) {
                 if (x == v) continue;
-                const std::vector<std::uint32_t> shared = facesOfEdge(v, x);
-                if (shared.size() != 2) continue;  // a boundary edge: the fan ends here
-                for (std::uint32_t g : shared)
-                    if (std::find(faces.begin(), faces.end(), g) == faces.end()) faces.push_back(g);
+                if (edgeFaces(v, x).total() != 2) continue;  // a boundary edge: the fan ends here
+                for (std::uint32_t g : around)
+                    if (hasCorner(g, x) && std::find(faces.begin(), faces.end(), g) == faces.end()) faces.push_back(g);
             }
         }
     }
@@ -535,7 +538,8 @@ double CutModel::splitEdgeMinAngle_deg(std::uint32_t a, std::uint32_t b, double 
     const auto& x = mesh_.positions;
     const Vec3 p = (1 - u) * x[a] + u * x[b];
     double worst = 180;
-    for (std::uint32_t f : facesOfEdge(a, b)) {
+    for (std::uint32_t f : facesAround_.around[a]) {
+        if (!hasCorner(f, b)) continue;
         const mesh::Face& face = mesh_.faces[f];
         std::uint32_t c = face[0];
         for (std::uint32_t v : face)

@@ -5,11 +5,10 @@
 #include <cstdint>
 #include <initializer_list>
 #include <optional>
-#include <unordered_map>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
+#include "hapticut/common/flat_key_map.h"
 #include "hapticut/mesh/surface_mesh.h"
 #include "hapticut/mesh/vertex_faces.h"
 #include "hapticut/physics/mass_spring_model.h"
@@ -54,6 +53,8 @@ public:
     std::optional<std::uint32_t> springOf(std::uint32_t a, std::uint32_t b) const;
     /// The faces that have edge (a, b), in any orientation (two on a manifold interior edge).
     std::vector<std::uint32_t> facesOfEdge(std::uint32_t a, std::uint32_t b) const;
+    /// The same into `out`, which keeps its memory from call to call.
+    void facesOfEdge(std::uint32_t a, std::uint32_t b, std::vector<std::uint32_t>& out) const;
     /// Whether edge (a, b) is an open end of the organ, a wound's lip or inside its walls: on fewer than
     /// two faces, or on a wall. Cuts stop there and openings do not shorten its spring. Allocates nothing.
     bool onRim(std::uint32_t a, std::uint32_t b) const;
@@ -106,6 +107,10 @@ public:
     /// Per face: 1 for a wound's wall (closeOpening made it, or a cut split one), 0 for the organ's surface.
     const std::vector<std::uint8_t>& wallFaces() const { return wall_; }
     bool isWall(std::uint32_t face) const { return wall_[face] != 0; }
+    bool hasCorner(std::uint32_t face, std::uint32_t v) const {
+        const mesh::Face& f = mesh_.faces[face];
+        return f[0] == v || f[1] == v || f[2] == v;
+    }
     /// Whether every face round v is a wall: a wound's floor vertex, down inside the organ.
     bool isFloor(std::uint32_t v) const;
 
@@ -140,6 +145,7 @@ public:
 private:
     struct EdgeFaces {
         int surface = 0, wall = 0;  // faces on edge (a, b) of the organ's surface and of wounds' walls
+        int total() const { return surface + wall; }
     };
     EdgeFaces edgeFaces(std::uint32_t a, std::uint32_t b) const;
     /// By value: callers pass elements of the very arrays this grows (a copy of vertex v), which a
@@ -163,14 +169,16 @@ private:
     mesh::SurfaceMesh mesh_;
     physics::MassSpringModel model_;
     mesh::VertexFaces facesAround_;
-    std::unordered_map<std::uint64_t, std::uint32_t> springOfEdge_;
+    FlatKeyMap springOfEdge_;  // edgeKey -> spring, looked up many times a cut
     TopologyChanges changes_;
     bool closedBeforeCuts_ = false;
     std::vector<std::uint8_t> wall_;         // per face
     std::vector<std::uint32_t> floorUnder_;  // per vertex: the floor vertex of its opening, or kNoFloor
     static constexpr std::uint32_t kNoFloor = ~std::uint32_t{0};
-    std::unordered_set<std::uint64_t> shortened_;     // scratch for openCut: each spring shortened once
+    std::vector<std::uint32_t> shortened_;            // scratch for openCut: each spring shortened once
     std::vector<std::uint32_t> fanFaces_, fanStart_;  // scratch for separateFans
+    std::vector<std::uint32_t> edgeFaces_;            // scratch for splitEdge
+    std::vector<std::uint32_t> left_, leftVertices_;  // scratch for openCut
     // Material of new springs and anchors: the means of the model's own, per unit length and mass.
     physics::MaterialField field_;
     bool keepRetiredPositions_ = false;

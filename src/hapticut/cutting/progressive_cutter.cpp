@@ -166,12 +166,8 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
     // Among the edges opposite the last point in its fan, those the way to q crosses: the closest
     // approach of the line from -> q and the edge's line, inside the edge and ahead of `from`. The
     // nearest approach wins, unless it would lead back to a point the cut already has.
-    struct Crossing {
-        double gap;
-        std::uint32_t a, b;
-        double u;
-    };
-    std::vector<Crossing> crossings;
+    std::vector<Crossing>& crossings = crossings_;
+    crossings.clear();
     for (std::uint32_t f : model_.facesAround(last)) {
         // Over the organ's surface only: a wound's walls are crossed by crossWound, from lip to floor to
         // lip, and a walk down a wall's faces would split them edge by edge.
@@ -318,6 +314,11 @@ std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlad
 
 ProgressiveCutter::ProgressiveCutter(CutModel& model, CutterParams params)
     : model_(model), params_(params), expectedMass_kg_(physics::totalMass(model.model())) {
+    // Room for a long cut, and scratch that keeps its memory: a cut in the loop allocates nothing.
+    points_.reserve(1024);
+    lipVertices_.reserve(2048);
+    for (auto* v : {&nearbyFaces_, &ring_}) v->reserve(256);
+    crossings_.reserve(64);
 #if !defined(NDEBUG) || defined(HAPTICUT_ENABLE_ASSERTS)
     // A model broken before any cut (an unrepaired import's orientation or non-manifold edges) would
     // fail the check after every cut and blame it; such a model is cut unchecked.

@@ -113,7 +113,13 @@ private:
     double expectedMass_kg_ = 0;  // cutting conserves the organ's mass exactly
     bool wholeAtStart_ = true;    // with asserts: every invariant held before the first cut (else an unrepaired import)
     std::vector<std::uint32_t> nearbyFaces_, ring_;  // scratch for projectBlade
-    double bladeDepth_m_ = 0;                        // the latest cutAt's
+    struct Crossing {                                // an edge the way to the blade crosses
+        double gap;
+        std::uint32_t a, b;
+        double u;
+    };
+    std::vector<Crossing> crossings_;  // scratch for crossToward
+    double bladeDepth_m_ = 0;          // the latest cutAt's
 };
 
 }  // namespace hapticut::cutting
