@@ -33,6 +33,7 @@ void Stepper::reserveFor(std::size_t n, std::size_t ns) {
     reserveTouched(allNodes_, nodes);
     reserveTouched(allSprings_, springs);
     reserveTouched(moved_, nodes);
+    reserveTouched(visitedIn_, nodes);
     implicit_.reserve(nodes, springs);
     region_.reserve(nodes, springs);
     springsAt_.reserve(nodes, springs);
@@ -83,8 +84,13 @@ void Stepper::topologyChanged(const MassSpringModel& model, std::span<const std:
     implicit_.resize(n);
     region_.resize(n, ns);
     springsAt_.update(model.springs, n, springs);
-    // The nodes whose modes may have changed: the listed ones and the ends of the listed springs.
+    visitedIn_.resize(n, 0);
+    if (++visit_ == 0) std::fill(visitedIn_.begin(), visitedIn_.end(), 0), visit_ = 1;
+    // The nodes whose modes may have changed: the listed ones and the ends of the listed springs, each
+    // once (a cut lists a node again for every edit that touched it: eight times on average).
     auto visit = [&](std::uint32_t i) {
+        if (visitedIn_[i] == visit_) return;
+        visitedIn_[i] = visit_;
         lowerStableStepAt(model, i);
         region_.wake(i);  // falls asleep again at once if it is at rest with nothing pulling on it
     };

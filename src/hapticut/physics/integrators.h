@@ -96,7 +96,9 @@ private:
     std::size_t preparedNodes_ = static_cast<std::size_t>(-1), preparedSprings_ = 0;
     std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
     std::vector<std::uint32_t> allNodes_, allSprings_;
-    std::vector<std::uint32_t> moved_;  // the active region's nodes in the last step
+    std::vector<std::uint32_t> moved_;      // the active region's nodes in the last step
+    std::vector<std::uint32_t> visitedIn_;  // per node: the topologyChanged call that last visited it
+    std::uint32_t visit_ = 0;
     BackwardEuler implicit_;
     bool activeRegion_ = false;
     ActiveRegion region_;
