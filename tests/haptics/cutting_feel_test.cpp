@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -188,11 +190,13 @@ TEST(CuttingFeel, AnIncisionOnTheFiftyThousandTriangleHeartCutsItsWholeLength) {
 }
 
 TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyStaysOutside) {
-    // With the thesis's point contact and with the scalpel's tip as users get it.
-    for (const auto& [triangles, tip_m] : {std::pair{1619, 0.0},
-                                           {9714, 0.0},
-                                           {1619, mesh::procedural::kScalpelTipRadius_m},
-                                           {9714, mesh::procedural::kScalpelTipRadius_m}}) {
+    // With the thesis's point contact and with the scalpel's tip as users get it. Under a sanitizer the
+    // 1,619 heart only: the 9,714 one runs the same code, and took 40 of its 44 s under ASan.
+    std::vector<std::pair<int, double>> cases{{1619, 0.0}, {1619, mesh::procedural::kScalpelTipRadius_m}};
+#ifndef HAPTICUT_SANITIZED
+    cases.insert(cases.end(), {{9714, 0.0}, {9714, mesh::procedural::kScalpelTipRadius_m}});
+#endif
+    for (const auto& [triangles, tip_m] : cases) {
         SCOPED_TRACE(testing::Message() << triangles << " triangles, tip " << tip_m << " m");
         const auto trajectory =
             readTrajectory(std::filesystem::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories/cut-front.csv");
