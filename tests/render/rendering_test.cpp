@@ -411,6 +411,15 @@ TEST(ViewCommand, ReplaysATrajectoryThatCutsTheHeart) {
         << readAll(dir / "err");
     const auto report = nlohmann::json::parse(readAll(dir / "view.json"));
     EXPECT_GT(report["cut_events"].get<long>(), 0) << "the scalpel's replayed stroke did not cut in the viewer";
+    // What it cut, as `run` reports it: a cut across the front (in one piece in `run`; the viewer's loop
+    // runs in real time beside the renderer, whose stalls may ease the press), every opening closed.
+    EXPECT_EQ(report["model_resets"].get<long>(), 0);
+    EXPECT_GE(report["cuts"].get<long>(), 1);
+    EXPECT_LE(report["cuts"].get<long>(), 3);
+    EXPECT_GT(report["cut_length_m"].get<double>(), 0.02);
+    EXPECT_GT(report["cut_points"].get<long>(), 5);
+    EXPECT_EQ(report["wounds_crossed"].get<long>(), 0);
+    EXPECT_EQ(report["walls_closed"].get<long>(), report["openings"].get<long>());
 }
 
 }  // namespace

@@ -77,6 +77,9 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
         ImGui::Text("%s, %d substep%s (stable below %.2f ms)", std::string(physics::schemeName(s.scheme)).c_str(),
                     s.substeps, s.substeps == 1 ? "" : "s", s.stableStep_s * 1e3);
     ImGui::Text("overruns %ld   cut events %ld", s.overruns, s.cutEvents);
+    if (s.cut.cuts > 0)
+        ImGui::Text("%ld cut%s, %.1f mm long, %ld earlier wound%s cut through", s.cut.cuts, s.cut.cuts == 1 ? "" : "s",
+                    s.cut.length_m * 1e3, s.cut.woundsCrossed, s.cut.woundsCrossed == 1 ? "" : "s");
     if (s.stalls > 0)  // gaps of 3 periods or more, after each of which the force sent ramped back in
         ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "stalls %ld: force ramped back in", s.stalls);
     if (s.watchdogTripped) {

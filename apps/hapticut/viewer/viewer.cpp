@@ -449,7 +449,16 @@ int Viewer::run() {
         j["haptic_rate_hz"] = static_cast<double>(last.step) / std::max(wall_s, 1e-9);
         j["overruns"] = last.overruns;
         j["stalls"] = last.stalls;
+        // The cut counts are since the model was last reset (r) or loaded, which undoes every cut.
+        j["model_resets"] = session_.resets() - 1;  // the first load counts as one
         j["cut_events"] = last.cutEvents;
+        j["cuts"] = last.cut.cuts;
+        j["cut_points"] = last.cut.cutPoints;
+        j["cut_length_m"] = last.cut.length_m;
+        j["wounds_crossed"] = last.cut.woundsCrossed;
+        j["joins"] = last.cut.joins;
+        j["openings"] = last.cut.openings;
+        j["walls_closed"] = last.cut.wallsClosed;
         j["renderer"] = window_->rendererDescription();
         j["renderer_threads_yielding"] = yieldingThreads;
         j["provenance"] = app::provenance();

@@ -800,6 +800,7 @@ void HapticLoop::publishSnapshot(const StepOutput& out) {
     s.overruns = stats_.overruns;
     s.stalls = stats_.stalls;
     s.cutEvents = stats_.cutEvents;
+    s.cut = cutter_.stats();
     s.contactSteps = stats_.contactSteps;
     s.watchdogTripped = stats_.watchdogTripped;
     s.paused = paused_;

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "hapticut/cutting/progressive_cutter.h"
 #include "hapticut/mesh/surface_mesh.h"
 #include "hapticut/physics/point_spring.h"
 #include "hapticut/physics/scheme.h"
@@ -49,6 +50,7 @@ struct Snapshot {
     bool multiRate = false;
     double physicsRate_hz = 0;  // physics steps per second: the loop's rate unless multi-rate
     long overruns = 0, stalls = 0, cutEvents = 0, contactSteps = 0;
+    cutting::CutStats cut{};  // the cutter's counts since the loop started: cuts, their length, wounds crossed
     bool watchdogTripped = false, paused = false;
 };
 
