@@ -206,8 +206,8 @@ int bench(const BenchOptions& o) {
     }
     std::string targets;
     for (const char* t : physics::kernels::supportedTargets()) targets += std::string(targets.empty() ? "" : ", ") + t;
-    std::printf("SIMD: the implicit solve's kernels run with %s (this machine runs: %s)\n\n",
-                physics::kernels::targetName(), targets.c_str());
+    std::printf("SIMD: the physics' kernels run with %s (this machine runs: %s)\n\n", physics::kernels::targetName(),
+                targets.c_str());
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
     std::printf("%10s %8s %9s %-11s %11s %11s %13s %9s %15s %8s\n", "triangles", "nodes", "springs", "integrator",
                 "us/step", "p99 us", "ns/spring-ev", "substeps", "us/sim-ms@1ms", "CG its");
@@ -259,18 +259,22 @@ int bench(const BenchOptions& o) {
                                {"heart_generation_s", generate_s}});
         }
     }
-    std::printf("\n%10s %-8s %12s %16s   (the implicit solve's product, every instruction set, same run)\n",
-                "triangles", "target", "product us", "ns/spring-end");
+    std::printf(
+        "\n%10s %-8s %12s %16s %12s %12s   (the implicit solve's product and the springs' forces, every "
+        "instruction set, same run)\n",
+        "triangles", "target", "product us", "ns/spring-end", "springs us", "ns/spring");
     nlohmann::ordered_json kernelTimes = nlohmann::ordered_json::array();
     for (int triangles : o.triangles) {
         const physics::MassSpringModel model = scene::benchHeart(triangles).buildModel();
         for (const bench::KernelTiming& t : bench::timeSolverKernels(model, std::min(o.seconds, 0.5))) {
-            std::printf("%10zu %-8s %12.1f %16.2f\n", model.springs.size() * 2 / 3, t.target.c_str(), t.product_us,
-                        t.ns_per_coupling);
+            std::printf("%10zu %-8s %12.1f %16.2f %12.1f %12.2f\n", model.springs.size() * 2 / 3, t.target.c_str(),
+                        t.product_us, t.ns_per_coupling, t.spring_forces_us, t.ns_per_spring);
             kernelTimes.push_back({{"triangles", model.springs.size() * 2 / 3},
                                    {"target", t.target},
                                    {"product_us", t.product_us},
-                                   {"ns_per_spring_end", t.ns_per_coupling}});
+                                   {"ns_per_spring_end", t.ns_per_coupling},
+                                   {"spring_forces_us", t.spring_forces_us},
+                                   {"ns_per_spring", t.ns_per_spring}});
         }
     }
     nlohmann::ordered_json haptics = nlohmann::ordered_json::array();

@@ -1,13 +1,15 @@
-// Timing the implicit solve's product under each instruction set.
+// Timing the physics' SIMD kernels under each instruction set.
 #include "bench/solver_kernels.h"
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <numeric>
 
 #include "hapticut/common/stats.h"
 #include "hapticut/physics/backward_euler_system.h"
 #include "hapticut/physics/solver_kernels.h"
+#include "hapticut/physics/spring_forces.h"
 
 namespace hapticut::bench {
 
@@ -26,20 +28,33 @@ std::vector<KernelTiming> timeSolverKernels(const physics::MassSpringModel& mode
     for (std::size_t k = 0; k < nodes.size(); ++k)
         y.x[k] = std::sin(0.1 * static_cast<double>(k)), y.y[k] = 1, y.z[k] = std::cos(0.3 * static_cast<double>(k));
 
-    std::vector<KernelTiming> timings;
-    for (const char* target : physics::kernels::supportedTargets()) {
-        physics::kernels::forceTarget(target);
+    // The springs stretched, squeezed and moving, as in a step.
+    std::vector<Vec3> x = model.nodes.position, v(x.size()), f(x.size());
+    for (std::size_t k = 0; k < x.size(); ++k) {
+        const auto t = static_cast<double>(k);
+        x[k] += 1e-4 * Vec3(std::sin(t), std::cos(1.3 * t), std::sin(0.7 * t));
+        v[k] = 1e-2 * Vec3(std::cos(t), std::sin(2.1 * t), 0.5);
+    }
+
+    auto medianOf = [&](auto&& run) {
         std::vector<double> samples;
-        double sink = 0;
         const auto end = Clock::now() + std::chrono::duration<double>(seconds);
         while (Clock::now() < end || samples.size() < 20) {
             const auto t0 = Clock::now();
-            sink += physics::kernels::multiply(system.matrix(), y, out);
+            run();
             samples.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
         }
-        const double median = summarize(samples).p50;
-        timings.push_back({target, median, 1e3 * median / (2.0 * static_cast<double>(springs.size()))});
-        if (sink == 42) timings.back().target += "";  // keeps the products from being optimised away
+        return summarize(samples).p50;
+    };
+    std::vector<KernelTiming> timings;
+    for (const char* target : physics::kernels::supportedTargets()) {
+        physics::kernels::forceTarget(target);
+        double sink = 0;
+        const double product = medianOf([&] { sink += physics::kernels::multiply(system.matrix(), y, out); });
+        const double forces = medianOf([&] { physics::accumulateSpringForces(model.springs, x, v, f); });
+        const auto count = static_cast<double>(springs.size());
+        timings.push_back({target, product, 1e3 * product / (2.0 * count), forces, 1e3 * forces / count});
+        if (sink == 42 || !f[0].allFinite()) timings.back().target += "";  // keeps the work from being optimised away
     }
     physics::kernels::forceTarget(nullptr);
     return timings;

@@ -1,5 +1,6 @@
-// The implicit solve's matrix product under every instruction set this machine runs, in one run, so
-// that the SIMD kernels' gain is measured against the portable code on the same machine and moment.
+// The physics' SIMD kernels (the implicit solve's matrix product, the explicit schemes' spring forces)
+// under every instruction set this machine runs, in one run, so that their gain is measured against the
+// portable code on the same machine and moment.
 #pragma once
 
 #include <string>
@@ -10,12 +11,15 @@
 namespace hapticut::bench {
 
 struct KernelTiming {
-    std::string target;          // "AVX3", "AVX2", "SSE4", "EMU128", ...
-    double product_us = 0;       // median time of one product with the whole model's matrix
-    double ns_per_coupling = 0;  // per spring end: each spring is read from both of its rows
+    std::string target;           // "AVX3", "AVX2", "SSE4", "EMU128", ...
+    double product_us = 0;        // median time of one product with the whole model's matrix
+    double ns_per_coupling = 0;   // per spring end: each spring is read from both of its rows
+    double spring_forces_us = 0;  // median time of every spring's force added to the nodes
+    double ns_per_spring = 0;
 };
 
-/// Times the product on `model` (all nodes unknowns, a 1 ms step) for at least `seconds` per target.
+/// Times the product on `model` (all nodes unknowns, a 1 ms step) and the spring forces (every node
+/// moved and moving a little) for at least `seconds` each per target.
 std::vector<KernelTiming> timeSolverKernels(const physics::MassSpringModel& model, double seconds);
 
 }  // namespace hapticut::bench

@@ -1,35 +1,25 @@
 // Force terms of the mass-spring model.
 #include "hapticut/physics/spring_forces.h"
 
-#include <cmath>
+#include "hapticut/physics/spring_kernels.h"
 
 namespace hapticut::physics {
 
+namespace {
+
+kernels::SpringArrays springArrays(const Springs& s) {
+    return {s.a.data(), s.b.data(), s.restLength.data(), s.stiffness.data(), s.damping.data()};
+}
+
+// A Vec3 is three doubles in a row, so an array of them is an array of doubles.
+static_assert(sizeof(Vec3) == 3 * sizeof(double));
+const double* coordinates(std::span<const Vec3> p) { return reinterpret_cast<const double*>(p.data()); }
+double* coordinates(std::span<Vec3> p) { return reinterpret_cast<double*>(p.data()); }
+
+}  // namespace
+
 void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
-    // Raw restrict pointers: without them the compiler must assume that every store into f may change
-    // the springs' arrays, and reloads each array's base pointer on every iteration.
-    const std::size_t count = s.size();
-    const std::uint32_t* __restrict a = s.a.data();
-    const std::uint32_t* __restrict b = s.b.data();
-    const double* __restrict rest = s.restLength.data();
-    const double* __restrict ks = s.stiffness.data();
-    const double* __restrict kd = s.damping.data();
-    const double* __restrict xp = x.data()->data();
-    const double* __restrict vp = v.data()->data();
-    double* __restrict fp = f.data()->data();
-    for (std::size_t i = 0; i < count; ++i) {
-        const std::size_t ia = 3 * std::size_t{a[i]}, ib = 3 * std::size_t{b[i]};
-        const double dx = xp[ib] - xp[ia], dy = xp[ib + 1] - xp[ia + 1], dz = xp[ib + 2] - xp[ia + 2];
-        const double len2 = dx * dx + dy * dy + dz * dz;
-        if (len2 < 1e-24) continue;  // coincident nodes have no direction; a fresh cut can produce them
-        const double invLen = 1 / std::sqrt(len2);
-        const double dvx = vp[ib] - vp[ia], dvy = vp[ib + 1] - vp[ia + 1], dvz = vp[ib + 2] - vp[ia + 2];
-        const double stretchRate = (dvx * dx + dvy * dy + dvz * dz) * invLen;  // m/s
-        const double scale = (ks[i] * (len2 * invLen - rest[i]) + kd[i] * stretchRate) * invLen;
-        const double fx = scale * dx, fy = scale * dy, fz = scale * dz;
-        fp[ia] += fx, fp[ia + 1] += fy, fp[ia + 2] += fz;
-        fp[ib] -= fx, fp[ib + 1] -= fy, fp[ib + 2] -= fz;
-    }
+    kernels::addSpringForces(springArrays(s), s.size(), x.size(), coordinates(x), coordinates(v), coordinates(f));
 }
 
 void accumulatePositioningForces(const Nodes& n, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
@@ -64,18 +54,8 @@ void computeActiveAccelerations(const MassSpringModel& model, std::span<const Ve
     // positioning, external and gravity forces.
     for (std::uint32_t i : nodes)
         a[i] = n.externalForce[i] - n.anchorStiffness[i] * (x[i] - n.restPosition[i]) - n.anchorDamping[i] * v[i];
-    for (std::uint32_t k : springs) {
-        const std::uint32_t ia = s.a[k], ib = s.b[k];
-        const Vec3 d = x[ib] - x[ia];
-        const double len2 = d.squaredNorm();
-        if (len2 < 1e-24) continue;
-        const double invLen = 1 / std::sqrt(len2);
-        const double stretchRate = (v[ib] - v[ia]).dot(d) * invLen;
-        const Vec3 fa =
-            ((s.stiffness[k] * (len2 * invLen - s.restLength[k]) + s.damping[k] * stretchRate) * invLen) * d;
-        a[ia] += fa;
-        a[ib] -= fa;
-    }
+    kernels::addListedSpringForces(springArrays(s), springs.data(), springs.size(), x.size(), coordinates(x),
+                                   coordinates(v), coordinates(a));
     for (const PointSpring& tool : model.tools) tool.addReaction(x, a);
     const Vec3 g = model.gravity_m_per_s2;
     for (std::uint32_t i : nodes) a[i] = n.inverseMass[i] * a[i] + (n.inverseMass[i] > 0 ? g : Vec3::Zero());

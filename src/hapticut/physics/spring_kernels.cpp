@@ -1,0 +1,207 @@
+// The springs' forces as a SIMD kernel: this file is compiled once per target by Highway's foreach_target,
+// and the HWY_ONCE part at the end dispatches to the best one the machine supports (solver_kernels.cpp's
+// forceTarget chooses for both files).
+//
+// A spring's force takes a square root, a division and some thirty products, which the vector lanes
+// share; its two scattered additions to the node forces stay scalar, in the springs' order, so that no
+// two lanes ever add to the same node at once. The arithmetic is the scalar formula's, operation for
+// operation and without fused multiply-adds (CMakeLists.txt compiles this file with -ffp-contract=off),
+// so every target gives the scalar loop's forces to the bit and a golden force trace does not depend on
+// the machine.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "hapticut/physics/spring_kernels.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "hapticut/physics/spring_kernels.h"
+
+#ifndef HAPTICUT_SPRING_KERNELS_SCALAR
+#define HAPTICUT_SPRING_KERNELS_SCALAR
+namespace hapticut::physics::kernels {
+
+/// Closer than this (squared, m²) a spring's ends have no direction; a fresh cut can produce them.
+inline constexpr double kCoincident2 = 1e-24;
+
+/// Spring k's force on its end a, scalar (its end b gets the opposite); false for coincident ends.
+inline bool springForce(const SpringArrays& s, std::uint32_t k, const double* __restrict x, const double* __restrict v,
+                        double& fx, double& fy, double& fz) {
+    const std::size_t ia = 3 * std::size_t{s.a[k]}, ib = 3 * std::size_t{s.b[k]};
+    const double dx = x[ib] - x[ia], dy = x[ib + 1] - x[ia + 1], dz = x[ib + 2] - x[ia + 2];
+    const double len2 = dx * dx + dy * dy + dz * dz;
+    if (len2 < kCoincident2) return false;
+    const double invLen = 1 / std::sqrt(len2);
+    const double dvx = v[ib] - v[ia], dvy = v[ib + 1] - v[ia + 1], dvz = v[ib + 2] - v[ia + 2];
+    const double stretchRate = (dvx * dx + dvy * dy + dvz * dz) * invLen;  // m/s
+    const double scale = (s.stiffness[k] * (len2 * invLen - s.restLength[k]) + s.damping[k] * stretchRate) * invLen;
+    fx = scale * dx, fy = scale * dy, fz = scale * dz;
+    return true;
+}
+
+/// Spring force (fx, fy, fz) added to its end a and taken from its end b.
+inline void addToEnds(std::uint32_t a, std::uint32_t b, double fx, double fy, double fz, double* __restrict f) {
+    double* fa = f + 3 * std::size_t{a};
+    double* fb = f + 3 * std::size_t{b};
+    fa[0] += fx, fa[1] += fy, fa[2] += fz;
+    fb[0] -= fx, fb[1] -= fy, fb[2] -= fz;
+}
+
+}  // namespace hapticut::physics::kernels
+#endif
+
+HWY_BEFORE_NAMESPACE();
+namespace hapticut::physics::kernels::HWY_NAMESPACE {
+
+namespace hn = hwy::HWY_NAMESPACE;
+
+// Where vectors hold four doubles, a node's x, y, z (and the next node's x) come in one load and four
+// nodes are transposed into coordinate vectors: on an AMD Zen 4 a spring's twelve gathers took more than
+// twice as long as these loads and shuffles. Narrower targets gather.
+#undef HAPTICUT_SPRING_ROWS
+#if HWY_MAX_BYTES >= 32 && HWY_TARGET != HWY_SCALAR
+#define HAPTICUT_SPRING_ROWS 1
+using D = hn::FixedTag<double, 4>;
+#else
+#define HAPTICUT_SPRING_ROWS 0
+using D = hn::ScalableTag<double>;
+#endif
+using V = hn::Vec<D>;
+using DI64 = hn::RebindToSigned<D>;
+constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+
+/// The forces of a chunk of springs before they reach the nodes: computed in one pass and added in
+/// another, since a pass that did both would stall the vector work on the scalar additions.
+struct ChunkForces {
+    static constexpr std::size_t kSprings = 256;
+    HWY_ALIGN double x[kSprings], y[kSprings], z[kSprings];
+    std::uint32_t a[kSprings], b[kSprings];
+    bool apart[kSprings];
+};
+
+#if HAPTICUT_SPRING_ROWS
+/// The coordinates of four nodes (3 i each; none the last node, whose row would read past the array).
+HWY_INLINE void LoadNodes(D d, const double* HWY_RESTRICT p, const std::size_t* at, V& x, V& y, V& z) {
+    const V r0 = hn::LoadU(d, p + at[0]), r1 = hn::LoadU(d, p + at[1]);
+    const V r2 = hn::LoadU(d, p + at[2]), r3 = hn::LoadU(d, p + at[3]);
+    const V u0 = hn::InterleaveLower(d, r0, r1), u1 = hn::InterleaveUpper(d, r0, r1);  // x0 x1 z0 z1, y0 y1 . .
+    const V u2 = hn::InterleaveLower(d, r2, r3), u3 = hn::InterleaveUpper(d, r2, r3);
+    x = hn::ConcatLowerLower(d, u2, u0), y = hn::ConcatLowerLower(d, u3, u1), z = hn::ConcatUpperUpper(d, u2, u0);
+}
+#else
+HWY_INLINE void LoadNodes(D d, const double* HWY_RESTRICT p, const std::size_t* at, V& x, V& y, V& z) {
+    const DI64 di64;
+    HWY_ALIGN std::int64_t index[kMaxLanes];
+    for (std::size_t lane = 0; lane < hn::Lanes(d); ++lane) index[lane] = static_cast<std::int64_t>(at[lane]);
+    const auto i = hn::Load(di64, index);
+    x = hn::GatherIndex(d, p, i), y = hn::GatherIndex(d, p + 1, i), z = hn::GatherIndex(d, p + 2, i);
+}
+#endif
+
+/// The forces of springs `spring[0..lanes)`, the scalar formula's operations in the same order.
+HWY_INLINE void ComputeGroup(const SpringArrays& s, const std::uint32_t* spring, bool contiguous, std::size_t nodeCount,
+                             const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, ChunkForces& chunk,
+                             std::size_t first) {
+    const D d;
+    const std::size_t lanes = hn::Lanes(d);
+    std::uint32_t* a = chunk.a + first;
+    std::uint32_t* b = chunk.b + first;
+    std::size_t at[kMaxLanes], bt[kMaxLanes];
+    bool inside = true;
+    for (std::size_t lane = 0; lane < lanes; ++lane) {
+        a[lane] = s.a[spring[lane]], b[lane] = s.b[spring[lane]];
+        at[lane] = 3 * std::size_t{a[lane]}, bt[lane] = 3 * std::size_t{b[lane]};
+        inside &= HAPTICUT_SPRING_ROWS == 0 || (a[lane] + 1 < nodeCount && b[lane] + 1 < nodeCount);
+    }
+    if (!inside) {  // a row of the last node would read past the arrays: this group goes one by one
+        for (std::size_t lane = 0; lane < lanes; ++lane) {
+            const std::size_t i = first + lane;
+            chunk.apart[i] = springForce(s, spring[lane], x, v, chunk.x[i], chunk.y[i], chunk.z[i]);
+        }
+        return;
+    }
+    V xa, ya, za, xb, yb, zb, va, wa, ua, vb, wb, ub;
+    LoadNodes(d, x, at, xa, ya, za), LoadNodes(d, x, bt, xb, yb, zb);
+    LoadNodes(d, v, at, ua, va, wa), LoadNodes(d, v, bt, ub, vb, wb);
+    V rest, ks, kd;
+    if (contiguous) {
+        rest = hn::LoadU(d, s.restLength + spring[0]), ks = hn::LoadU(d, s.stiffness + spring[0]);
+        kd = hn::LoadU(d, s.damping + spring[0]);
+    } else {
+        HWY_ALIGN std::int64_t index[kMaxLanes];
+        for (std::size_t lane = 0; lane < lanes; ++lane) index[lane] = spring[lane];
+        const auto i = hn::Load(DI64(), index);
+        rest = hn::GatherIndex(d, s.restLength, i), ks = hn::GatherIndex(d, s.stiffness, i);
+        kd = hn::GatherIndex(d, s.damping, i);
+    }
+    const V dx = hn::Sub(xb, xa), dy = hn::Sub(yb, ya), dz = hn::Sub(zb, za);
+    const V len2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
+    const auto apart = hn::Not(hn::Lt(len2, hn::Set(d, kCoincident2)));
+    const V invLen = hn::Div(hn::Set(d, 1.0), hn::Sqrt(len2));
+    const V dvx = hn::Sub(ub, ua), dvy = hn::Sub(vb, va), dvz = hn::Sub(wb, wa);
+    const V stretchRate = hn::Mul(hn::Add(hn::Add(hn::Mul(dvx, dx), hn::Mul(dvy, dy)), hn::Mul(dvz, dz)), invLen);
+    const V stretch = hn::Sub(hn::Mul(len2, invLen), rest);
+    const V scale = hn::Mul(hn::Add(hn::Mul(ks, stretch), hn::Mul(kd, stretchRate)), invLen);
+    hn::Store(hn::Mul(scale, dx), d, chunk.x + first), hn::Store(hn::Mul(scale, dy), d, chunk.y + first);
+    hn::Store(hn::Mul(scale, dz), d, chunk.z + first);
+    std::uint8_t bits[(kMaxLanes + 7) / 8];
+    hn::StoreMaskBits(d, apart, bits);
+    for (std::size_t lane = 0; lane < lanes; ++lane) chunk.apart[first + lane] = bits[lane / 8] >> lane % 8 & 1;
+}
+
+template <bool kListed>
+void AddForces(const SpringArrays& s, const std::uint32_t* list, std::size_t count, std::size_t nodeCount,
+               const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, double* HWY_RESTRICT f) {
+    const std::size_t lanes = hn::Lanes(D());
+    ChunkForces chunk;
+    std::uint32_t spring[kMaxLanes];
+    for (std::size_t begin = 0; begin < count; begin += ChunkForces::kSprings) {
+        const std::size_t size = std::min(ChunkForces::kSprings, count - begin);
+        std::size_t i = 0;
+        for (; i + lanes <= size; i += lanes) {
+            for (std::size_t lane = 0; lane < lanes; ++lane)
+                spring[lane] = kListed ? list[begin + i + lane] : static_cast<std::uint32_t>(begin + i + lane);
+            ComputeGroup(s, spring, !kListed, nodeCount, x, v, chunk, i);
+        }
+        for (; i < size; ++i) {
+            const std::uint32_t k = kListed ? list[begin + i] : static_cast<std::uint32_t>(begin + i);
+            chunk.a[i] = s.a[k], chunk.b[i] = s.b[k];
+            chunk.apart[i] = springForce(s, k, x, v, chunk.x[i], chunk.y[i], chunk.z[i]);
+        }
+        for (i = 0; i < size; ++i)
+            if (chunk.apart[i]) addToEnds(chunk.a[i], chunk.b[i], chunk.x[i], chunk.y[i], chunk.z[i], f);
+    }
+}
+
+void AddSpringForces(const SpringArrays& s, std::size_t count, std::size_t nodeCount, const double* HWY_RESTRICT x,
+                     const double* HWY_RESTRICT v, double* HWY_RESTRICT f) {
+    AddForces<false>(s, nullptr, count, nodeCount, x, v, f);
+}
+
+void AddListedSpringForces(const SpringArrays& s, const std::uint32_t* list, std::size_t count, std::size_t nodeCount,
+                           const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, double* HWY_RESTRICT f) {
+    AddForces<true>(s, list, count, nodeCount, x, v, f);
+}
+
+}  // namespace hapticut::physics::kernels::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace hapticut::physics::kernels {
+
+HWY_EXPORT(AddSpringForces);
+HWY_EXPORT(AddListedSpringForces);
+
+void addSpringForces(const SpringArrays& springs, std::size_t count, std::size_t nodes, const double* x,
+                     const double* v, double* f) {
+    HWY_DYNAMIC_DISPATCH(AddSpringForces)(springs, count, nodes, x, v, f);
+}
+
+void addListedSpringForces(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
+                           const double* x, const double* v, double* f) {
+    HWY_DYNAMIC_DISPATCH(AddListedSpringForces)(springs, list, count, nodes, x, v, f);
+}
+
+}  // namespace hapticut::physics::kernels
+#endif
