@@ -29,15 +29,29 @@ void accumulatePositioningForces(const Nodes& n, std::span<const Vec3> x, std::s
 
 void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
                           std::span<Vec3> a) {
+    // Over plain arrays of coordinates, which vectorise; the sums are the Vec3 expressions' to the bit.
     const Nodes& n = model.nodes;
-    for (std::size_t i = 0; i < a.size(); ++i) a[i] = n.externalForce[i];
-    accumulatePositioningForces(n, x, v, a);
+    const std::size_t count = a.size();
+    const double* __restrict xp = coordinates(x);
+    const double* __restrict vp = coordinates(v);
+    const double* __restrict rest = coordinates(std::span<const Vec3>(n.restPosition));
+    const double* __restrict external = coordinates(std::span<const Vec3>(n.externalForce));
+    const double* __restrict anchorStiffness = n.anchorStiffness.data();
+    const double* __restrict anchorDamping = n.anchorDamping.data();
+    const double* __restrict inverseMass = n.inverseMass.data();
+    double* __restrict ap = coordinates(a);
+    for (std::size_t i = 0; i < count; ++i) {
+        const double k = anchorStiffness[i], d = anchorDamping[i];
+        for (std::size_t c = 3 * i; c < 3 * i + 3; ++c) ap[c] = external[c] - (k * (xp[c] - rest[c]) + d * vp[c]);
+    }
     accumulateSpringForces(model.springs, x, v, a);
     // The tissue feels each tool's force reversed, spread by the thesis's squared weights (R9).
     for (const PointSpring& tool : model.tools) tool.addReaction(x, a);
-    const Vec3 g = model.gravity_m_per_s2;
-    for (std::size_t i = 0; i < a.size(); ++i)
-        a[i] = n.inverseMass[i] * a[i] + (n.inverseMass[i] > 0 ? g : Vec3::Zero());
+    const double g[3] = {model.gravity_m_per_s2.x(), model.gravity_m_per_s2.y(), model.gravity_m_per_s2.z()};
+    for (std::size_t i = 0; i < count; ++i) {
+        const double m = inverseMass[i];
+        for (std::size_t c = 0; c < 3; ++c) ap[3 * i + c] = m * ap[3 * i + c] + (m > 0 ? g[c] : 0.0);  // pinned: none
+    }
 }
 
 }  // namespace hapticut::physics
