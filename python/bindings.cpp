@@ -89,6 +89,13 @@ PYBIND11_MODULE(_hapticut, module) {
             },
             "(M,) uint32: the part of each face (an index into part_names); all zero for one part")
         .def_property_readonly(
+            "file_vertices",
+            [](const Model& m) {
+                return fileVertices(m.source.vertexOrder.previousIndex, m.source.mesh.positions.size());
+            },
+            "(N,) uint32: each vertex's index in the file it came from. A file whose vertices came in no spatial "
+            "order is renumbered along a Morton curve when it loads, for speed; otherwise this is 0, 1, 2, ...")
+        .def_property_readonly(
             "part_names", [](const Model& m) { return m.source.mesh.partNames; },
             "the named parts (OBJ objects and groups, glTF and FBX meshes); empty for a model of one part")
         .def_property_readonly(

@@ -182,6 +182,15 @@ void bindSimulation(py::module_& module) {
                                "that follows every step; take it again after a cut for the nodes the cut added")
         .def_property_readonly("faces", &Simulation::faces,
                                "(M, 3) uint32: the organ's faces now, cuts and walls included (a copy)")
+        .def_property_readonly(
+            "file_vertices",
+            [](const Simulation& s) {
+                const scene::ModelSource& source = s.scene().source;
+                return fileVertices(source.vertexOrder.previousIndex, source.mesh.positions.size());
+            },
+            "(N0,) uint32: for the N0 nodes the organ had when it loaded, each one's vertex index in the model file "
+            "(a file in no spatial order is renumbered along a Morton curve for speed; otherwise 0, 1, 2, ...); "
+            "the nodes cuts add come after them")
         .def_property_readonly("time_s", &Simulation::time_s, "simulated time so far (s)")
         .def_property_readonly("steps", &Simulation::steps, "steps taken")
         .def_property_readonly("rate_hz", [](const Simulation& s) { return s.loop().rate_hz(); })

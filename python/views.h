@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace hapticut::python {
@@ -23,6 +24,15 @@ pybind11::array readOnlyView(const T* data, std::size_t rows, std::size_t column
     py::array view(py::dtype::of<T>(), shape, strides, data, owner);
     view.attr("setflags")(py::arg("write") = false);
     return view;
+}
+
+/// Each vertex's index in the file it came from: `previous` when the load renumbered the vertices
+/// (mesh/vertex_order.h), otherwise 0, 1, ..., count - 1. A copy.
+inline pybind11::array_t<std::uint32_t> fileVertices(const std::vector<std::uint32_t>& previous, std::size_t count) {
+    pybind11::array_t<std::uint32_t> out(static_cast<pybind11::ssize_t>(count));
+    std::uint32_t* to = out.mutable_data();
+    for (std::size_t i = 0; i < count; ++i) to[i] = previous.empty() ? static_cast<std::uint32_t>(i) : previous[i];
+    return out;
 }
 
 }  // namespace hapticut::python

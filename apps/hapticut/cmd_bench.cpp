@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <random>
 
 #include "bench/solver_kernels.h"
@@ -21,9 +22,11 @@
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/solver_kernels.h"
 #include "hapticut/scene/bench_scenes.h"
+#include "hapticut/scene/model_info.h"
 #include "hapticut/scene/sample_trajectories.h"
 #include "provenance.h"
 #include "terminal.h"
+#include "unit_options.h"
 #ifdef HAPTICUT_WITH_VIEWER
 #include "bench/frame_rate.h"
 #endif
@@ -34,6 +37,8 @@ namespace {
 
 struct BenchOptions {
     std::vector<int> triangles = {1619, 9714, 100000};
+    std::string model;  // a model file measured instead of the hearts (the integrators and the kernels)
+    UnitOptions units;
     std::vector<std::string> integrators = {"euler", "midpoint", "rk4", "symplectic", "implicit"};
     double seconds = 0.5;
     std::string json;
@@ -194,6 +199,11 @@ int bench(const BenchOptions& o) {
         std::cerr << "hapticut bench: " << unwritable->toString() << "\n";
         return 2;
     }
+    if (!o.model.empty() && (o.haptics || o.cutting || o.render)) {
+        std::cerr << "hapticut bench: --haptics, --cutting and --render measure the procedural heart (a path in "
+                     "contact with its front); leave them out with --model\n";
+        return 2;
+    }
     std::vector<physics::Scheme> schemes;
     for (const std::string& name : o.integrators) {
         const auto s = physics::parseScheme(name);
@@ -204,17 +214,32 @@ int bench(const BenchOptions& o) {
         }
         schemes.push_back(*s);
     }
+    // The organs measured: --model's, or the procedural heart at each size.
+    std::optional<scene::Scene> userModel;
+    if (!o.model.empty()) {
+        scene::SceneRequest request;
+        request.overrides.model = o.model;
+        o.units.applyTo(request.overrides);
+        auto loaded = scene::loadScene(request);
+        if (!loaded) {
+            std::cerr << "hapticut bench: " << loaded.error().toString() << "\n";
+            return 1;
+        }
+        userModel = std::move(*loaded);
+    }
     std::string targets;
     for (const char* t : physics::kernels::supportedTargets()) targets += std::string(targets.empty() ? "" : ", ") + t;
     std::printf("SIMD: the physics' kernels run with %s (this machine runs: %s)\n\n", physics::kernels::targetName(),
                 targets.c_str());
+    const std::vector<int> sizes = userModel ? std::vector<int>{0} : o.triangles;
+    auto organ = [&](int triangles) { return userModel ? *userModel : scene::benchHeart(triangles); };
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
     std::printf("%10s %8s %9s %-11s %11s %11s %13s %9s %15s %8s\n", "triangles", "nodes", "springs", "integrator",
                 "us/step", "p99 us", "ns/spring-ev", "substeps", "us/sim-ms@1ms", "CG its");
     std::mt19937 rng(42);
-    for (int triangles : o.triangles) {
+    for (int triangles : sizes) {
         const auto g0 = Clock::now();
-        const scene::Scene heart = scene::benchHeart(triangles);
+        const scene::Scene heart = organ(triangles);
         const mesh::SurfaceMesh& mesh = heart.source.mesh;
         const double generate_s = std::chrono::duration<double>(Clock::now() - g0).count();
         physics::MassSpringModel model = heart.buildModel();
@@ -264,12 +289,14 @@ int bench(const BenchOptions& o) {
         "instruction set, same run)\n",
         "triangles", "target", "product us", "ns/spring-end", "springs us", "ns/spring");
     nlohmann::ordered_json kernelTimes = nlohmann::ordered_json::array();
-    for (int triangles : o.triangles) {
-        const physics::MassSpringModel model = scene::benchHeart(triangles).buildModel();
-        for (const bench::KernelTiming& t : bench::timeSolverKernels(model, std::min(o.seconds, 0.5))) {
-            std::printf("%10zu %-8s %12.1f %16.2f %12.1f %12.2f\n", model.springs.size() * 2 / 3, t.target.c_str(),
-                        t.product_us, t.ns_per_coupling, t.spring_forces_us, t.ns_per_spring);
-            kernelTimes.push_back({{"triangles", model.springs.size() * 2 / 3},
+    for (int triangles : sizes) {
+        const scene::Scene measured = organ(triangles);
+        const physics::MassSpringModel springs = measured.buildModel();
+        const std::size_t faces = measured.source.mesh.faces.size();
+        for (const bench::KernelTiming& t : bench::timeSolverKernels(springs, std::min(o.seconds, 0.5))) {
+            std::printf("%10zu %-8s %12.1f %16.2f %12.1f %12.2f\n", faces, t.target.c_str(), t.product_us,
+                        t.ns_per_coupling, t.spring_forces_us, t.ns_per_spring);
+            kernelTimes.push_back({{"triangles", faces},
                                    {"target", t.target},
                                    {"product_us", t.product_us},
                                    {"ns_per_spring_end", t.ns_per_coupling},
@@ -297,7 +324,9 @@ int bench(const BenchOptions& o) {
     if (!o.json.empty()) {
         nlohmann::ordered_json j;
         j["provenance"] = provenance();
-        j["benchmark"] = "integrator step on the procedural heart, one thread";
+        j["benchmark"] =
+            "integrator step on " + (userModel ? o.model : std::string("the procedural heart")) + ", one thread";
+        if (userModel) j["vertex_order"] = scene::vertexOrderJson(userModel->source);
         j["simd_target"] = physics::kernels::targetName();
         j["simd_targets_supported"] = physics::kernels::supportedTargets();
         j["results"] = results;
@@ -315,10 +344,14 @@ int bench(const BenchOptions& o) {
 
 Command addBenchCommand(CLI::App& app) {
     auto o = std::make_shared<BenchOptions>();
-    CLI::App* cmd = app.add_subcommand("bench", "Measure integrator step time on the procedural heart");
+    CLI::App* cmd = app.add_subcommand("bench", "Measure integrator step time on the procedural heart or a model");
     cmd->add_option("--triangles", o->triangles, "Heart sizes (comma separated)")
         ->delimiter(',')
         ->capture_default_str();
+    cmd->add_option("--model", o->model,
+                    "Measure the integrators and the kernels on this model file instead of the hearts (as it loads for "
+                    "a run: renumbered when its vertices come in no spatial order)");
+    addUnitOptions(cmd, o->units);
     cmd->add_option("--integrators", o->integrators, "Integrators (comma separated)")
         ->delimiter(',')
         ->capture_default_str();

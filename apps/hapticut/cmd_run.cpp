@@ -18,6 +18,7 @@
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/scene/haptic_run.h"
 #include "hapticut/scene/headless_run.h"
+#include "hapticut/scene/model_info.h"
 #include "hapticut/scene/model_size.h"
 #include "hapticut/scene/open_device.h"
 #include "hapticut/scene/scene.h"
@@ -110,6 +111,7 @@ nlohmann::ordered_json reportHeader(const scene::ModelSource& source, const phys
     j["provenance"] = provenance();
     j["model"] = source.name;
     j["vertices"] = source.mesh.positions.size();
+    j["vertex_order"] = scene::vertexOrderJson(source);
     j["faces"] = source.mesh.faces.size();
     j["springs"] = model.springs.size();
     j["integrator"] = physics::schemeName(scheme);

@@ -33,6 +33,29 @@ def test_a_model_file_loads_as_written(tmp_path):
         hapticut.load_mesh(tmp_path / "t.obj", units="inch")
 
 
+def test_a_file_in_no_spatial_order_is_renumbered_and_says_where_each_vertex_was(tmp_path):
+    heart = hapticut.load_mesh("heart", triangles=5000)
+    order = np.random.default_rng(5).permutation(len(heart.positions))  # file vertex k is heart vertex order[k]
+    where = np.argsort(order)
+    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in heart.positions[order]]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in where[heart.faces]]
+    shuffled = write(tmp_path / "shuffled.obj", "\n".join(lines) + "\n")
+    m = hapticut.load_mesh(shuffled)
+    file_positions = heart.positions[order]
+    assert m.file_vertices.dtype == np.uint32
+    assert sorted(m.file_vertices) == list(range(len(order)))
+    np.testing.assert_array_equal(m.positions, file_positions[m.file_vertices])
+    # The same triangles, named by the file's numbers.
+    file_faces = {tuple(np.roll(f, -int(np.argmin(f)))) for f in where[heart.faces]}
+    assert {tuple(np.roll(f, -int(np.argmin(f)))) for f in m.file_vertices[m.faces]} == file_faces
+    assert not np.array_equal(m.file_vertices, np.arange(len(order))), "the shuffled file was renumbered"
+    # A file in a spatial order (the heart's own) keeps its numbers, in the simulation too.
+    ordered = write(tmp_path / "ordered.obj", TETRAHEDRON)
+    np.testing.assert_array_equal(hapticut.load_mesh(ordered).file_vertices, [0, 1, 2, 3])
+    sim = hapticut.Simulation(model=str(shuffled))
+    np.testing.assert_array_equal(sim.file_vertices, m.file_vertices)
+
+
 def test_positions_view_the_models_own_array_read_only():
     heart = hapticut.load_mesh("heart", triangles=5000)
     a, b = heart.positions, heart.positions

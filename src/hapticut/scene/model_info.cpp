@@ -6,11 +6,18 @@
 
 namespace hapticut::scene {
 
+nlohmann::ordered_json vertexOrderJson(const ModelSource& source) {
+    const mesh::VertexOrderResult& o = source.vertexOrder;
+    return {
+        {"renumbered", o.renumbered}, {"mean_edge_span_before", o.spanBefore}, {"mean_edge_span_after", o.spanAfter}};
+}
+
 nlohmann::ordered_json modelInfo(const ModelSource& source) {
     const mesh::MeshReport r = mesh::validateMesh(source.mesh);
     nlohmann::ordered_json j;
     j["model"] = source.name;
     j["vertices"] = r.vertices;
+    j["vertex_order"] = vertexOrderJson(source);
     j["faces"] = r.faces;
     j["edges"] = r.edges;
     j["boundary_edges"] = r.boundaryEdges;

@@ -11,4 +11,8 @@ namespace hapticut::scene {
 /// tool's cut threshold), with the model's coordinates as they are now.
 nlohmann::ordered_json modelInfo(const ModelSource& source);
 
+/// Whether the model's vertices were renumbered for locality, and the edges' mean span in index before
+/// and after (mesh/vertex_order.h): {renumbered, mean_edge_span_before, mean_edge_span_after}.
+nlohmann::ordered_json vertexOrderJson(const ModelSource& source);
+
 }  // namespace hapticut::scene

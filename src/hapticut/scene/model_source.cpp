@@ -22,6 +22,7 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles, 
         options.triangles = triangles;
         source.mesh = mesh::procedural::makeHeart(options);
         source.physics = physics::thesisPhysicsFor(source.mesh, physics::Material{});
+        source.vertexOrder.spanBefore = source.vertexOrder.spanAfter = mesh::meanEdgeSpan(source.mesh);
         return source;
     }
     auto loaded = mesh::io::loadMesh(model);
@@ -33,6 +34,9 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles, 
     source.fromThesisFile = loaded->physics.has_value();
     if (source.mesh.faces.empty())
         return unexpected(Error{model, 0, "the model has no faces: nothing to touch or simulate"});
+    // Every per-node pass of the physics, the tree and the cutter reads neighbours together: a mesh in no
+    // spatial order made a fully awake implicit step of a 100,000-triangle heart 1.7 times as slow.
+    source.vertexOrder = mesh::orderVerticesForLocality(source.mesh);
     source.physics = loaded->physics ? *loaded->physics : physics::thesisPhysicsFor(source.mesh, physics::Material{});
     // Open or non-manifold surfaces can still be simulated; say what is unusual and go on.
     const mesh::MeshReport report = mesh::validateMesh(source.mesh);

@@ -9,6 +9,7 @@
 #include "hapticut/common/error.h"
 #include "hapticut/common/result.h"
 #include "hapticut/mesh/io/mesh_file.h"
+#include "hapticut/mesh/vertex_order.h"
 #include "hapticut/physics/mass_spring_model.h"
 
 namespace hapticut::scene {
@@ -19,6 +20,8 @@ struct ModelSource {
     mesh::io::ThesisPhysics physics;  // as loaded, or the thesis equivalent of the default material
     std::optional<double> toolThreshold_N;
     bool fromThesisFile = false;
+    /// A file's vertices renumbered for locality when they came in no spatial order (mesh/vertex_order.h).
+    mesh::VertexOrderResult vertexOrder;
     /// What is unusual about the file but did not stop it loading (open or non-manifold surfaces too).
     std::vector<Warning> warnings;
 };

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "hapticut/mesh/mesh_report.h"
+#include "hapticut/scene/model_info.h"
 
 namespace hapticut::scene {
 
@@ -38,6 +39,7 @@ nlohmann::ordered_json hapticRunReport(const ModelSource& source, const cutting:
     nlohmann::ordered_json j;
     j["model"] = source.name;
     j["vertices"] = organ.mesh().positions.size();
+    j["vertex_order"] = vertexOrderJson(source);
     j["faces"] = organ.mesh().faces.size();
     j["springs"] = organ.model().springs.size();
     j["integrator"] = physics::schemeName(result.scheme);
