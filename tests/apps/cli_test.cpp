@@ -304,6 +304,34 @@ TEST_F(Cli, ConvertRemeshesToATriangleCountOrAnEdgeLength) {
     EXPECT_FALSE(fs::exists(path("x.obj")));
 }
 
+// The remesher writes its vertices in no spatial order: loading the file renumbers them (mesh/vertex_order.h),
+// says so, and bench measures a user's model as it loads for a run.
+TEST_F(Cli, ARemeshedModelIsRenumberedForLocalityAndBenchMeasuresIt) {
+    ASSERT_EQ(run("convert heart --remesh 3000 " + path("r.obj")).exitCode, 0);
+    const auto info = nlohmann::json::parse(run("info " + path("r.obj") + " --json").out);
+    EXPECT_EQ(info["vertex_order"]["renumbered"], true);
+    EXPECT_LT(info["vertex_order"]["mean_edge_span_after"].get<double>(),
+              0.25 * info["vertex_order"]["mean_edge_span_before"].get<double>());
+    EXPECT_EQ(nlohmann::json::parse(run("info heart --json").out)["vertex_order"]["renumbered"], false);
+
+    const CliResult b =
+        run("bench --model " + path("r.obj") + " --integrators rk4 --seconds 0.02 --json " + path("b.json"));
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    const auto j = nlohmann::json::parse(slurp(path("b.json")));
+    EXPECT_EQ(j["vertex_order"]["renumbered"], true);
+    ASSERT_EQ(j["results"].size(), 1u);
+    EXPECT_EQ(j["results"][0]["triangles"], info["faces"]);
+    EXPECT_EQ(j["results"][0]["integrator"], "rk4");
+    EXPECT_GT(j["solver_kernels"].size(), 0u);
+
+    const CliResult heartOnly = run("bench --model " + path("r.obj") + " --cutting");
+    EXPECT_EQ(heartOnly.exitCode, 2);
+    EXPECT_NE(heartOnly.err.find("leave them out with --model"), std::string::npos) << heartOnly.err;
+    const CliResult missing = run("bench --model " + path("none.obj"));
+    EXPECT_EQ(missing.exitCode, 1);
+    EXPECT_NE(missing.err.find("none.obj"), std::string::npos) << missing.err;
+}
+
 // Any scene key from the command line, spelt as in a scene file and checked as a file's would be.
 TEST_F(Cli, SetLaysSceneKeysOverTheScenes) {
     const std::string press = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/press-front.csv";
