@@ -226,6 +226,32 @@ namespace {
 /// A field of 3-vectors as its 3 n coordinates, for loops the compiler can vectorise.
 double* coordinates(std::vector<Vec3>& field) { return reinterpret_cast<double*>(field.data()); }
 
+/// RK4's first stage over n coordinates: the next stage's state (xs, vs) and the sums in (x, v).
+void firstStage(std::size_t n, double half, double sixth, const double* __restrict a, double* __restrict x,
+                double* __restrict v, double* __restrict xs, double* __restrict vs) {
+    for (std::size_t i = 0; i < n; ++i) {
+        xs[i] = x[i] + half * v[i];
+        vs[i] = v[i] + half * a[i];
+        x[i] += sixth * v[i];
+        v[i] += sixth * a[i];
+    }
+}
+
+/// A later stage: its weight in the sums, and (unless last) the next stage's state from (x0, v0).
+void laterStage(std::size_t n, double weight, double next, bool last, const double* __restrict a,
+                const double* __restrict x0, const double* __restrict v0, double* __restrict x, double* __restrict v,
+                double* __restrict xs, double* __restrict vs) {
+    for (std::size_t i = 0; i < n; ++i) {
+        x[i] += weight * vs[i];
+        v[i] += weight * a[i];
+    }
+    if (!last)
+        for (std::size_t i = 0; i < n; ++i) {
+            xs[i] = x0[i] + next * vs[i];
+            vs[i] = v0[i] + next * a[i];
+        }
+}
+
 }  // namespace
 
 void Stepper::rungeKutta4Substep(MassSpringModel& model, double h) {
@@ -237,34 +263,14 @@ void Stepper::rungeKutta4Substep(MassSpringModel& model, double h) {
     if (!activeRegion_) {
         // Every node: the same sums over plain arrays of coordinates, which vectorise.
         const std::size_t n = 3 * x.size();
-        double* __restrict xp = coordinates(x);
-        double* __restrict vp = coordinates(v);
-        double* __restrict xs = coordinates(xs_);
-        double* __restrict vs = coordinates(vs_);
-        double* __restrict x0 = coordinates(dx_);
-        double* __restrict v0 = coordinates(dv_);
-        const double* __restrict a = coordinates(a_);
-        std::copy_n(xp, n, x0), std::copy_n(vp, n, v0);
+        std::copy_n(coordinates(x), n, coordinates(dx_)), std::copy_n(coordinates(v), n, coordinates(dv_));
         accelerations(model, x, v);
-        for (std::size_t i = 0; i < n; ++i) {
-            xs[i] = xp[i] + half * vp[i];
-            vs[i] = vp[i] + half * a[i];
-            xp[i] += sixth * vp[i];
-            vp[i] += sixth * a[i];
-        }
+        firstStage(n, half, sixth, coordinates(a_), coordinates(x), coordinates(v), coordinates(xs_), coordinates(vs_));
         for (int stage = 2; stage <= 4; ++stage) {
             accelerations(model, xs_, vs_);
-            const double weight = stage == 4 ? sixth : 2 * sixth;
-            const double next = stage == 3 ? h : half;
-            for (std::size_t i = 0; i < n; ++i) {
-                xp[i] += weight * vs[i];
-                vp[i] += weight * a[i];
-            }
-            if (stage < 4)
-                for (std::size_t i = 0; i < n; ++i) {
-                    xs[i] = x0[i] + next * vs[i];
-                    vs[i] = v0[i] + next * a[i];
-                }
+            laterStage(n, stage == 4 ? sixth : 2 * sixth, stage == 3 ? h : half, stage == 4, coordinates(a_),
+                       coordinates(dx_), coordinates(dv_), coordinates(x), coordinates(v), coordinates(xs_),
+                       coordinates(vs_));
         }
         return;
     }

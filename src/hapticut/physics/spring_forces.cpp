@@ -27,31 +27,43 @@ void accumulatePositioningForces(const Nodes& n, std::span<const Vec3> x, std::s
         f[i] -= n.anchorStiffness[i] * (x[i] - n.restPosition[i]) + n.anchorDamping[i] * v[i];
 }
 
-void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
-                          std::span<Vec3> a) {
-    // Over plain arrays of coordinates, which vectorise; the sums are the Vec3 expressions' to the bit.
-    const Nodes& n = model.nodes;
-    const std::size_t count = a.size();
-    const double* __restrict xp = coordinates(x);
-    const double* __restrict vp = coordinates(v);
-    const double* __restrict rest = coordinates(std::span<const Vec3>(n.restPosition));
-    const double* __restrict external = coordinates(std::span<const Vec3>(n.externalForce));
+namespace {
+
+// Over plain arrays of coordinates, which vectorise; the sums are the Vec3 expressions' to the bit.
+
+/// a = external force - positioning spring's force, for `count` nodes.
+void startWithPositioningForces(const Nodes& n, std::size_t count, const double* __restrict x,
+                                const double* __restrict v, double* __restrict a) {
+    const double* __restrict rest = n.restPosition.data()->data();
+    const double* __restrict external = n.externalForce.data()->data();
     const double* __restrict anchorStiffness = n.anchorStiffness.data();
     const double* __restrict anchorDamping = n.anchorDamping.data();
-    const double* __restrict inverseMass = n.inverseMass.data();
-    double* __restrict ap = coordinates(a);
     for (std::size_t i = 0; i < count; ++i) {
         const double k = anchorStiffness[i], d = anchorDamping[i];
-        for (std::size_t c = 3 * i; c < 3 * i + 3; ++c) ap[c] = external[c] - (k * (xp[c] - rest[c]) + d * vp[c]);
+        for (std::size_t c = 3 * i; c < 3 * i + 3; ++c) a[c] = external[c] - (k * (x[c] - rest[c]) + d * v[c]);
     }
+}
+
+/// a = F/m + g, where a held the force F; a pinned node (no inverse mass) feels no gravity.
+void forcesToAccelerations(const Nodes& n, const Vec3& gravity, std::size_t count, double* __restrict a) {
+    const double* __restrict inverseMass = n.inverseMass.data();
+    const double g[3] = {gravity.x(), gravity.y(), gravity.z()};
+    for (std::size_t i = 0; i < count; ++i) {
+        const double m = inverseMass[i];
+        for (std::size_t c = 0; c < 3; ++c) a[3 * i + c] = m * a[3 * i + c] + (m > 0 ? g[c] : 0.0);
+    }
+}
+
+}  // namespace
+
+void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
+                          std::span<Vec3> a) {
+    if (a.empty()) return;
+    startWithPositioningForces(model.nodes, a.size(), coordinates(x), coordinates(v), coordinates(a));
     accumulateSpringForces(model.springs, x, v, a);
     // The tissue feels each tool's force reversed, spread by the thesis's squared weights (R9).
     for (const PointSpring& tool : model.tools) tool.addReaction(x, a);
-    const double g[3] = {model.gravity_m_per_s2.x(), model.gravity_m_per_s2.y(), model.gravity_m_per_s2.z()};
-    for (std::size_t i = 0; i < count; ++i) {
-        const double m = inverseMass[i];
-        for (std::size_t c = 0; c < 3; ++c) ap[3 * i + c] = m * ap[3 * i + c] + (m > 0 ? g[c] : 0.0);  // pinned: none
-    }
+    forcesToAccelerations(model.nodes, model.gravity_m_per_s2, a.size(), coordinates(a));
 }
 
 }  // namespace hapticut::physics
