@@ -223,9 +223,6 @@ void Stepper::midpointSubstep(MassSpringModel& model, double h) {
 
 namespace {
 
-/// A field of 3-vectors as its 3 n coordinates, for loops the compiler can vectorise.
-double* coordinates(std::vector<Vec3>& field) { return reinterpret_cast<double*>(field.data()); }
-
 /// RK4's first stage over n coordinates: the next stage's state (xs, vs) and the sums in (x, v).
 void firstStage(std::size_t n, double half, double sixth, const double* __restrict a, double* __restrict x,
                 double* __restrict v, double* __restrict xs, double* __restrict vs) {
@@ -263,14 +260,16 @@ void Stepper::rungeKutta4Substep(MassSpringModel& model, double h) {
     if (!activeRegion_) {
         // Every node: the same sums over plain arrays of coordinates, which vectorise.
         const std::size_t n = 3 * x.size();
-        std::copy_n(coordinates(x), n, coordinates(dx_)), std::copy_n(coordinates(v), n, coordinates(dv_));
+        std::copy_n(coordinates(x.data()), n, coordinates(dx_.data())),
+            std::copy_n(coordinates(v.data()), n, coordinates(dv_.data()));
         accelerations(model, x, v);
-        firstStage(n, half, sixth, coordinates(a_), coordinates(x), coordinates(v), coordinates(xs_), coordinates(vs_));
+        firstStage(n, half, sixth, coordinates(a_.data()), coordinates(x.data()), coordinates(v.data()),
+                   coordinates(xs_.data()), coordinates(vs_.data()));
         for (int stage = 2; stage <= 4; ++stage) {
             accelerations(model, xs_, vs_);
-            laterStage(n, stage == 4 ? sixth : 2 * sixth, stage == 3 ? h : half, stage == 4, coordinates(a_),
-                       coordinates(dx_), coordinates(dv_), coordinates(x), coordinates(v), coordinates(xs_),
-                       coordinates(vs_));
+            laterStage(n, stage == 4 ? sixth : 2 * sixth, stage == 3 ? h : half, stage == 4, coordinates(a_.data()),
+                       coordinates(dx_.data()), coordinates(dv_.data()), coordinates(x.data()), coordinates(v.data()),
+                       coordinates(xs_.data()), coordinates(vs_.data()));
         }
         return;
     }

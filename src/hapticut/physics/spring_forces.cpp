@@ -11,31 +11,25 @@ kernels::SpringArrays springArrays(const Springs& s) {
     return {s.a.data(), s.b.data(), s.restLength.data(), s.stiffness.data(), s.damping.data()};
 }
 
-// A Vec3 is three doubles in a row, so an array of them is an array of doubles.
-static_assert(sizeof(Vec3) == 3 * sizeof(double));
-const double* coordinates(std::span<const Vec3> p) { return reinterpret_cast<const double*>(p.data()); }
-double* coordinates(std::span<Vec3> p) { return reinterpret_cast<double*>(p.data()); }
-
 }  // namespace
 
 void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
-    kernels::addSpringForces(springArrays(s), s.size(), x.size(), coordinates(x), coordinates(v), coordinates(f));
-}
-
-void accumulatePositioningForces(const Nodes& n, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
-    for (std::size_t i = 0; i < x.size(); ++i)
-        f[i] -= n.anchorStiffness[i] * (x[i] - n.restPosition[i]) + n.anchorDamping[i] * v[i];
+    kernels::addSpringForces(springArrays(s), s.size(), x.size(), coordinates(x.data()), coordinates(v.data()),
+                             coordinates(f.data()));
 }
 
 namespace {
 
 // Over plain arrays of coordinates, which vectorise; the sums are the Vec3 expressions' to the bit.
 
-/// a = external force - positioning spring's force, for `count` nodes.
+/// a = external force - positioning spring's force, for `count` nodes (R4): zero rest length from each
+/// node's rest position, f = -k (x - x0) - d v. The damping acts on the whole velocity, not only along
+/// the spring: projected damping would leave motion around the anchor undamped and divide by a length
+/// that is zero at rest.
 void startWithPositioningForces(const Nodes& n, std::size_t count, const double* __restrict x,
                                 const double* __restrict v, double* __restrict a) {
-    const double* __restrict rest = n.restPosition.data()->data();
-    const double* __restrict external = n.externalForce.data()->data();
+    const double* __restrict rest = coordinates(n.restPosition.data());
+    const double* __restrict external = coordinates(n.externalForce.data());
     const double* __restrict anchorStiffness = n.anchorStiffness.data();
     const double* __restrict anchorDamping = n.anchorDamping.data();
     for (std::size_t i = 0; i < count; ++i) {
@@ -59,11 +53,12 @@ void forcesToAccelerations(const Nodes& n, const Vec3& gravity, std::size_t coun
 void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
                           std::span<Vec3> a) {
     if (a.empty()) return;
-    startWithPositioningForces(model.nodes, a.size(), coordinates(x), coordinates(v), coordinates(a));
+    startWithPositioningForces(model.nodes, a.size(), coordinates(x.data()), coordinates(v.data()),
+                               coordinates(a.data()));
     accumulateSpringForces(model.springs, x, v, a);
     // The tissue feels each tool's force reversed, spread by the thesis's squared weights (R9).
     for (const PointSpring& tool : model.tools) tool.addReaction(x, a);
-    forcesToAccelerations(model.nodes, model.gravity_m_per_s2, a.size(), coordinates(a));
+    forcesToAccelerations(model.nodes, model.gravity_m_per_s2, a.size(), coordinates(a.data()));
 }
 
 }  // namespace hapticut::physics
@@ -80,8 +75,8 @@ void computeActiveAccelerations(const MassSpringModel& model, std::span<const Ve
     // positioning, external and gravity forces.
     for (std::uint32_t i : nodes)
         a[i] = n.externalForce[i] - n.anchorStiffness[i] * (x[i] - n.restPosition[i]) - n.anchorDamping[i] * v[i];
-    kernels::addListedSpringForces(springArrays(s), springs.data(), springs.size(), x.size(), coordinates(x),
-                                   coordinates(v), coordinates(a));
+    kernels::addListedSpringForces(springArrays(s), springs.data(), springs.size(), x.size(), coordinates(x.data()),
+                                   coordinates(v.data()), coordinates(a.data()));
     for (const PointSpring& tool : model.tools) tool.addReaction(x, a);
     const Vec3 g = model.gravity_m_per_s2;
     for (std::uint32_t i : nodes) a[i] = n.inverseMass[i] * a[i] + (n.inverseMass[i] > 0 ? g : Vec3::Zero());

@@ -10,12 +10,8 @@ namespace hapticut::physics {
 /// Structural springs (R3): f_a = [k_s(|l| - r) + k_d (l'·l)/|l|] l/|l|, f_b = -f_a, with l = x_b - x_a.
 void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
 
-/// Positioning springs (R4): zero rest length from each node's rest position, f = -k (x - x0) - d v.
-/// The damping acts on the whole velocity, not only along the spring: projected damping would leave
-/// motion around the anchor undamped and divide by a length that is zero at rest.
-void accumulatePositioningForces(const Nodes& n, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
-
-/// Accelerations a = F/m for state (x, v): springs, positioning springs, external forces and gravity.
+/// Accelerations a = F/m for state (x, v): springs, positioning springs (R4: zero rest length from each
+/// node's rest position, damping the whole velocity), external forces and gravity.
 void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
                           std::span<Vec3> a);
 
