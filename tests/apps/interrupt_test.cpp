@@ -65,18 +65,23 @@ public:
         }
         return -1;
     }
-    /// The peak resident memory in kB (VmRSS, sampled every 50 ms) from `from` to `first` and from then to
-    /// `second`, then SIGINT: how a user ends a long run. Peaks, not two samples: a soak's memory rises and
-    /// falls by megabytes with each organ it cuts and replaces, so two instants differ by chance, while a
-    /// leak lifts the later peak. Zero where it cannot be read.
-    std::pair<long, long> residentPeaksThenInterrupt(std::chrono::seconds from, std::chrono::seconds first,
-                                                     std::chrono::seconds second) const {
+    /// The lowest and highest resident memory in kB (VmRSS, sampled every 50 ms) of one window of a run.
+    struct ResidentWindow {
+        long lowest = 0, highest = 0;
+    };
+    /// Resident memory from `from` to `first` and from then to `second`, then SIGINT: how a user ends a long
+    /// run. Zero where it cannot be read.
+    std::pair<ResidentWindow, ResidentWindow> residentWindowsThenInterrupt(std::chrono::seconds from,
+                                                                           std::chrono::seconds first,
+                                                                           std::chrono::seconds second) const {
         const auto start = std::chrono::steady_clock::now();
-        long early = 0, late = 0;
+        ResidentWindow early, late;
         for (auto now = start; now - start < second; now = std::chrono::steady_clock::now()) {
             if (now - start >= from) {
-                long& peak = now - start < first ? early : late;
-                peak = std::max(peak, residentKb());
+                ResidentWindow& window = now - start < first ? early : late;
+                const long kb = residentKb();
+                window.lowest = window.highest == 0 ? kb : std::min(window.lowest, kb);
+                window.highest = std::max(window.highest, kb);
             }
             std::this_thread::sleep_for(50ms);
         }
@@ -227,25 +232,25 @@ TEST(Interrupt, ARunOfABillionStepsHoldsConstantMemoryUntilStopped) {
     hapticut::test::ScratchDir dir;
     Process p("run --trajectory " + kCutFront + " --tool scalpel --steps 1000000000 --force-log f.csv --report r.json",
               dir.path());
-    const auto [early, late] = p.residentPeaksThenInterrupt(0s, 3s, 10s);
+    const auto [early, late] = p.residentWindowsThenInterrupt(0s, 3s, 10s);
     ASSERT_EQ(p.wait(), 128 + SIGINT) << slurp(dir / "err");
     const auto j = nlohmann::json::parse(slurp(dir / "r.json"));
     // Far enough to see memory over: after the cut its opened wound keeps tissue awake, so a step costs
     // some 50 µs, and a loaded machine runs two tests at once.
     EXPECT_GT(j["steps"].get<long>(), 50'000) << "ten seconds of simulated-time steps";
-    EXPECT_GT(early, 0);
-    EXPECT_LT(late - early, 4'000) << "kB the peak grew from the first 3 s to the next 7 s, over " << j["steps"]
-                                   << " steps";
+    EXPECT_GT(early.highest, 0);
+    EXPECT_LT(late.highest - early.highest, 4'000)
+        << "kB the peak grew from the first 3 s to the next 7 s, over " << j["steps"] << " steps";
     EXPECT_EQ(completeCsvRows(dir / "f.csv"), j["steps"].get<long>());
 }
 
-// The cutting soak, a fresh organ every 200 strokes, for fifteen seconds: its memory stays flat (the peaks
+// The cutting soak, a fresh organ every 200 strokes, for fifteen seconds: its memory stays flat (the floors
 // of two five-second windows after the first organs, each window a few organs), and
 // Ctrl-C ends it with every invariant checked and the report written.
 TEST(Interrupt, ASoakHoldsConstantMemoryUntilStopped) {
     hapticut::test::ScratchDir dir;
     Process p("soak --strokes 100000000 --report s.json", dir.path());
-    const auto [early, late] = p.residentPeaksThenInterrupt(5s, 10s, 15s);
+    const auto [early, late] = p.residentWindowsThenInterrupt(5s, 10s, 15s);
     ASSERT_EQ(p.wait(), 128 + SIGINT) << slurp(dir / "err");
     const auto j = nlohmann::json::parse(slurp(dir / "s.json"));
     EXPECT_EQ(j["invariants_ok"], true);
@@ -253,8 +258,13 @@ TEST(Interrupt, ASoakHoldsConstantMemoryUntilStopped) {
     EXPECT_NE(slurp(dir / "err").find("cutting   0%  ("), std::string::npos)
         << "a log, not a terminal, still shows a long soak's progress\n"
         << slurp(dir / "err");
-    EXPECT_GT(early, 0);
-    EXPECT_LT(late - early, 2'000) << "kB the peak grew from 5-10 s to 10-15 s, over " << j["strokes"] << " strokes";
+    // The floor each window falls back to between organs, not its peak: a peak depends on which organ in
+    // the window grew largest and whether a 50 ms sample caught it (peaks 3 MB apart were seen with no
+    // leak), while memory an organ leaves behind lifts every later floor.
+    EXPECT_GT(early.lowest, 0);
+    EXPECT_LT(late.lowest - early.lowest, 1'000)
+        << "kB the floor rose from 5-10 s to 10-15 s, over " << j["strokes"] << " strokes (peaks " << early.highest
+        << " and " << late.highest << " kB)";
 }
 
 // A live run with the emulated Touch for a minute, ended by Ctrl-C as a user ends it: memory stays flat
@@ -263,14 +273,14 @@ TEST(Interrupt, ALiveRunHoldsConstantMemoryForAMinute) {
     hapticut::test::ScratchDir dir;
     Process p("run --device openhaptics --tool scalpel --force-log f.csv --report r.json", dir.path(),
               std::string("HAPTICUT_HD_LIBRARY=") + HD_EMULATION_LIBRARY + " ");
-    const auto [early, late] = p.residentPeaksThenInterrupt(0s, 10s, 60s);
+    const auto [early, late] = p.residentWindowsThenInterrupt(0s, 10s, 60s);
     ASSERT_EQ(p.wait(), 0) << "Ctrl-C is how a live run ends\n" << slurp(dir / "err");
     const auto j = nlohmann::json::parse(slurp(dir / "r.json"));
     EXPECT_EQ(j["stopped_by_signal"], true);
     EXPECT_GT(j["steps"].get<long>(), 40'000) << "a minute at 1 kHz on a busy machine";
-    EXPECT_GT(early, 0);
-    EXPECT_LT(late - early, 2'000) << "kB the peak grew from the first 10 s to the next 50 s, over " << j["steps"]
-                                   << " steps";
+    EXPECT_GT(early.highest, 0);
+    EXPECT_LT(late.highest - early.highest, 2'000)
+        << "kB the peak grew from the first 10 s to the next 50 s, over " << j["steps"] << " steps";
     EXPECT_EQ(completeCsvRows(dir / "f.csv") + j["log_dropped_steps"].get<long>(), j["steps"].get<long>());
 }
 
