@@ -140,25 +140,29 @@ TEST(Bvh, QueriesMatchBruteForceOnTheHeartAfterDeformingAndRefitting) {
 }
 
 // A dent in one region of the heart, refitted through the faces round the moved vertices only: the
-// queries everywhere still match brute force, and a second dent elsewhere after the first too.
+// queries everywhere still match brute force, and a second dent elsewhere after the first too. Large
+// dents and small ones: a large one marks enough of the tree to be swept in node order, a small one is
+// ordered by depth.
 TEST(Bvh, RefittingOnlyTheFacesRoundMovedVerticesKeepsEveryQueryExact) {
     std::mt19937 rng(7);
     Soup s = heartSoup(9714);
     Bvh bvh;
     bvh.build(s.view());
     std::normal_distribution<double> n(0, 0.004);
-    for (const Vec3& centre : {Vec3(0, 0, 0.05), Vec3(0, -0.04, -0.03)}) {
+    const Vec3 onSurface = s.positions[s.positions.size() / 3], elsewhere = s.positions[2 * s.positions.size() / 3];
+    for (const auto& [centre, radius] : {std::pair{Vec3(0, 0, 0.05), 0.025}, std::pair{Vec3(0, -0.04, -0.03), 0.025},
+                                         std::pair{onSurface, 0.008}, std::pair{elsewhere, 0.008}}) {
         std::vector<std::uint32_t> faces;
         std::vector<char> moved(s.positions.size(), 0);
         for (std::size_t v = 0; v < s.positions.size(); ++v)
-            if ((s.positions[v] - centre).norm() < 0.025) {
+            if ((s.positions[v] - centre).norm() < radius) {
                 s.positions[v] += Vec3(n(rng), n(rng), n(rng));
                 moved[v] = 1;
             }
         for (std::uint32_t f = 0; f < s.faces.size(); ++f)
             for (std::uint32_t v : s.faces[f])
                 if (moved[v]) faces.push_back(f);  // once per moved corner: repeats are allowed
-        ASSERT_GT(faces.size(), 100u);
+        ASSERT_GT(faces.size(), 20u);
         ASSERT_LT(faces.size(), s.faces.size());
         bvh.refitFaces(s.view(), faces);
         expectMatchesBruteForce(bvh, s, rng, 200);

@@ -74,6 +74,7 @@ private:
         std::uint32_t right = 0;             // inner: the left child is the next node (preorder)
         std::uint32_t parent = kNone;
         std::uint32_t added = kNone;  // leaf: the first face added since the build (see addedNext_)
+        std::uint32_t depth = 0;      // the root's is 0
     };
     static constexpr int kMaxDepth = 64;
 
@@ -94,8 +95,9 @@ private:
     std::vector<std::uint32_t> faceOrder_;
     std::vector<std::uint32_t> leafOf_;     // the leaf holding each face
     std::vector<std::uint32_t> addedNext_;  // the next added face in the same leaf's chain, per face
-    // refitFaces: per node, the call that last marked it for recomputing.
-    std::vector<std::uint32_t> staleMark_;
+    // refitFaces: per node, the call that last marked it for recomputing; the nodes it marked, and
+    // the same deepest first (both reserved for every node at the build).
+    std::vector<std::uint32_t> staleMark_, marked_, markedDeepestFirst_;
     std::uint32_t refitCall_ = 0;
     std::size_t builtFaces_ = 0, addedFaces_ = 0;
 };
