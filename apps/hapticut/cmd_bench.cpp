@@ -14,6 +14,7 @@
 #include "hapticut/common/latency_histogram.h"
 #include "hapticut/common/output_path.h"
 #include "hapticut/haptics/contact_footprint.h"
+#include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/proxy.h"
 #include "hapticut/haptics/replay_device.h"
@@ -122,6 +123,7 @@ nlohmann::ordered_json benchHaptics(const mesh::SurfaceMesh& mesh, double second
     using Clock = std::chrono::steady_clock;
     const collision::SurfaceView view{mesh.positions, mesh.faces};
     collision::Bvh bvh;
+    bvh.setMargin(haptics::kTreeMarginPerEdge * mesh::meanEdgeLength(mesh));  // the haptic loop's tree
     auto t0 = Clock::now();
     bvh.build(view);
     const double build_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

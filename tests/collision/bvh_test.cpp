@@ -139,6 +139,26 @@ TEST(Bvh, QueriesMatchBruteForceOnTheHeartAfterDeformingAndRefitting) {
     expectMatchesBruteForce(bvh, s, rng, 200);
 }
 
+// Boxes grown by a margin, computed from where the vertices were: every query is exact on the surface
+// as it is now while each vertex stays within the margin of where the boxes saw it, with no refit.
+TEST(Bvh, BoxesGrownByAMarginHoldASurfaceThatMovedLessThanIt) {
+    std::mt19937 rng(11);
+    for (Soup reference : {randomSoup(rng, 2000), heartSoup(9714)}) {
+        constexpr double margin_m = 0.002;
+        Bvh bvh;
+        bvh.setMargin(margin_m);
+        bvh.build(reference.view());
+        Soup now = reference;
+        std::normal_distribution<double> n(0, 1);
+        std::uniform_real_distribution<double> share(0.5, 0.999);
+        for (Vec3& p : now.positions) p += margin_m * share(rng) * Vec3(n(rng), n(rng), n(rng)).normalized();
+        expectMatchesBruteForce(bvh, now, rng, 300);
+        // Refitted from the reference positions, as the haptic loop refits nodes that stayed put.
+        bvh.refit(reference.view());
+        expectMatchesBruteForce(bvh, now, rng, 300);
+    }
+}
+
 // A dent in one region of the heart, refitted through the faces round the moved vertices only: the
 // queries everywhere still match brute force, and a second dent elsewhere after the first too. Large
 // dents and small ones: a large one marks enough of the tree to be swept in node order, a small one is

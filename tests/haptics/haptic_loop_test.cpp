@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "hapticut/collision/point_inside.h"
+#include "hapticut/geometry/triangle_queries.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/haptics/virtual_device.h"
@@ -257,6 +259,59 @@ TEST(HapticLoop, SnapshotsShowTheTissueExactlyThoughTheyCopyOnlyWhatMoved) {
     EXPECT_GT(checked, 90);
     EXPECT_GT(pressed, 1e-3);
     EXPECT_GT(loop.stats().contactSteps, 200);
+}
+
+// The collision tree refits only the nodes that moved out of their boxes' margin: every query on the
+// pressed, released and pressed-again heart still matches brute force over the surface as it is, with
+// the physics in the loop's thread and on its own (multi-rate, stepped in simulated time).
+TEST(HapticLoop, TheCollisionTreeHoldsTheMovingSurfaceThoughItRefitsOnlyWhatLeftItsBoxes) {
+    for (const LoopConfig::PhysicsRate rate : {LoopConfig::PhysicsRate::Single, LoopConfig::PhysicsRate::Multi}) {
+        HeartScene h;
+        VirtualDevice device;
+        LoopConfig config;
+        config.physicsRate = rate;
+        HapticLoop loop(h.organ, device, config);
+        ASSERT_EQ(loop.multiRate(), rate == LoopConfig::PhysicsRate::Multi);
+        ASSERT_GT(loop.bvh().margin(), 0);
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<double> near(-0.006, 0.006);
+        int checked = 0;
+        double pressed = 0;
+        for (int i = 0; i < 1200; ++i) {
+            const double depth = 0.006 * std::sin(i * 0.004);
+            const Vec3 target = frontPoint(h) + Vec3(0.002 * std::sin(i * 0.01), 0, 0.001 - depth);
+            device.setPosition(target);
+            loop.step();
+            pressed = std::max(pressed, physics::maxDisplacement(h.model));
+            if (i % 20 != 0) continue;
+            const collision::SurfaceView now = loop.surface();
+            for (int q = 0; q < 10; ++q) {
+                const Vec3 p = target + Vec3(near(rng), near(rng), near(rng));
+                double brute = 1e300;
+                for (const mesh::Face& f : now.faces)
+                    brute = std::min(brute, (geometry::closestPointOnTriangle(p, now.positions[f[0]],
+                                                                              now.positions[f[1]], now.positions[f[2]])
+                                                 .point -
+                                             p)
+                                                .norm());
+                const auto closest = loop.bvh().closestPoint(now, p);
+                ASSERT_TRUE(closest) << "step " << i;
+                ASSERT_NEAR(closest->distance, brute, 1e-15) << "step " << i;
+                const Vec3 to = p + Vec3(0, 0, -0.02);
+                std::optional<double> first;
+                for (const mesh::Face& f : now.faces)
+                    if (const auto hit = geometry::intersectSegmentTriangle(p, to, now.positions[f[0]],
+                                                                            now.positions[f[1]], now.positions[f[2]]))
+                        first = std::min(first.value_or(2.0), hit->t);
+                const auto hit = loop.bvh().firstHit(now, p, to);
+                ASSERT_EQ(hit.has_value(), first.has_value()) << "step " << i;
+                if (hit) ASSERT_DOUBLE_EQ(hit->t, *first) << "step " << i;
+            }
+            ++checked;
+        }
+        EXPECT_EQ(checked, 60);
+        EXPECT_GT(pressed, 2e-3) << "the heart was pressed millimetres deep: its nodes left their boxes";
+    }
 }
 
 TEST(HapticLoop, CommandsReachTheLoop) {

@@ -77,6 +77,8 @@ void Bvh::traverse(Enter&& enter, Visit&& visit) const {
 geometry::Aabb Bvh::faceBox(const SurfaceView& s, std::uint32_t f) const {
     geometry::Aabb box;
     for (std::uint32_t v : s.faces[f]) box.grow(s.positions[v]);
+    box.min.array() -= margin_m_;
+    box.max.array() += margin_m_;
     return box;
 }
 
@@ -145,6 +147,8 @@ void Bvh::recomputeBox(const SurfaceView& s, std::size_t i) {
         visitLeaf(node, [&](std::uint32_t f) {
             for (std::uint32_t v : s.faces[f]) box.grow(s.positions[v]);
         });
+        box.min.array() -= margin_m_;
+        box.max.array() += margin_m_;
         node.box = box;
     } else {
         node.box = nodes_[i + 1].box;

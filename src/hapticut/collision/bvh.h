@@ -38,6 +38,13 @@ class Bvh {
 public:
     static constexpr int kLeafSize = 4;
 
+    /// Every leaf's box grows by `margin_m` on each side from the next build or refit on. A tree whose
+    /// boxes were computed from reference positions then answers every query exactly for any surface
+    /// whose vertices lie within the margin of those: a vertex that moves less than the margin needs no
+    /// refit (Box2D's "fat" boxes, van den Bergen 1997's refitting argument).
+    void setMargin(double margin_m) { margin_m_ = margin_m; }
+    double margin() const { return margin_m_; }
+
     void build(const SurfaceView& surface);
     /// Recomputes every box bottom-up from the current positions, in time linear in the faces.
     void refit(const SurfaceView& surface);
@@ -100,6 +107,7 @@ private:
     std::vector<std::uint32_t> staleMark_, marked_, markedDeepestFirst_;
     std::uint32_t refitCall_ = 0;
     std::size_t builtFaces_ = 0, addedFaces_ = 0;
+    double margin_m_ = 0;
 };
 
 }  // namespace hapticut::collision

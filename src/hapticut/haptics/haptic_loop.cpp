@@ -10,6 +10,7 @@
 #include "hapticut/common/reserve.h"
 #include "hapticut/haptics/force_safety.h"
 #include "hapticut/mesh/adjacency.h"
+#include "hapticut/mesh/surface_mesh.h"
 #include "hapticut/physics/stability.h"
 #include "hapticut/physics/volume_pressure.h"
 
@@ -101,7 +102,10 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
     if (config_.physicsRate == LoopConfig::PhysicsRate::Multi ||
         (config_.physicsRate == LoopConfig::PhysicsRate::Auto && model_.nodes.size() > config_.multiRateAbove_nodes))
         startMultiRate(0);
-    bvh_.build(surface());
+    bvh_.setMargin(kTreeMarginPerEdge * mesh::meanEdgeLength(organ_.mesh()));
+    reserveTouched(treePositions_, roomToGrow(model_.nodes.size()));
+    treePositions_.assign(model_.nodes.position.begin(), model_.nodes.position.end());
+    bvh_.build(treeSurface());
     reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
     footprint_.fitTo(model_.nodes.size(), faces_.size());
     for (HandState& hand : hands_) {
@@ -518,7 +522,7 @@ void HapticLoop::advanceTissue(Frame& frame) noexcept {
         for (HandFrame& hand : frame) hand.force_N = Vec3::Zero();
     }
     const collision::SurfaceView view = surface();
-    refitMovedFaces(view);
+    refitMovedFaces();
     for (std::size_t h = 0; h < hands_.size(); ++h)
         if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
 }
@@ -579,7 +583,7 @@ void HapticLoop::takeFrames(Frame& frame) noexcept {
     if (!any) return;
     lastFrameStep_ = stepIndex_ + 1;  // the frame's state is the next step's present
     const collision::SurfaceView view = surface();
-    whole ? bvh_.refit(view) : bvh_.refitFaces(view, movedFaces_);
+    whole ? refitWholeTree() : bvh_.refitFaces(treeSurface(), movedFaces_);
     for (std::size_t h = 0; h < hands_.size(); ++h)
         if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
 }
@@ -592,7 +596,7 @@ void HapticLoop::syncWorker() noexcept {
             worker_->edit(edit);
             if (edit.kind == ModelEdit::Kind::ResetModel) {
                 snapshots_.allNodesMoved();
-                bvh_.refit(surface());  // every node went back to rest
+                refitWholeTree();  // every node went back to rest
                 for (HandState& hand : hands_) hand.proxy.followSurface(surface(), bvh_);
             }
         }
@@ -635,16 +639,25 @@ void HapticLoop::syncWorker() noexcept {
     pendingSync_ = false;
 }
 
-void HapticLoop::refitMovedFaces(const collision::SurfaceView& view) noexcept {
-    // Only the faces round the nodes that moved: the rest of the organ sleeps exactly at rest. A region
-    // of more than a quarter of the organ is cheaper to refit whole.
+void HapticLoop::refitMovedFaces() noexcept {
+    // Only the faces round the nodes that moved out of their boxes: the rest of the organ sleeps
+    // exactly at rest or moves within the margin. A region of more than a quarter of the organ is
+    // cheaper to refit whole.
     movedFaces_.clear();
-    gatherFacesRound(stepper_.movedNodes()) ? bvh_.refitFaces(view, movedFaces_) : bvh_.refit(view);
+    gatherFacesRound(stepper_.movedNodes()) ? bvh_.refitFaces(treeSurface(), movedFaces_) : refitWholeTree();
+}
+
+void HapticLoop::refitWholeTree() noexcept {
+    std::copy(model_.nodes.position.begin(), model_.nodes.position.end(), treePositions_.begin());
+    bvh_.refit(treeSurface());
 }
 
 bool HapticLoop::gatherFacesRound(std::span<const std::uint32_t> nodes) noexcept {
     if (4 * nodes.size() > model_.nodes.size()) return false;
+    const double margin_m = bvh_.margin();
     for (std::uint32_t i : nodes) {
+        if ((model_.nodes.position[i] - treePositions_[i]).squaredNorm() <= margin_m * margin_m) continue;
+        treePositions_[i] = model_.nodes.position[i];
         const std::span<const std::uint32_t> faces = organ_.vertexFaces().of(i);
         if (movedFaces_.size() + faces.size() > movedFaces_.capacity()) return false;  // never allocates
         movedFaces_.insert(movedFaces_.end(), faces.begin(), faces.end());
@@ -762,7 +775,12 @@ void HapticLoop::afterTopologyChange() {
     const collision::SurfaceView view = surface();
     const cutting::TopologyChanges& changes = organ_.changes();
     // No refit: the boxes grow to hold the changed and added faces; the step's refit tightens them.
-    bvh_.facesChanged(view, changes.faces);
+    // The nodes the cut added or moved are where the tree sees them from now on.
+    if (model_.nodes.size() > treePositions_.capacity())
+        reserveTouched(treePositions_, roomToGrow(model_.nodes.size()));
+    treePositions_.resize(model_.nodes.size());
+    for (std::uint32_t v : changes.nodes) treePositions_[v] = model_.nodes.position[v];
+    bvh_.facesChanged(treeSurface(), changes.faces);
     if (3 * faces_.size() > movedFaces_.capacity()) reserveTouched(movedFaces_, 3 * roomToGrow(faces_.size()));
     footprint_.fitTo(model_.nodes.size(), faces_.size());
     stepper_.topologyChanged(model_, changes.nodes, changes.springs);
