@@ -80,8 +80,9 @@ struct LoopConfig {
 inline constexpr double kFootprintSlide = 0.05;
 /// The collision tree's margin as a share of the organ's mean edge (Bvh::setMargin): wide enough that the
 /// nodes a step moves by microns stay in their boxes, narrow enough that queries meet few more boxes.
-/// On the 100,000 and 1,000,000 hearts stroked in real time, 0.3 edges gave as many overruns as 0.1.
-inline constexpr double kTreeMarginPerEdge = 0.1;
+/// Measured on the 100,000 and 1,000,000 hearts: 0.1 and 0.3 edges left as many overruns in a real-time
+/// stroke as this, and 0.1 made the proxy's update 10-20% slower.
+inline constexpr double kTreeMarginPerEdge = 0.03;
 
 /// How many physics steps within a second may take more than half the period before an Auto loop
 /// turns multi-rate.
