@@ -120,17 +120,26 @@ void HapticLoop::initialise(std::span<const Hand> hands) {
 }
 
 HapticLoop::~HapticLoop() {
+    if (workerBuilder_.joinable()) workerBuilder_.join();
     if (worker_) worker_->stop();
     zeroAllForces();  // a real device must never be left pushing
 }
 
 void HapticLoop::startMultiRate(long fromStep) {
-    if (volumeOn_) {  // the physics' own copy has no faces to take a volume of: volume goes off
-        volumeOn_ = stats_.volumeKept = false;
-        std::fill(model_.nodes.externalForce.begin(), model_.nodes.externalForce.end(), Vec3::Zero());
-    }
-    worker_ = std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
-                                              config_.maxPhysicsStep_s);
+    dropVolumeForMultiRate();
+    adoptWorker(std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
+                                                config_.maxPhysicsStep_s),
+                fromStep);
+}
+
+void HapticLoop::dropVolumeForMultiRate() noexcept {
+    if (!volumeOn_) return;
+    volumeOn_ = stats_.volumeKept = false;
+    std::fill(model_.nodes.externalForce.begin(), model_.nodes.externalForce.end(), Vec3::Zero());
+}
+
+void HapticLoop::adoptWorker(std::unique_ptr<PhysicsWorker> worker, long fromStep) {
+    worker_ = std::move(worker);
     reserveTouched(frameNodes_, roomToGrow(model_.nodes.size()));
     reserveTouched(pendingNodes_, std::size_t{1} << 14);  // what cuts change between two physics steps
     reserveTouched(pendingSprings_, std::size_t{1} << 14);
@@ -139,18 +148,50 @@ void HapticLoop::startMultiRate(long fromStep) {
 }
 
 void HapticLoop::watchPhysicsTime(double physics_us) noexcept {
-    if (!realtime_ || worker_ || config_.physicsRate != LoopConfig::PhysicsRate::Auto) return;
+    if (!realtime_ || worker_ || switchingToMultiRate_ || config_.physicsRate != LoopConfig::PhysicsRate::Auto) return;
     if (static_cast<double>(stepIndex_ - slowWindowStart_) >= config_.rate_hz) {
         slowWindowStart_ = stepIndex_;
         slowPhysicsSteps_ = 0;
     }
     if (physics_us <= 0.5e6 / config_.rate_hz || ++slowPhysicsSteps_ < kSlowPhysicsSteps) return;
+    beginMultiRateSwitch();
+}
+
+void HapticLoop::beginMultiRateSwitch() noexcept {
+    dropVolumeForMultiRate();
+    workerBuilt_.store(false, std::memory_order_relaxed);
     try {
-        // Copying the organ for the physics takes this one step long: once, instead of overrunning on.
-        startMultiRate(stepIndex_ + 1);  // this step's physics is done: the thread takes the next
+        workerBuilder_ = std::thread([this] {
+            try {
+                builtWorker_ = std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
+                                                               config_.maxPhysicsStep_s);
+            } catch (...) {
+                builtWorker_.reset();  // out of memory: the loop stays single-rate
+            }
+            workerBuilt_.store(true, std::memory_order_release);
+        });
+        switchingToMultiRate_ = true;
+    } catch (...) {
+        // No thread to make it on: stay single-rate.
+    }
+}
+
+bool HapticLoop::finishMultiRateSwitch() noexcept {
+    ++stats_.multiRateSwitchSteps;
+    if (!workerBuilt_.load(std::memory_order_acquire)) return false;
+    workerBuilder_.join();
+    switchingToMultiRate_ = false;
+    try {
+        if (builtWorker_) {
+            adoptWorker(std::move(builtWorker_), stepIndex_);
+            return true;  // the edits queued meanwhile reach both copies once the physics is held
+        }
     } catch (...) {
         worker_.reset();  // out of memory: stay single-rate
     }
+    for (int e = 0; e < pendingEditCount_; ++e) applyEdit(pendingEdits_[static_cast<std::size_t>(e)]);
+    pendingEditCount_ = 0;
+    return false;
 }
 
 void HapticLoop::setRealtime(bool on) {
@@ -282,6 +323,7 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
     // while the tool presses past the threshold, or while the blade is down in the tissue (under the
     // rest surface near the cut); it ends when the press eases or the blade lifts above the surface.
     // The walls reach as deep as the blade. One cut at a time: it belongs to the hand that started it.
+    if (switchingToMultiRate_) return;  // the organ is being copied: the cut goes on once it is
     const auto cutStart = Clock::now();
     bool changed = false;
     for (std::size_t h = 0; h < hands_.size(); ++h) {
@@ -503,6 +545,7 @@ Vec3 HapticLoop::forceAhead(const physics::PointSpring& tool, double ahead_s) co
 
 void HapticLoop::advanceTissue(Frame& frame) noexcept {
     // The tissue moves under the tools' springs; the collision tree and the proxies follow it.
+    if (switchingToMultiRate_ && !finishMultiRateSwitch()) return;  // held still while its copy is made
     if (worker_) {
         advanceMultiRate(frame);
         return;
@@ -747,7 +790,7 @@ void HapticLoop::applyPendingCommands() noexcept {
 }
 
 void HapticLoop::editModel(const ModelEdit& edit) noexcept {
-    if (!worker_) {
+    if (!worker_ && !switchingToMultiRate_) {
         applyEdit(edit);
     } else if (pendingEditCount_ < static_cast<int>(pendingEdits_.size())) {
         pendingEdits_[static_cast<std::size_t>(pendingEditCount_++)] = edit;  // made once the physics is held

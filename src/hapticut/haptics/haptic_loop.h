@@ -4,12 +4,14 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <span>
+#include <thread>
 #include <vector>
 
 #include "hapticut/collision/bvh.h"
@@ -141,11 +143,12 @@ struct LoopStats {
     LatencyHistogram syncTime_us{0.1, 100'000};  // multi-rate: cuts and edits copied into the physics' copy
     double maxForce_N = 0;                       // the largest force sent to any hand
     double wallTime_s = 0;
-    physics::SolverStats solver;  // the implicit scheme's solves; none for an explicit one
-    long physicsSteps = 0;        // equal to steps in a single-rate loop
-    long multiRateFromStep = -1;  // the step from which the physics ran on its own thread; -1: never
-    double physicsTime_s = 0;     // simulated by them
-    bool volumeKept = false;      // LoopConfig::bulkModulus_Pa took effect (a closed organ, single-rate)
+    physics::SolverStats solver;    // the implicit scheme's solves; none for an explicit one
+    long physicsSteps = 0;          // equal to steps in a single-rate loop
+    long multiRateFromStep = -1;    // the step from which the physics ran on its own thread; -1: never
+    long multiRateSwitchSteps = 0;  // Auto: steps taken, the tissue held still, while the physics' copy was made
+    double physicsTime_s = 0;       // simulated by them
+    bool volumeKept = false;        // LoopConfig::bulkModulus_Pa took effect (a closed organ, single-rate)
 };
 
 struct LoopCommand {
@@ -286,9 +289,20 @@ private:
     void syncWorker() noexcept;
     /// Starts the physics' own copy and, on the wall clock, its thread, for the steps from `fromStep`.
     void startMultiRate(long fromStep);
+    /// Makes `worker` the physics' own copy and, on the wall clock, starts its thread.
+    void adoptWorker(std::unique_ptr<PhysicsWorker> worker, long fromStep);
+    /// Multi-rate leaves volume off: the physics' copy has no faces to take a volume of.
+    void dropVolumeForMultiRate() noexcept;
     /// Single-rate, Auto, on the wall clock: counts physics steps that took more than half the period,
     /// and turns the loop multi-rate once there are kSlowPhysicsSteps of them within a second.
     void watchPhysicsTime(double physics_us) noexcept;
+    /// Auto's switch: copying the organ and preparing the physics' own stepper takes tens of milliseconds
+    /// (28 ms for 50,000 triangles), so a thread of its own makes the copy while this one keeps its rate
+    /// with the tissue held still: no physics step, no cut, edits queued, so that nothing the copy reads
+    /// changes under it. The tools' contacts, which this thread writes every step, are not copied.
+    void beginMultiRateSwitch() noexcept;
+    /// While switching: takes the copy once it is made. False while it is still being made.
+    bool finishMultiRateSwitch() noexcept;
     /// The nodes hand `hand`'s tool loads this step, into `tool`: its tip's footprint (built again only
     /// as the contact slides) or the thesis's triangle. Returns the footprint's subgrid compliance, m/N.
     double loadTissue(HandState& hand, physics::PointSpring& tool, bool wasActive) noexcept;
@@ -333,7 +347,13 @@ private:
     // they hold every face while its corners stay within the margin of these: most of an awake region
     // moves microns a step, and only the nodes that leave their boxes cost a refit.
     std::vector<Vec3> treePositions_;
-    std::unique_ptr<PhysicsWorker> worker_;     // multi-rate only
+    std::unique_ptr<PhysicsWorker> worker_;  // multi-rate only
+    // Auto's switch to multi-rate (beginMultiRateSwitch): the thread making the physics' copy, the copy,
+    // and whether it is done (written by that thread last).
+    std::thread workerBuilder_;
+    std::unique_ptr<PhysicsWorker> builtWorker_;
+    std::atomic<bool> workerBuilt_{false};
+    bool switchingToMultiRate_ = false;
     std::vector<std::uint32_t> frameNodes_;     // multi-rate: the nodes the frames taken this step moved
     std::array<ModelEdit, 16> pendingEdits_{};  // multi-rate: edits waiting for the physics to be held
     int pendingEditCount_ = 0;

@@ -34,7 +34,9 @@ bool applyModelEdit(physics::MassSpringModel& model, const ModelEdit& edit) {
 
 PhysicsWorker::PhysicsWorker(const physics::MassSpringModel& model, const physics::Stepper& stepper,
                              physics::Scheme requested, double period_s, double maxStep_s)
-    : model_(model),
+    // Not the tools' contacts: the loop writes them every step, also while a copy is made on another
+    // thread (HapticLoop::beginMultiRateSwitch), and hands them over before each step (setTools).
+    : model_{model.nodes, model.springs, model.gravity_m_per_s2, {}, model.snapDistance_m, model.snapSpeed_m_per_s},
       stepper_(stepper),
       requested_(requested),
       period_s_(period_s),

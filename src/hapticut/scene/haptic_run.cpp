@@ -199,6 +199,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.volumeKept = st.volumeKept;
     r.multiRateFrom_s =
         st.multiRateFromStep >= 0 ? static_cast<double>(st.multiRateFromStep) / config.loop.rate_hz : -1;
+    r.multiRateSwitchSteps = st.multiRateSwitchSteps;
     r.physicsRate_hz = st.wallTime_s > 0 ? static_cast<double>(st.physicsSteps) / st.wallTime_s : 0;
     r.physicsRealtimeFactor = st.wallTime_s > 0 ? st.physicsTime_s / st.wallTime_s : 0;
     return r;

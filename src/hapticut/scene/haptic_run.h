@@ -74,6 +74,7 @@ struct HapticRunResult {
     physics::SolverStats solver;       // the implicit scheme's solves
     bool multiRate = false;            // the physics ran on its own thread (or every few steps in simulated time)
     double multiRateFrom_s = -1;       // from this loop time on (0: from the start); -1: never
+    long multiRateSwitchSteps = 0;     // Auto's switch: haptic steps taken while the physics' copy was made
     double physicsRate_hz = 0;         // physics steps per wall-clock second
     double physicsRealtimeFactor = 0;  // simulated physics seconds per wall-clock second
     // Cutting: what the scalpel did, how long cut events took, and whether the organ stayed sound.

@@ -87,6 +87,8 @@ nlohmann::ordered_json hapticRunReport(const ModelSource& source, const cutting:
     j["multi_rate"] = result.multiRate;
     j["multi_rate_from_s"] =
         result.multiRate ? nlohmann::ordered_json(result.multiRateFrom_s) : nlohmann::ordered_json(nullptr);
+    // Auto's switch went on at the haptic rate, the tissue held still, for this many steps.
+    j["multi_rate_switch_steps"] = result.multiRateSwitchSteps;
     j["physics_rate_hz"] = result.physicsRate_hz;
     j["physics_realtime_factor"] = result.physicsRealtimeFactor;
     j["step_us"] = toJson(result.stepTime_us);
