@@ -41,7 +41,8 @@ public:
     /// Every leaf's box grows by `margin_m` on each side from the next build or refit on. A tree whose
     /// boxes were computed from reference positions then answers every query exactly for any surface
     /// whose vertices lie within the margin of those: a vertex that moves less than the margin needs no
-    /// refit (Box2D's "fat" boxes, van den Bergen 1997's refitting argument).
+    /// refit (the enlarged boxes of Catto's dynamic tree in Box2D, applied to a tree refitted as the
+    /// mesh deforms, after van den Bergen 1997).
     void setMargin(double margin_m) { margin_m_ = margin_m; }
     double margin() const { return margin_m_; }
 
