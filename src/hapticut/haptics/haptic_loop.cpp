@@ -127,9 +127,12 @@ HapticLoop::~HapticLoop() {
 
 void HapticLoop::startMultiRate(long fromStep) {
     dropVolumeForMultiRate();
-    adoptWorker(std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
-                                                config_.maxPhysicsStep_s),
-                fromStep);
+    adoptWorker(makeWorker(), fromStep);
+}
+
+std::unique_ptr<PhysicsWorker> HapticLoop::makeWorker() const {
+    return std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
+                                           config_.maxPhysicsStep_s);
 }
 
 void HapticLoop::dropVolumeForMultiRate() noexcept {
@@ -163,8 +166,7 @@ void HapticLoop::beginMultiRateSwitch() noexcept {
     try {
         workerBuilder_ = std::thread([this] {
             try {
-                builtWorker_ = std::make_unique<PhysicsWorker>(model_, stepper_, config_.scheme, 1 / config_.rate_hz,
-                                                               config_.maxPhysicsStep_s);
+                builtWorker_ = makeWorker();
             } catch (...) {
                 builtWorker_.reset();  // out of memory: the loop stays single-rate
             }

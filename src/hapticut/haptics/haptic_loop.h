@@ -289,6 +289,8 @@ private:
     void syncWorker() noexcept;
     /// Starts the physics' own copy and, on the wall clock, its thread, for the steps from `fromStep`.
     void startMultiRate(long fromStep);
+    /// A copy of the organ and the stepper for the physics to step on its own.
+    std::unique_ptr<PhysicsWorker> makeWorker() const;
     /// Makes `worker` the physics' own copy and, on the wall clock, starts its thread.
     void adoptWorker(std::unique_ptr<PhysicsWorker> worker, long fromStep);
     /// Multi-rate leaves volume off: the physics' copy has no faces to take a volume of.
