@@ -43,6 +43,8 @@ std::optional<Vec3> advancedCrackTipAlongEdge(const Vec3& blade_m, const Vec3& t
 /// The scalpel's edge faces +x of its own frame (procedural::makeScalpel: the blade in the x-z plane, its
 /// handle along +z): a device's orientation turns it into the way the blade cuts.
 inline Vec3 bladeEdge(const Eigen::Quaterniond& orientation) { return orientation * Vec3::UnitX(); }
+/// ...and its handle, +z: the blade's axis, from its tip toward the handle.
+inline Vec3 bladeAxis(const Eigen::Quaterniond& orientation) { return orientation * Vec3::UnitZ(); }
 
 /// The force J x depth the blade needs to cut at `depth_m` (within its edge).
 inline double cuttingForce_N(double depth_m, const FractureParams& params) {

@@ -196,7 +196,15 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
         const std::uint32_t next = pointOnEdge(c.a, c.b, c.u);
         if (inCut(next)) {
             if (boundaryEdge) return false;  // along a lip of its own: nothing to join
-            continue;                        // would step back along the cut
+            // The blade went on past the cut's first point, which its second point lies behind: nothing
+            // has opened yet (addPoint opens from the third), so the cut starts again from the first.
+            if (points_.size() == 2 && next == points_[0]) {
+                stats_.length_m -= (m.positions[points_[1]] - m.positions[points_[0]]).norm();
+                points_.pop_back(), lipVertices_.pop_back();
+                --stats_.cutPoints;
+                return true;
+            }
+            continue;  // would step back along the cut
         }
         advanceTo(next);
         return true;
@@ -268,7 +276,8 @@ bool ProgressiveCutter::reachBoundary(const Vec3& q) {
     return false;
 }
 
-std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlade(const Vec3& device_m) {
+std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlade(const Vec3& device_m,
+                                                                                  const Vec3& axis) {
     if (points_.empty()) return std::nullopt;
     const mesh::SurfaceMesh& m = model_.mesh();
     // Three rings of faces round the last point: the blade moves well under a face per step at 1 kHz,
@@ -295,6 +304,26 @@ std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlad
             if (face[0] == lipVertices_[i] || face[1] == lipVertices_[i] || face[2] == lipVertices_[i]) return true;
         return false;
     };
+    // Along the blade: where its line from the tip toward the handle passes through the rest surface,
+    // the nearest such place to the tip. The cut is where the blade goes through the surface; the point
+    // nearest a tip under a sloping surface lies downhill of that, by the depth times the slope.
+    if (axis.squaredNorm() > 0) {
+        const Vec3 reach = kBladeReach_m * axis.normalized();
+        std::optional<BladeProjection> along;
+        double nearest = 1e300;
+        for (std::uint32_t f : nearbyFaces_) {
+            if (model_.isWall(f) || besideTheWound(m.faces[f])) continue;
+            const mesh::Face& face = m.faces[f];
+            const Vec3 &a = m.positions[face[0]], &b = m.positions[face[1]], &c = m.positions[face[2]];
+            const auto hit = geometry::intersectSegmentTriangle(device_m - reach, device_m + reach, a, b, c);
+            if (!hit || std::abs(hit->t - 0.5) >= nearest) continue;
+            nearest = std::abs(hit->t - 0.5);
+            const Vec3 normal = (b - a).cross(c - a).normalized();
+            const Vec3 point = hit->bary.x() * a + hit->bary.y() * b + hit->bary.z() * c;
+            along = BladeProjection{f, hit->bary, (point - device_m).dot(normal), normal};
+        }
+        if (along) return along;
+    }
     std::optional<BladeProjection> best;
     double bestD2 = 1e300;
     for (std::uint32_t f : nearbyFaces_) {
@@ -307,7 +336,7 @@ std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlad
         if (d2 >= bestD2) continue;
         bestD2 = d2;
         const Vec3 normal = (b - a).cross(c - a).normalized();
-        best = BladeProjection{f, hit.bary, (hit.point - device_m).dot(normal)};
+        best = BladeProjection{f, hit.bary, (hit.point - device_m).dot(normal), normal};
     }
     return best;
 }

@@ -61,8 +61,13 @@ public:
         std::uint32_t face = 0;
         Vec3 bary = Vec3::Zero();
         double depth_m = 0;
+        Vec3 normal = Vec3::UnitZ();  // the rest face's, outward
     };
-    std::optional<BladeProjection> projectBlade(const Vec3& device_m);
+    /// With the blade's `axis` (from its tip toward the handle), the point where the blade's line passes
+    /// through those faces instead, when it does within them; else the nearest point.
+    std::optional<BladeProjection> projectBlade(const Vec3& device_m, const Vec3& axis = Vec3::Zero());
+    /// How far along its axis the blade's line is followed to the surface, either way from the tip.
+    static constexpr double kBladeReach_m = 0.03;
 
     /// The force dropped below the threshold or contact was lost: the next cutAt starts a new cut.
     void endCut() { points_.clear(), lipVertices_.clear(); }

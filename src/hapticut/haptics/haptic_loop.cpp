@@ -8,6 +8,7 @@
 
 #include "hapticut/common/assert.h"
 #include "hapticut/common/reserve.h"
+#include "hapticut/geometry/triangle.h"
 #include "hapticut/haptics/force_safety.h"
 #include "hapticut/mesh/adjacency.h"
 #include "hapticut/mesh/surface_mesh.h"
@@ -248,6 +249,12 @@ bool HapticLoop::letGo(const Frame& frame, std::size_t h) const {
     return hands_[h].setup.touchesOnlyWhileButtonHeld && !(frame[h].sample.buttons & 1u);
 }
 
+Vec3 HapticLoop::restFaceNormal(std::uint32_t face) const {
+    const mesh::SurfaceMesh& rest = organ_.mesh();
+    const mesh::Face& f = rest.faces[face];
+    return geometry::unitNormal(rest.positions[f[0]], rest.positions[f[1]], rest.positions[f[2]]);
+}
+
 bool HapticLoop::touching(const Frame& frame, std::size_t h) const {
     const GodObjectProxy& proxy = hands_[h].proxy;
     return frame[h].deviceOk && !letGo(frame, h) && proxy.contact().active &&
@@ -321,7 +328,11 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
     // would go to. A cut starts at the contact when the tool presses harder than its threshold (the
     // last step's force): the surface ruptures. It then runs as the blade pays for it (Mahvash &
     // Hayward, cutting/fracture.h): to the crack tip, projected onto the undeformed surface near the
-    // cut, so the blade slices through the dimple it presses instead of dragging it along. It goes on
+    // cut, so the blade slices through the dimple it presses instead of dragging it along. The crack runs
+    // in the rest surface's plane: the dimple's own faces tilt with every step of the press, and a tip
+    // kept in their planes wandered millimetres off the blade's line. A device that reports its
+    // orientation gives the blade's axis, and the cut is where that line passes through the rest surface;
+    // without one the blade is taken as square to the surface (the nearest point). It goes on
     // while the tool presses past the threshold, or while the blade is down in the tissue (under the
     // rest surface near the cut); it ends when the press eases or the blade lifts above the surface.
     // The walls reach as deep as the blade. One cut at a time: it belongs to the hand that started it.
@@ -340,30 +351,45 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
         const bool pressing =
             touching(frame, h) && hand.lastForce_N > hand.setup.cutThreshold_N && !stats_.watchdogTripped;
         bool changedHere = false;
+        const DeviceSample& sample = frame[h].sample;
+        const Vec3 axis = sample.oriented ? cutting::bladeAxis(sample.orientation) : Vec3(Vec3::Zero());
         if (!cutter_.cutting()) {
-            if (pressing) changedHere = cutter_.cutAt(hand.proxy.contact().face, hand.proxy.contact().bary);
+            // The surface ruptures where the blade goes into it: where its line crosses the surface above
+            // the tip, when the device gives the line; else where the proxy holds the tip.
+            std::uint32_t face = hand.proxy.contact().face;
+            Vec3 bary = hand.proxy.contact().bary;
+            if (pressing && !axis.isZero())
+                if (const auto hit =
+                        bvh_.firstHit(surface(), sample.position_m,
+                                      sample.position_m + cutting::ProgressiveCutter::kBladeReach_m * axis);
+                    hit && !organ_.isWall(hit->face))
+                    face = hit->face, bary = hit->bary;
+            if (pressing) changedHere = cutter_.cutAt(face, bary);
             if (cutter_.cutting()) {
                 cuttingHand_ = static_cast<int>(h);
-                // The surface ruptured under the blade: the crack starts where the proxy held it, so the
-                // pull along the surface the hand felt goes on without a jump.
+                // The crack starts where the blade broke in, so the pull along the surface the hand felt
+                // goes on without a jump: at the proxy, or on the blade's line.
                 hand.cracking = true;
                 hand.bladeAhead = true;
                 hand.crackTip_m = hand.proxy.position();
                 hand.crackDirection = Vec3::Zero();
-                hand.crackNormal = faceNormal(surface(), hand.proxy.contact().face);
-                const Vec3 pull = frame[h].sample.position_m - hand.crackTip_m;
+                hand.crackNormal = restFaceNormal(face);
+                Vec3 goesIn = sample.position_m;
+                if (const auto blade = cutter_.projectBlade(sample.position_m, axis); blade && !axis.isZero())
+                    hand.crackTip_m = goesIn = bladeAtSurface(sample.position_m, axis, *blade);
+                const Vec3 pull = goesIn - hand.crackTip_m;
                 hand.fractureForce_N = -couplingStiffness_N_per_m(static_cast<int>(h)) *
                                        (pull - pull.dot(hand.crackNormal) * hand.crackNormal);
             }
         } else if (cuttingHand_ == static_cast<int>(h)) {
-            const Vec3& device = frame[h].sample.position_m;
+            const Vec3& device = sample.position_m;
             const auto blade =
-                frame[h].deviceOk && !stats_.watchdogTripped ? cutter_.projectBlade(device) : std::nullopt;
+                frame[h].deviceOk && !stats_.watchdogTripped ? cutter_.projectBlade(device, axis) : std::nullopt;
             const bool inTissue = blade && blade->depth_m > 0;
             if (blade && (pressing || inTissue)) {
-                const Vec3 normal = faceNormal(surface(), blade->face);
-                if (const auto tip = resistBlade(hand, h, frame[h].sample, normal, blade->depth_m))
-                    if (const auto at = cutter_.projectBlade(*tip))
+                if (const auto tip = resistBlade(hand, h, sample, bladeAtSurface(device, axis, *blade), blade->normal,
+                                                 blade->depth_m))
+                    if (const auto at = cutter_.projectBlade(*tip, axis))
                         changedHere = cutter_.cutAt(at->face, at->bary, blade->depth_m);
             } else {
                 cutter_.endCut();
@@ -384,9 +410,16 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
     }
 }
 
+Vec3 HapticLoop::bladeAtSurface(const Vec3& tip_m, const Vec3& axis,
+                                const cutting::ProgressiveCutter::BladeProjection& blade) noexcept {
+    // Up the blade from its tip by the depth over the cosine of its tilt, to the rest surface's level.
+    // A blade flatter than 60 degrees off the normal has no clear place where it goes in: its tip.
+    const double cosine = axis.dot(blade.normal);
+    return cosine > 0.5 ? Vec3(tip_m + (blade.depth_m / cosine) * axis) : tip_m;
+}
+
 std::optional<Vec3> HapticLoop::resistBlade(HandState& hand, std::size_t h, const DeviceSample& blade,
-                                            const Vec3& normal, double depth_m) noexcept {
-    const Vec3& blade_m = blade.position_m;
+                                            const Vec3& blade_m, const Vec3& normal, double depth_m) noexcept {
     cutting::FractureParams fracture;
     fracture.toughness_J_per_m2 = hand.setup.toughness_J_per_m2.value_or(
         config_.toughness_J_per_m2.value_or(cutting::toughnessFromThreshold(hand.setup.cutThreshold_N)));

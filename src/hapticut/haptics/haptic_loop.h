@@ -272,11 +272,18 @@ private:
     void readDevices(Frame& frame, StepOutput& out) noexcept;
     void moveProxies(Frame& frame) noexcept;
     void cut(const Frame& frame, StepOutput& out) noexcept;
-    /// The cutting hand's blade at `blade`: its crack advanced by the fracture rule and the resistance
-    /// it feels; the crack tip the cut must now reach, if it moved.
-    std::optional<Vec3> resistBlade(HandState& hand, std::size_t h, const DeviceSample& blade, const Vec3& normal,
-                                    double depth_m) noexcept;
+    /// The cutting hand's blade `blade`, which goes into the tissue at `blade_m`: its crack advanced by the
+    /// fracture rule and the resistance it feels; the crack tip the cut must now reach, if it moved.
+    std::optional<Vec3> resistBlade(HandState& hand, std::size_t h, const DeviceSample& blade, const Vec3& blade_m,
+                                    const Vec3& normal, double depth_m) noexcept;
+    /// Where a blade with its tip at `tip_m` and its handle along `axis` goes into the tissue: along the
+    /// surface, the point the fracture rule follows. The tip itself for a blade without an axis (one taken
+    /// as square to the surface, whose projection onto the surface is its tip's).
+    static Vec3 bladeAtSurface(const Vec3& tip_m, const Vec3& axis,
+                               const cutting::ProgressiveCutter::BladeProjection& blade) noexcept;
     void endCrack(HandState& hand) noexcept;
+    /// A face's outward unit normal on the rest shape, the plane a crack runs in.
+    Vec3 restFaceNormal(std::uint32_t face) const;
     void coupleTools(Frame& frame, double t_s) noexcept;
     void advanceTissue(Frame& frame) noexcept;
     /// Multi-rate: hands the tools to the physics, steps it in simulated time, and takes in its frames.
