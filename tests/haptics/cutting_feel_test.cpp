@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <random>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -230,6 +231,24 @@ TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyS
     }
 }
 
+/// Top to bottom across the front at x, from 5 mm above the incision's line to 25 mm below, a centimetre
+/// deep, as the exercise's incision stroke is made.
+Trajectory strokeAcross(const mesh::SurfaceMesh& heart, const collision::Bvh& bvh, double x) {
+    Trajectory across;
+    auto at = [&](double t, double y, double offset, unsigned buttons) {
+        TrajectoryPoint p;
+        p.t_s = t;
+        p.sample.position_m = scene::frontPoint(heart, bvh, x, y) + offset * scene::frontNormal(heart, bvh, x, y);
+        p.sample.buttons = buttons;
+        across.points.push_back(p);
+    };
+    at(0, 0.005, 0.03, 0);
+    at(0.6, 0.005, 0.003, 1);
+    for (int i = 0; i <= 30; ++i) at(0.9 + i * 0.033, 0.005 - i * 0.001, -0.01, 1);
+    at(2.3, -0.025, 0.03, 0);
+    return across;
+}
+
 // A stroke across an earlier incision on the 9,714 heart: the cut goes through the first wound (down its
 // near wall to the floor, up the far wall) in one cut, the hand feels the blade all the way across, and
 // the heart stays closed with the proxy outside.
@@ -248,21 +267,8 @@ TEST(CuttingFeel, AStrokeAcrossAnEarlierIncisionCutsThroughItAndTheHandFeelsTheB
     for (std::uint32_t v = 0; v < oldFloor.size(); ++v) oldFloor[v] = organ.isFloor(v);
     const std::size_t oldFaces = organ.mesh().faces.size();
 
-    // Top to bottom across it at x = 0, a centimetre deep, as the exercise's incision stroke is made.
-    Trajectory across;
-    auto at = [&](double t, double y, double offset, unsigned buttons) {
-        TrajectoryPoint p;
-        p.t_s = t;
-        p.sample.position_m = scene::frontPoint(heart, bvh, 0, y) + offset * scene::frontNormal(heart, bvh, 0, y);
-        p.sample.buttons = buttons;
-        across.points.push_back(p);
-    };
-    at(0, 0.005, 0.03, 0);
-    at(0.6, 0.005, 0.003, 1);
-    for (int i = 0; i <= 30; ++i) at(0.9 + i * 0.033, 0.005 - i * 0.001, -0.01, 1);
-    at(2.3, -0.025, 0.03, 0);
     config.keepSteps = 1'000'000;
-    const auto run = scene::runHaptic(organ, across, config);
+    const auto run = scene::runHaptic(organ, strokeAcross(heart, bvh, 0), config);
     ASSERT_TRUE(run) << run.error().message;
     const scene::HapticRunResult& r = *run;
     EXPECT_EQ(r.cut.woundsCrossed, 1);
@@ -291,6 +297,41 @@ TEST(CuttingFeel, AStrokeAcrossAnEarlierIncisionCutsThroughItAndTheHandFeelsTheB
     EXPECT_EQ(r.penetrationMeasuredSteps, r.steps);
     EXPECT_LT(r.maxProxyPenetration_m, 1e-4);
     EXPECT_TRUE(r.invariantProblems.empty()) << r.invariantProblems.front();
+}
+
+// The same two strokes on a heart of slivers, as a segmentation gives them: every vertex of the 9,714 heart
+// moved by up to 0.45 of a mean edge along each axis (smallest angle 0.28 degrees, shortest edge 0.13 mm
+// against a mean of 2.6). Each stroke cuts in one piece and the second goes through the first wound. On
+// such a mesh the way on used to snap back onto the cut's own lip, or cross it first where the cut bent,
+// and the cut ended or stalled a few millimetres in; single faces tilted tens of degrees turned the
+// crack's plane until the blade seemed to pull it backwards. Before, the first stroke here cut twice and
+// the second 24 mm without crossing; with 0.4 of an edge, the second cut 5 mm.
+TEST(CuttingFeel, OnAHeartOfSliversEachStrokeCutsInOnePieceAndTheSecondCrossesTheFirst) {
+    mesh::SurfaceMesh heart = mesh::procedural::makeHeart({.triangles = 9714});
+    const double jitter = mesh::meanEdgeLength(heart) * 0.45;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-jitter, jitter);
+    for (Vec3& p : heart.positions) p += Vec3(u(rng), u(rng), u(rng));
+    mesh::computeFaceNormals(heart);
+    collision::Bvh bvh;
+    bvh.build({heart.positions, heart.faces});
+    cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
+    scene::HapticRunConfig config;
+    config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
+    config.loop.tipRadius_m = mesh::procedural::kScalpelTipRadius_m;
+    const auto first = scene::runHaptic(organ, scene::incisionStroke(heart, bvh, -0.01, -0.015, 0.015, 0.01), config);
+    ASSERT_TRUE(first) << first.error().message;
+    EXPECT_EQ(first->cut.cuts, 1);
+    EXPECT_GT(first->cut.length_m, 0.028) << "the stroke's 30 mm, along the mesh's edges";
+    const auto second = scene::runHaptic(organ, strokeAcross(heart, bvh, 0), config);
+    ASSERT_TRUE(second) << second.error().message;
+    EXPECT_EQ(second->cut.cuts, 1);
+    EXPECT_GE(second->cut.woundsCrossed, 1);
+    EXPECT_EQ(second->cut.joins, 0);
+    EXPECT_GT(second->cut.length_m, 0.028);
+    EXPECT_EQ(second->penetrationMeasuredSteps, second->steps);
+    EXPECT_LT(second->maxProxyPenetration_m, 1e-4);
+    EXPECT_TRUE(second->invariantProblems.empty()) << second->invariantProblems.front();
 }
 
 // A device that jumps a metre between two samples (a glitch of the driver, a tracker losing its

@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
+#include <utility>
 
 #include "hapticut/common/assert.h"
 #include "hapticut/cutting/invariants.h"
+#include "hapticut/geometry/triangle.h"
 #include "hapticut/geometry/triangle_queries.h"
 
 namespace hapticut::cutting {
@@ -23,6 +26,12 @@ bool ProgressiveCutter::onBoundary(std::uint32_t v) const {
         for (std::uint32_t x : model_.mesh().faces[f])
             if (x != v && model_.onRim(v, x)) return true;
     return false;
+}
+
+bool ProgressiveCutter::recentLip(std::uint32_t v) const {
+    const std::size_t recent = std::min(lipVertices_.size(), kRecentLips);
+    return std::find(lipVertices_.end() - static_cast<std::ptrdiff_t>(recent), lipVertices_.end(), v) !=
+           lipVertices_.end();
 }
 
 void ProgressiveCutter::addPoint(std::uint32_t vertex) {
@@ -188,14 +197,26 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
         crossings.push_back({((from + t * d1) - (m.positions[a] + u * d2)).norm(), a, b, u});
     }
     std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) { return x.gap < y.gap; });
-    auto inCut = [&](std::uint32_t v) { return std::find(points_.begin(), points_.end(), v) != points_.end(); };
+    // A recent lip of this cut, too, lies behind the blade: on a mesh of slivers an edge the way crosses
+    // can end at the opened copy of the last point, and joining it would end the cut where it runs.
+    auto inCut = [&](std::uint32_t v) {
+        return std::find(points_.begin(), points_.end(), v) != points_.end() || recentLip(v);
+    };
     for (const Crossing& c : crossings) {
         // A boundary edge is an open end of the organ or an earlier wound: the cut runs into it there
         // and joins it (on the edge, or at an end of it rather than make a sliver).
         const bool boundaryEdge = model_.onRim(c.a, c.b);
-        const std::uint32_t next = pointOnEdge(c.a, c.b, c.u);
+        // A lip this cut just opened is no way on: the way to the blade may cross it first where the
+        // cut bends, and another edge of the fan leads on.
+        if (boundaryEdge && inCut(c.a) && inCut(c.b)) continue;
+        std::uint32_t next = pointOnEdge(c.a, c.b, c.u);
+        // Snapped back onto the cut: on a mesh of slivers, where every split near the end makes a worse
+        // one, the way on can pass within a snap of a vertex behind the blade. Split the edge farther
+        // from it instead, as close to the way as the faces there allow.
+        if (inCut(next) && !boundaryEdge && !inCut(next == c.a ? c.b : c.a))
+            if (const auto away = splitAwayFrom(c.a, c.b, c.u, next)) next = *away;
         if (inCut(next)) {
-            if (boundaryEdge) return false;  // along a lip of its own: nothing to join
+            if (boundaryEdge) continue;  // along a lip of its own: nothing to join
             // The blade went on past the cut's first point, which its second point lies behind: nothing
             // has opened yet (addPoint opens from the third), so the cut starts again from the first.
             if (points_.size() == 2 && next == points_[0]) {
@@ -210,6 +231,37 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
         return true;
     }
     return false;
+}
+
+std::optional<std::uint32_t> ProgressiveCutter::splitAwayFrom(std::uint32_t a, std::uint32_t b, double u,
+                                                              std::uint32_t avoid) {
+    const mesh::SurfaceMesh& m = model_.mesh();
+    // No split may make a smaller angle than the faces there already have, nor than minAngle_deg where
+    // they are better; the best of a few places between the way and the edge's middle.
+    double existing = 180;
+    for (std::uint32_t f : model_.facesAround(a))
+        if (model_.hasCorner(f, b)) {
+            const mesh::Face& face = m.faces[f];
+            existing = std::min(
+                existing, geometry::minAngle(m.positions[face[0]], m.positions[face[1]], m.positions[face[2]]) * 180 /
+                              std::numbers::pi);
+        }
+    const double floor_deg = std::min(existing, params_.minAngle_deg);
+    const double fromAvoided = avoid == a ? u : 1 - u;  // the way's place, from the avoided end
+    double bestU = -1, bestAngle = -1;
+    for (const double clear : {params_.snapFraction, 0.3, 0.4, 0.5}) {
+        const double from = std::max(fromAvoided, clear);
+        const double split = avoid == a ? from : 1 - from;
+        if (const double angle = model_.splitEdgeMinAngle_deg(a, b, split); angle > bestAngle)
+            bestAngle = angle, bestU = split;
+        if (bestAngle >= params_.minAngle_deg) break;
+    }
+    if (bestU < 0 || bestAngle < floor_deg) return std::nullopt;
+    const std::size_t faces = m.faces.size();
+    const std::uint32_t p = model_.splitEdge(a, b, bestU);
+    ++stats_.verticesAdded;
+    stats_.facesAdded += static_cast<long>(m.faces.size() - faces);
+    return p;
 }
 
 std::uint32_t ProgressiveCutter::pointOnEdge(std::uint32_t a, std::uint32_t b, double u) {
@@ -270,10 +322,29 @@ bool ProgressiveCutter::reachBoundary(const Vec3& q) {
         if ((m.positions[a] + u * ab - q).norm() >= params_.snapFraction * ab.norm()) continue;
         const std::uint32_t next = pointOnEdge(a, b, u);
         if (std::find(points_.begin(), points_.end(), next) != points_.end()) return false;
+        if (recentLip(next)) continue;
         advanceTo(next);
         return true;
     }
     return false;
+}
+
+ProgressiveCutter::BladeProjection ProgressiveCutter::projection(std::uint32_t face, const Vec3& bary,
+                                                                 const Vec3& device_m) const {
+    // The normal is the surface's over the faces round the face's corners: one face of a rough mesh can
+    // tilt tens of degrees from the surface it belongs to, and the blade's depth and the crack's plane
+    // follow the surface, not each facet.
+    const mesh::SurfaceMesh& m = model_.mesh();
+    Vec3 normal = Vec3::Zero();
+    for (std::uint32_t corner : m.faces[face])
+        for (std::uint32_t f : model_.facesAround(corner))
+            if (!model_.isWall(f)) {
+                const mesh::Face& g = m.faces[f];
+                normal += (m.positions[g[1]] - m.positions[g[0]]).cross(m.positions[g[2]] - m.positions[g[0]]);
+            }
+    BladeProjection blade{face, bary, 0, normal.norm() > 0 ? Vec3(normal.normalized()) : Vec3::UnitZ()};
+    blade.depth_m = (restPoint(m, face, bary) - device_m).dot(blade.normal);
+    return blade;
 }
 
 std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlade(const Vec3& device_m,
@@ -297,19 +368,16 @@ std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlad
     // A blade above the wound it has cut lands on a lip's faces, which would lead the cut back along
     // the lip. Only the tip's own faces may touch this cut's recent lips.
     const std::uint32_t tip = points_.back();
-    const std::size_t recent = std::min<std::size_t>(lipVertices_.size(), 16);
     auto besideTheWound = [&](const mesh::Face& face) {
         if (face[0] == tip || face[1] == tip || face[2] == tip) return false;
-        for (std::size_t i = lipVertices_.size() - recent; i < lipVertices_.size(); ++i)
-            if (face[0] == lipVertices_[i] || face[1] == lipVertices_[i] || face[2] == lipVertices_[i]) return true;
-        return false;
+        return recentLip(face[0]) || recentLip(face[1]) || recentLip(face[2]);
     };
     // Along the blade: where its line from the tip toward the handle passes through the rest surface,
     // the nearest such place to the tip. The cut is where the blade goes through the surface; the point
     // nearest a tip under a sloping surface lies downhill of that, by the depth times the slope.
     if (axis.squaredNorm() > 0) {
         const Vec3 reach = kBladeReach_m * axis.normalized();
-        std::optional<BladeProjection> along;
+        std::optional<std::pair<std::uint32_t, Vec3>> along;  // face, bary
         double nearest = 1e300;
         for (std::uint32_t f : nearbyFaces_) {
             if (model_.isWall(f) || besideTheWound(m.faces[f])) continue;
@@ -318,13 +386,11 @@ std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlad
             const auto hit = geometry::intersectSegmentTriangle(device_m - reach, device_m + reach, a, b, c);
             if (!hit || std::abs(hit->t - 0.5) >= nearest) continue;
             nearest = std::abs(hit->t - 0.5);
-            const Vec3 normal = (b - a).cross(c - a).normalized();
-            const Vec3 point = hit->bary.x() * a + hit->bary.y() * b + hit->bary.z() * c;
-            along = BladeProjection{f, hit->bary, (point - device_m).dot(normal), normal};
+            along = {f, hit->bary};
         }
-        if (along) return along;
+        if (along) return projection(along->first, along->second, device_m);
     }
-    std::optional<BladeProjection> best;
+    std::optional<std::pair<std::uint32_t, Vec3>> best;
     double bestD2 = 1e300;
     for (std::uint32_t f : nearbyFaces_) {
         // The blade is followed on the organ's surface, not on the walls.
@@ -335,10 +401,10 @@ std::optional<ProgressiveCutter::BladeProjection> ProgressiveCutter::projectBlad
         const double d2 = (hit.point - device_m).squaredNorm();
         if (d2 >= bestD2) continue;
         bestD2 = d2;
-        const Vec3 normal = (b - a).cross(c - a).normalized();
-        best = BladeProjection{f, hit.bary, (hit.point - device_m).dot(normal), normal};
+        best = {f, hit.bary};
     }
-    return best;
+    if (!best) return std::nullopt;
+    return projection(best->first, best->second, device_m);
 }
 
 ProgressiveCutter::ProgressiveCutter(CutModel& model, CutterParams params)

@@ -80,6 +80,12 @@ public:
 
 private:
     bool cutAtUnchecked(std::uint32_t face, const Vec3& bary);
+    /// The blade seen at `bary` on `face`: the surface's normal there and the device's depth under it.
+    BladeProjection projection(std::uint32_t face, const Vec3& bary, const Vec3& device_m) const;
+    /// How many of this cut's latest points and their opened copies lie behind the blade: the cut neither
+    /// follows the blade onto their faces nor joins them, though it may join its own older lips.
+    static constexpr std::size_t kRecentLips = 16;
+    bool recentLip(std::uint32_t v) const;
     /// The face around `vertex` that contains the rest point q, if any.
     bool fanContains(std::uint32_t vertex, const Vec3& q) const;
     /// Adds the next cut point toward q across the fan of the last one; false when there is none.
@@ -87,6 +93,9 @@ private:
     /// The cut's point on edge (a, b) at a + u (b - a): a new vertex, or an end of the edge when the
     /// split would be too close to it or make a sliver.
     std::uint32_t pointOnEdge(std::uint32_t a, std::uint32_t b, double u);
+    /// A new point on edge (a, b) near a + u (b - a) but clear of its end `avoid`, if the faces there allow
+    /// a split no worse than they are.
+    std::optional<std::uint32_t> splitAwayFrom(std::uint32_t a, std::uint32_t b, double u, std::uint32_t avoid);
     /// Goes on to `next`: a new point, a join when it lies on a boundary, or a slide along the boundary
     /// when the cut is only its start there.
     void advanceTo(std::uint32_t next);

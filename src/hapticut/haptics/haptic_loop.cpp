@@ -8,7 +8,6 @@
 
 #include "hapticut/common/assert.h"
 #include "hapticut/common/reserve.h"
-#include "hapticut/geometry/triangle.h"
 #include "hapticut/haptics/force_safety.h"
 #include "hapticut/mesh/adjacency.h"
 #include "hapticut/mesh/surface_mesh.h"
@@ -249,12 +248,6 @@ bool HapticLoop::letGo(const Frame& frame, std::size_t h) const {
     return hands_[h].setup.touchesOnlyWhileButtonHeld && !(frame[h].sample.buttons & 1u);
 }
 
-Vec3 HapticLoop::restFaceNormal(std::uint32_t face) const {
-    const mesh::SurfaceMesh& rest = organ_.mesh();
-    const mesh::Face& f = rest.faces[face];
-    return geometry::unitNormal(rest.positions[f[0]], rest.positions[f[1]], rest.positions[f[2]]);
-}
-
 bool HapticLoop::touching(const Frame& frame, std::size_t h) const {
     const GodObjectProxy& proxy = hands_[h].proxy;
     return frame[h].deviceOk && !letGo(frame, h) && proxy.contact().active &&
@@ -373,10 +366,12 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
                 hand.bladeAhead = true;
                 hand.crackTip_m = hand.proxy.position();
                 hand.crackDirection = Vec3::Zero();
-                hand.crackNormal = restFaceNormal(face);
+                hand.crackNormal = faceNormal(surface(), face);
                 Vec3 goesIn = sample.position_m;
-                if (const auto blade = cutter_.projectBlade(sample.position_m, axis); blade && !axis.isZero())
-                    hand.crackTip_m = goesIn = bladeAtSurface(sample.position_m, axis, *blade);
+                if (const auto blade = cutter_.projectBlade(sample.position_m, axis)) {
+                    hand.crackNormal = blade->normal;  // the rest surface's, as the crack runs on
+                    if (!axis.isZero()) hand.crackTip_m = goesIn = bladeAtSurface(sample.position_m, axis, *blade);
+                }
                 const Vec3 pull = goesIn - hand.crackTip_m;
                 hand.fractureForce_N = -couplingStiffness_N_per_m(static_cast<int>(h)) *
                                        (pull - pull.dot(hand.crackNormal) * hand.crackNormal);
@@ -455,9 +450,10 @@ std::optional<Vec3> HapticLoop::resistBlade(HandState& hand, std::size_t h, cons
         ahead = hand.crackDirection.isZero() || along.dot(hand.crackDirection) > 0;
         if (ahead)
             if (const auto tip = cutting::advancedCrackTip(blade_m, hand.crackTip_m, normal, depth_m, k, fracture)) {
-                const Vec3 step = *tip - hand.crackTip_m;
-                const Vec3 stepAlong = step - step.dot(normal) * normal;
-                if (stepAlong.norm() > 0) hand.crackDirection = stepAlong.normalized();
+                // The way the blade pulled it on, not the tip's step: the first step goes from the proxy on
+                // the surface down to the blade's depth, and what is left of it along the surface says
+                // little about where the blade goes.
+                if (along.norm() > 0) hand.crackDirection = along.normalized();
                 hand.crackTip_m = *tip;
                 advanced = tip;
             }

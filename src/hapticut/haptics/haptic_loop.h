@@ -282,8 +282,6 @@ private:
     static Vec3 bladeAtSurface(const Vec3& tip_m, const Vec3& axis,
                                const cutting::ProgressiveCutter::BladeProjection& blade) noexcept;
     void endCrack(HandState& hand) noexcept;
-    /// A face's outward unit normal on the rest shape, the plane a crack runs in.
-    Vec3 restFaceNormal(std::uint32_t face) const;
     void coupleTools(Frame& frame, double t_s) noexcept;
     void advanceTissue(Frame& frame) noexcept;
     /// Multi-rate: hands the tools to the physics, steps it in simulated time, and takes in its frames.
