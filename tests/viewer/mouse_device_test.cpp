@@ -38,6 +38,11 @@ TEST(MouseDevice, HoversAboveTheSurfaceAndPressesInOneMillimetreAClick) {
     EXPECT_NEAR(moved.z(), hit->z() - 0.003, 1e-12);
     // The plane lies 0.3 - 0.05 m from the eye; a tenth of the half-width there is 0.25 tan(fov/2) / 10.
     EXPECT_NEAR(moved.x(), 0.25 * std::tan(camera.fovY_rad / 2) * 0.1, 1e-6);
+    // A blade held along its handle is pushed along it: its line still goes in where the cursor engaged.
+    const Vec3 handle = render::toolHandleDirection(camera);
+    const Vec3 held = mouse.drag(camera, ray, -handle);
+    EXPECT_NEAR((held - *hit).norm(), 0.003, 1e-12);
+    EXPECT_NEAR((held - *hit).normalized().dot(-handle), 1, 1e-12);
     mouse.push(1e6);
     EXPECT_NEAR(mouse.push_m(), MouseDriver::kMaxPush_m, 1e-12);
     mouse.release();

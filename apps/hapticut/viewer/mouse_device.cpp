@@ -41,8 +41,9 @@ void MouseDriver::push(double clicks) {
     push_m_ = std::clamp(push_m_ + clicks * kPushPerClick_m, -kMaxPush_m, kMaxPush_m);
 }
 
-Vec3 MouseDriver::drag(const render::OrbitCamera& camera, const render::Ray& ray) const {
-    return render::onPlaneFacingCamera(camera, ray, anchor_m_) + camera.forward() * push_m_;
+Vec3 MouseDriver::drag(const render::OrbitCamera& camera, const render::Ray& ray,
+                       const std::optional<Vec3>& pushAxis) const {
+    return render::onPlaneFacingCamera(camera, ray, anchor_m_) + pushAxis.value_or(camera.forward()) * push_m_;
 }
 
 }  // namespace hapticut::viewer

@@ -29,8 +29,11 @@ public:
     void release() { engaged_ = false; }
     /// Wheel clicks while engaged: positive pushes into the view.
     void push(double clicks);
-    /// Where the engaged device is for the cursor's ray.
-    Vec3 drag(const render::OrbitCamera& camera, const render::Ray& ray) const;
+    /// Where the engaged device is for the cursor's ray: pushed in along the view, or along `pushAxis`
+    /// (unit, into the tissue) for a tool held along it. A blade whose orientation the mouse reports is
+    /// pushed along its own handle, so its line still goes in under the cursor, where the cut follows it.
+    Vec3 drag(const render::OrbitCamera& camera, const render::Ray& ray,
+              const std::optional<Vec3>& pushAxis = std::nullopt) const;
 
     bool engaged() const { return engaged_; }
     double push_m() const { return push_m_; }

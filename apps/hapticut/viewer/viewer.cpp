@@ -246,8 +246,12 @@ void Viewer::updateDevice(const haptics::Snapshot& snapshot) {
     if (!session_.mouseDrives()) return;
     const render::Ray ray = cursorRay();
     Vec3 position;
+    // A turned blade reports its orientation, handle up and towards the viewer as it is drawn, and the
+    // cut follows where that line goes into the tissue: the wheel pushes the blade along it.
     if (mouse_.engaged())
-        position = mouse_.drag(view_.camera, ray);
+        position =
+            mouse_.drag(view_.camera, ray,
+                        bladeTurned_ ? std::optional<Vec3>(-render::toolHandleDirection(view_.camera)) : std::nullopt);
     else
         position = mouse_.hover(view_.camera, ray, pickSurface(ray, snapshot.positions, snapshot.faces));
     if (bladeTurned_)
