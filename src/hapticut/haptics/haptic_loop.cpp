@@ -704,7 +704,7 @@ void HapticLoop::syncWorker() noexcept {
         for (auto k = static_cast<std::uint32_t>(oldSprings); k < s.size(); ++k) copySpring(k);
         worker_->stepper().topologyChanged(w, pendingNodes_, pendingSprings_);
         worker_->modelGrew();
-        if (roomToGrow(n.size()) > frameNodes_.capacity()) reserveTouched(frameNodes_, roomToGrow(n.size()));
+        if (n.size() > frameNodes_.capacity()) reserveTouched(frameNodes_, roomToGrow(n.size()));
     } catch (const std::bad_alloc&) {
         stats_.watchdogTripped = true;  // out of memory following the edit: stop pushing rather than go on
     }
