@@ -360,21 +360,22 @@ void HapticLoop::cut(const Frame& frame, StepOutput& out) noexcept {
             if (pressing) changedHere = cutter_.cutAt(face, bary);
             if (cutter_.cutting()) {
                 cuttingHand_ = static_cast<int>(h);
-                // The crack starts where the blade broke in, so the pull along the surface the hand felt
-                // goes on without a jump: at the proxy, or on the blade's line.
+                // The surface gave way under the blade: the crack starts where the blade is along the
+                // surface, its edge in the tissue, and the pull along the surface builds again as it
+                // moves on (the normal part the proxy still holds). A crack started at the proxy, with
+                // the blade pressed in at a slant to the rest surface, began stretched sideways by the
+                // slant alone, ran off downhill and took that as its way, so a stroke forward never cut
+                // again (the bench's stroke on the 100,000 heart: 2 cut events).
                 hand.cracking = true;
                 hand.bladeAhead = true;
-                hand.crackTip_m = hand.proxy.position();
                 hand.crackDirection = Vec3::Zero();
                 hand.crackNormal = faceNormal(surface(), face);
-                Vec3 goesIn = sample.position_m;
+                hand.crackTip_m = sample.position_m;
                 if (const auto blade = cutter_.projectBlade(sample.position_m, axis)) {
                     hand.crackNormal = blade->normal;  // the rest surface's, as the crack runs on
-                    if (!axis.isZero()) hand.crackTip_m = goesIn = bladeAtSurface(sample.position_m, axis, *blade);
+                    hand.crackTip_m = bladeAtSurface(sample.position_m, axis, *blade);
                 }
-                const Vec3 pull = goesIn - hand.crackTip_m;
-                hand.fractureForce_N = -couplingStiffness_N_per_m(static_cast<int>(h)) *
-                                       (pull - pull.dot(hand.crackNormal) * hand.crackNormal);
+                hand.fractureForce_N = Vec3::Zero();
             }
         } else if (cuttingHand_ == static_cast<int>(h)) {
             const Vec3& device = sample.position_m;
@@ -450,10 +451,9 @@ std::optional<Vec3> HapticLoop::resistBlade(HandState& hand, std::size_t h, cons
         ahead = hand.crackDirection.isZero() || along.dot(hand.crackDirection) > 0;
         if (ahead)
             if (const auto tip = cutting::advancedCrackTip(blade_m, hand.crackTip_m, normal, depth_m, k, fracture)) {
-                // The way the blade pulled it on, not the tip's step: the first step goes from the proxy on
-                // the surface down to the blade's depth, and what is left of it along the surface says
-                // little about where the blade goes.
-                if (along.norm() > 0) hand.crackDirection = along.normalized();
+                const Vec3 step = *tip - hand.crackTip_m;
+                const Vec3 stepAlong = step - step.dot(normal) * normal;
+                if (stepAlong.norm() > 0) hand.crackDirection = stepAlong.normalized();
                 hand.crackTip_m = *tip;
                 advanced = tip;
             }
