@@ -246,8 +246,7 @@ private:
         // the force the tissue ahead resists with along the surface, which replaces the coupling's
         // component along the surface while the blade cuts (across it the proxy still supports it).
         bool cracking = false;
-        bool bladeAhead = false;     // the blade presses on into uncut tissue (not back in its own cut)
-        bool crackAdvanced = false;  // the crack ran on since the surface gave way
+        bool bladeAhead = false;  // the blade presses on into uncut tissue (not back in its own cut)
         Vec3 crackTip_m = Vec3::Zero(), crackDirection = Vec3::Zero(), crackNormal = Vec3::Zero();
         Vec3 fractureForce_N = Vec3::Zero();
         Vec3 sentForce_N = Vec3::Zero();    // what the device was last told, for the force-rate limit
