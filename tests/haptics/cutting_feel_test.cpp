@@ -35,6 +35,14 @@ Trajectory path(std::initializer_list<std::pair<double, Vec3>> points) {
     return t;
 }
 
+/// A headless run with the shipped scalpel: its threshold and its blade's tip.
+scene::HapticRunConfig scalpelRun() {
+    scene::HapticRunConfig config;
+    config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
+    config.loop.tipRadius_m = mesh::procedural::kScalpelTipRadius_m;
+    return config;
+}
+
 double mean(const std::vector<double>& v) {
     double s = 0;
     for (double x : v) s += x;
@@ -179,9 +187,7 @@ TEST(CuttingFeel, AnIncisionOnTheFiftyThousandTriangleHeartCutsItsWholeLength) {
     bvh.build({heart.positions, heart.faces});
     const Trajectory stroke = scene::incisionStroke(heart, bvh, -0.01, -0.015, 0.015, 0.01);
     cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
-    scene::HapticRunConfig config;
-    config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
-    config.loop.tipRadius_m = mesh::procedural::kScalpelTipRadius_m;
+    scene::HapticRunConfig config = scalpelRun();
     const auto run = scene::runHaptic(organ, stroke, config);
     ASSERT_TRUE(run) << run.error().message;
     EXPECT_EQ(run->cut.joins, 0);
@@ -257,9 +263,7 @@ TEST(CuttingFeel, AStrokeAcrossAnEarlierIncisionCutsThroughItAndTheHandFeelsTheB
     collision::Bvh bvh;
     bvh.build({heart.positions, heart.faces});
     cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
-    scene::HapticRunConfig config;
-    config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
-    config.loop.tipRadius_m = mesh::procedural::kScalpelTipRadius_m;
+    scene::HapticRunConfig config = scalpelRun();
     const auto first = scene::runHaptic(organ, scene::incisionStroke(heart, bvh, -0.01, -0.015, 0.015, 0.01), config);
     ASSERT_TRUE(first) << first.error().message;
     ASSERT_GT(first->cut.length_m, 0.02);
@@ -340,9 +344,7 @@ TEST(CuttingFeel, OnAHeartOfSliversEachStrokeCutsInOnePieceAndTheSecondCrossesTh
     collision::Bvh bvh;
     bvh.build({heart.positions, heart.faces});
     cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
-    scene::HapticRunConfig config;
-    config.loop.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
-    config.loop.tipRadius_m = mesh::procedural::kScalpelTipRadius_m;
+    scene::HapticRunConfig config = scalpelRun();
     const auto first = scene::runHaptic(organ, scene::incisionStroke(heart, bvh, -0.01, -0.015, 0.015, 0.01), config);
     ASSERT_TRUE(first) << first.error().message;
     EXPECT_EQ(first->cut.cuts, 1);
