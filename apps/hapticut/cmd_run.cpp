@@ -35,6 +35,7 @@ struct RunOptions {
     int triangles = 1619;
     std::string integrator = "auto";
     double solverTolerance = physics::SolverSettings{}.tolerance;
+    double solverForceTolerance_N = physics::SolverSettings{}.forceTolerance_N;
     int solverMaxIterations = physics::SolverSettings{}.maxIterations;
     double dt_s = 1e-3;
     long steps = 1000;
@@ -85,6 +86,7 @@ std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
         }
     }
     if (given("--solver-tolerance")) over.solverTolerance = o.solverTolerance;
+    if (given("--solver-force-tolerance")) over.solverForceTolerance_N = o.solverForceTolerance_N;
     if (given("--solver-iterations")) over.solverMaxIterations = o.solverMaxIterations;
     if (given("--rate")) over.rate_hz = o.rate_hz;
     if (given("--coupling-stiffness")) over.couplingStiffness_N_per_m = o.couplingStiffness_N_per_m;
@@ -533,6 +535,10 @@ Command addRunCommand(CLI::App& app) {
                     "The implicit solve stops below this residual, relative to the right-hand side")
         ->capture_default_str()
         ->check(CLI::Range(1e-14, 1.0));
+    cmd->add_option("--solver-force-tolerance", o->solverForceTolerance_N,
+                    "Or below this residual as a force (N): tissue near rest needs no finer solve (0: off)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--solver-iterations", o->solverMaxIterations, "The implicit solve's iteration cap")
         ->capture_default_str()
         ->check(CLI::Range(1, physics::kMaxSolverIterations));

@@ -16,7 +16,7 @@
 namespace hapticut::physics {
 namespace {
 
-constexpr SolverSettings kTight{.tolerance = 1e-12, .maxIterations = kMaxSolverIterations};
+constexpr SolverSettings kTight{.tolerance = 1e-12, .forceTolerance_N = 0, .maxIterations = kMaxSolverIterations};
 
 mesh::SurfaceMesh heartMesh(int triangles) {
     mesh::procedural::HeartOptions options;
@@ -274,6 +274,56 @@ TEST(BackwardEuler, ReportsIterationsAndResidualAndStopsAtTheCap) {
     EXPECT_TRUE(b.converged);
     EXPECT_GT(b.iterations, 2);
     EXPECT_LE(b.relativeResidual, 1e-6);
+}
+
+// The last step's change of velocity is the next solve's start, scaled along its line to the point
+// nearest the solution: where the tissue changes course (a release, a reset, ringing), the raw start was
+// farther from the answer than zero, by up to five times on a scalpel stroke.
+TEST(BackwardEuler, AWarmStartFromAnotherMotionCostsNoMoreThanAColdOne) {
+    const mesh::SurfaceMesh mesh = heartMesh(9714);
+    MassSpringModel model = buildModel(mesh, Material{});
+    const SolverSettings settings{.forceTolerance_N = 0, .maxIterations = 1000, .maxNewtonIterations = 1};
+    Stepper warm(Scheme::BackwardEuler);
+    warm.setSolverSettings(settings);
+    // The front half of the heart pushed back with 1 N in all, then let go at rest with a thousandth of it.
+    std::vector<std::uint32_t> front;
+    for (std::uint32_t i = 0; i < model.nodes.size(); ++i)
+        if (model.nodes.restPosition[i].z() > 0) front.push_back(i);
+    auto load = [&](double total_N) {
+        for (std::uint32_t i : front)
+            model.nodes.externalForce[i] = Vec3(0, 0, -total_N / static_cast<double>(front.size()));
+    };
+    load(1);
+    for (int step = 0; step < 3; ++step) ASSERT_TRUE(warm.step(model, 5e-3).finite);
+    model.nodes.position = model.nodes.restPosition;
+    std::fill(model.nodes.velocity.begin(), model.nodes.velocity.end(), Vec3::Zero());
+    load(1e-3);
+    MassSpringModel same = model;
+    Stepper cold(Scheme::BackwardEuler);
+    cold.setSolverSettings(settings);
+    const SolveReport fromTheLastStep = warm.step(model, 5e-3).solve, fromZero = cold.step(same, 5e-3).solve;
+    ASSERT_TRUE(fromTheLastStep.converged && fromZero.converged);
+    EXPECT_LE(fromTheLastStep.iterations, fromZero.iterations);
+}
+
+// Tissue near rest has a right-hand side so small that the relative tolerance of it asks for
+// nanonewtons: the solve stops once its residual is below forceTolerance_N as a force.
+TEST(BackwardEuler, ASolveStopsOnceItsResidualForceIsBelowTheForceTolerance) {
+    const mesh::SurfaceMesh mesh = heartMesh(1619);
+    auto solveWith = [&](double forceTolerance_N) {
+        MassSpringModel model = buildModel(mesh, Material{});
+        Stepper stepper(Scheme::BackwardEuler);
+        stepper.setSolverSettings({.forceTolerance_N = forceTolerance_N, .maxIterations = 1000});
+        model.nodes.externalForce[400] = Vec3(0, 0, 1e-4);  // a tenth of a millinewton
+        return stepper.step(model, 1e-3).solve;
+    };
+    const SolveReport floored = solveWith(1e-6), relative = solveWith(0);
+    EXPECT_TRUE(floored.converged && relative.converged);
+    EXPECT_LT(floored.iterations, relative.iterations);
+    // |b| = h · 1e-4 N; the floor stops at 1e-6 N · h, a hundredth of it, where 1e-4 of it is asked otherwise.
+    EXPECT_LE(floored.relativeResidual, 1e-2);
+    EXPECT_GT(floored.relativeResidual, 1e-4);
+    EXPECT_LE(relative.relativeResidual, 1e-4);
 }
 
 TEST(Auto, KeepsRK4WhereOneStepIsStableAndTakesTheImplicitSchemeElsewhere) {

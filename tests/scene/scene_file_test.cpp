@@ -20,6 +20,8 @@ TEST(SceneFile, TheCommentedExampleIsTheBuiltInDefault) {
     EXPECT_EQ(s->triangles, d.triangles);
     EXPECT_EQ(s->scheme, d.scheme);
     EXPECT_EQ(s->rate_hz, d.rate_hz);
+    EXPECT_EQ(s->solver.tolerance, physics::SolverSettings{}.tolerance);
+    EXPECT_EQ(s->solver.forceTolerance_N, physics::SolverSettings{}.forceTolerance_N);
     EXPECT_EQ(s->couplingStiffness_N_per_m, d.couplingStiffness_N_per_m);
     EXPECT_EQ(s->material.positioningStiffness_N_per_m3, physics::Material{}.positioningStiffness_N_per_m3);
     EXPECT_EQ(s->material.structuralStiffness_N, physics::Material{}.structuralStiffness_N);
@@ -92,6 +94,8 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
                 "'verlet' is not allowed; allowed: auto, euler, implicit, midpoint, rk4, symplectic");
     expectError("[simulation]\nsolver_max_iterations = 0\n", 2,
                 "simulation.solver_max_iterations: 0 is out of range; allowed: 1 to 10000");
+    expectError("[simulation]\nsolver_force_tolerance_N = -1e-6\n", 2,
+                "simulation.solver_force_tolerance_N: -1e-06 is out of range; allowed: 0 to 1");
     expectError("[simulation]\nactive_region = 1\n", 2, "simulation.active_region: expected true or false");
     expectError("[model]\ntranslate_m = [1, 2]\n", 2, "model.translate_m: expected three numbers");
     expectError("[model]\ntranslate_m = [1, \"a\", 2]\n", 2, "expected three finite numbers");

@@ -23,12 +23,14 @@ void BackwardEuler::resize(std::size_t nodes) {
 void BackwardEuler::setSettings(SolverSettings settings) {
     settings.maxIterations = std::clamp(settings.maxIterations, 1, kMaxSolverIterations);
     settings.maxNewtonIterations = std::clamp(settings.maxNewtonIterations, 1, 100);
+    settings.forceTolerance_N = std::max(settings.forceTolerance_N, 0.0);
     settings_ = settings;
 }
 
 SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion region) {
     Nodes& n = model.nodes;
     const std::size_t count = region.nodes.size();
+    h_ = h;
     // Capacity is reserved for every node: these never allocate in a step.
     startVelocity_.resize(count);
     motion_.resize(count);
@@ -40,7 +42,8 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
         const Vec3 guess = k < count ? deltaV_[region.nodes[k]] : Vec3::Zero();
         solution_.x[k] = guess.x(), solution_.y[k] = guess.y(), solution_.z[k] = guess.z();
     }
-    SolveReport report = solve();
+    double firstNorm2 = 0;
+    SolveReport report = solve(0, firstNorm2);
     auto apply = [&](bool whole) {
         for (std::size_t k = 0; k < count; ++k) {
             const std::uint32_t i = region.nodes[k];
@@ -58,7 +61,8 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
            system_.largestRelativeMotion(model.springs, region, motion_) > kLinearMotion) {
         system_.assemble(model, h, region, startVelocity_);
         for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(a->begin(), a->end(), 0.0);
-        const SolveReport correction = solve();
+        double correctionNorm2 = 0;
+        const SolveReport correction = solve(firstNorm2, correctionNorm2);
         report.iterations += correction.iterations;
         report.relativeResidual = correction.relativeResidual;
         report.converged = report.converged && correction.converged;
@@ -69,7 +73,7 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
     return report;
 }
 
-SolveReport BackwardEuler::solve() {
+SolveReport BackwardEuler::solve(double referenceNorm2, double& rhsNorm2) {
     const std::size_t rows = system_.rows();
     const kernels::Field& b = system_.rhs();
     const kernels::SystemRows matrix = system_.matrix();
@@ -77,14 +81,29 @@ SolveReport BackwardEuler::solve() {
     SolveReport report;
     double bNorm2 = 0;
     for (std::size_t k = 0; k < rows; ++k) bNorm2 += b.x[k] * b.x[k] + b.y[k] * b.y[k] + b.z[k] * b.z[k];
+    rhsNorm2 = bNorm2;
     if (bNorm2 == 0) {
         for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(a->begin(), a->end(), 0.0);
         return report;
     }
-    const double stop2 = settings_.tolerance * settings_.tolerance * bNorm2;
+    if (referenceNorm2 > 0) bNorm2 = referenceNorm2;
+    const double forceFloor = settings_.forceTolerance_N * h_;
+    const double stop2 = std::max(settings_.tolerance * settings_.tolerance * bNorm2, forceFloor * forceFloor);
 
     // Each iteration is one product and two passes over the unknowns, with the dot products fused in.
-    (void)kernels::multiply(matrix, solution_, product_);
+    // The warm start g is scaled along its line to the point nearest the solution in the A-norm,
+    // s = gᵀb / gᵀAg: never a worse start than zero, which the raw last change of velocity can be by
+    // several times where the tissue rings or the step size changes (multi-rate steps vary).
+    const double gAg = kernels::multiply(matrix, solution_, product_);
+    if (gAg > 0 && std::isfinite(gAg)) {
+        double gb = 0;
+        for (std::size_t k = 0; k < rows; ++k)
+            gb += solution_.x[k] * b.x[k] + solution_.y[k] * b.y[k] + solution_.z[k] * b.z[k];
+        const double scale = gb / gAg;
+        for (kernels::Field* field : {&solution_, &product_})
+            for (auto* a : {&field->x, &field->y, &field->z})
+                for (double& value : *a) value *= scale;
+    }
     kernels::Sums sums = kernels::startPass(rows, b, product_, inverse, residual_, preconditioned_, direction_);
     double r2 = sums.r2, rz = sums.rz;
     while (r2 > stop2 && report.iterations < settings_.maxIterations) {

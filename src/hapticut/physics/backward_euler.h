@@ -15,10 +15,16 @@ namespace hapticut::physics {
 /// The most iterations a solve may be allowed (a setting above it is taken as this).
 inline constexpr int kMaxSolverIterations = 10'000;
 
-/// When the conjugate-gradient solve stops: at a residual below `tolerance` times the right-hand
-/// side's (both Euclidean norms, in newton-seconds), or after `maxIterations`, whichever comes first.
+/// When the conjugate-gradient solve stops: at a residual below `tolerance` times the step's right-hand
+/// side (both Euclidean norms, in newton-seconds), or after `maxIterations`, whichever comes first. A
+/// Newton correction is measured against the step's first right-hand side too, not its own much smaller
+/// one: it only has to bring the step as close as the first solve did.
 struct SolverSettings {
     double tolerance = 1e-4;
+    /// Or at a residual below this force (N, the residual divided by the step): tissue near rest has a
+    /// right-hand side so small that `tolerance` of it asks for nanonewtons, which no hand feels and
+    /// which took as many iterations as a press.
+    double forceTolerance_N = 1e-6;
     int maxIterations = 40;
     /// Newton iterations per step, the first included. Another is taken while the last one moved some
     /// spring's ends apart by more than kLinearMotion of its rest length: there the springs turned
@@ -34,7 +40,7 @@ inline constexpr double kLinearMotion = 0.05;
 struct SolveReport {
     int iterations = 0;           // conjugate-gradient iterations, over all Newton iterations
     int newtonIterations = 1;     // linearisations solved
-    double relativeResidual = 0;  // |b - A Δv| / |b| at the end; 0 when b is zero
+    double relativeResidual = 0;  // |b - A Δv| / |b| at the end, against the step's first b; 0 when b is zero
     bool converged = true;        // false: stopped by the iteration cap (or a breakdown) above the tolerance
 };
 
@@ -52,9 +58,13 @@ public:
     void forget(std::uint32_t i) { deltaV_[i].setZero(); }
 
 private:
-    SolveReport solve();
+    /// Solves the assembled system from the warm start in solution_. `referenceNorm2`, when positive, is
+    /// the squared norm the tolerance is taken of instead of this right-hand side's; the latter is returned
+    /// through `rhsNorm2`.
+    SolveReport solve(double referenceNorm2, double& rhsNorm2);
 
     SolverSettings settings_;
+    double h_ = 0;  // the step being solved (s)
     BackwardEulerSystem system_;
     std::vector<Vec3> deltaV_;  // by node: the last step's change of velocity, the next warm start
     // By unknown (the region's nodes in order): the velocities the step started from, the motion of the

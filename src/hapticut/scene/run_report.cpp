@@ -21,6 +21,7 @@ nlohmann::ordered_json solverJson(physics::Scheme scheme, const physics::SolverS
     const Summary iterations = stats.iterations.summary();
     return {{"method", "conjugate gradients, block-Jacobi preconditioner, warm start"},
             {"tolerance", settings.tolerance},
+            {"force_tolerance_N", settings.forceTolerance_N},
             {"max_iterations", settings.maxIterations},
             {"solves", stats.solves},
             {"iterations",

@@ -22,6 +22,7 @@ struct SceneOverrides {
     std::optional<int> triangles;
     std::optional<physics::Scheme> scheme;
     std::optional<double> solverTolerance;
+    std::optional<double> solverForceTolerance_N;
     std::optional<int> solverMaxIterations;
     std::optional<double> rate_hz;
     std::optional<double> couplingStiffness_N_per_m;

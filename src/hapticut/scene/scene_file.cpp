@@ -472,14 +472,16 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
         }
         if (const toml::table* m = subTable(root, "simulation")) {
             allowOnly(*m, "simulation",
-                      {"integrator", "rate_hz", "active_region", "solver_tolerance", "solver_max_iterations",
-                       "solver_newton_iterations", "physics_rate"});
+                      {"integrator", "rate_hz", "active_region", "solver_tolerance", "solver_force_tolerance_N",
+                       "solver_max_iterations", "solver_newton_iterations", "physics_rate"});
             const std::string rate = text(*m, "simulation", "physics_rate", "auto", {"auto", "single", "multi"});
             using PR = haptics::LoopConfig::PhysicsRate;
             s.physicsRate = rate == "single" ? PR::Single : rate == "multi" ? PR::Multi : PR::Auto;
             s.scheme = *physics::parseScheme(text(*m, "simulation", "integrator", "auto",
                                                   {"auto", "euler", "midpoint", "rk4", "symplectic", "implicit"}));
             s.solver.tolerance = number(*m, "simulation", "solver_tolerance", s.solver.tolerance, 1e-14, 1);
+            s.solver.forceTolerance_N =
+                number(*m, "simulation", "solver_force_tolerance_N", s.solver.forceTolerance_N, 0, 1);
             s.solver.maxIterations = static_cast<int>(wholeNumber(
                 *m, "simulation", "solver_max_iterations", s.solver.maxIterations, 1, physics::kMaxSolverIterations));
             s.solver.maxNewtonIterations = static_cast<int>(
