@@ -14,15 +14,17 @@ struct SolverStats {
     long unconverged = 0;  // solves stopped by the iteration cap (or a breakdown) above the tolerance
     long corrected = 0;    // steps that needed more than one Newton iteration
     int maxNewtonIterations = 0;
-    double maxRelativeResidual = 0;
+    double maxRelativeResidual = 0;  // of the unconverged solves: a converged one may stop at the force floor
     LatencyHistogram iterations{1, kMaxSolverIterations};  // one bin per iteration count
 
     void record(const SolveReport& report) noexcept {
         ++solves;
-        if (!report.converged) ++unconverged;
+        if (!report.converged) {
+            ++unconverged;
+            maxRelativeResidual = std::max(maxRelativeResidual, report.relativeResidual);
+        }
         if (report.newtonIterations > 1) ++corrected;
         maxNewtonIterations = std::max(maxNewtonIterations, report.newtonIterations);
-        maxRelativeResidual = std::max(maxRelativeResidual, report.relativeResidual);
         iterations.record(report.iterations);
     }
 };
