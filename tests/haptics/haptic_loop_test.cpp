@@ -305,7 +305,9 @@ TEST(HapticLoop, TheCollisionTreeHoldsTheMovingSurfaceThoughItRefitsOnlyWhatLeft
                         first = std::min(first.value_or(2.0), hit->t);
                 const auto hit = loop.bvh().firstHit(now, p, to);
                 ASSERT_EQ(hit.has_value(), first.has_value()) << "step " << i;
-                if (hit) ASSERT_DOUBLE_EQ(hit->t, *first) << "step " << i;
+                if (hit) {
+                    ASSERT_DOUBLE_EQ(hit->t, *first) << "step " << i;
+                }
             }
             ++checked;
         }
