@@ -17,10 +17,10 @@ using D = hn::ScalableTag<double>;
 using V = hn::Vec<D>;
 
 /// Single-precision entries widened to double lanes.
-V loadFloats(D d, const float* p) { return hn::PromoteTo(d, hn::LoadU(hn::Rebind<float, D>(), p)); }
+HWY_INLINE V loadFloats(D d, const float* p) { return hn::PromoteTo(d, hn::LoadU(hn::Rebind<float, D>(), p)); }
 
 /// The symmetric block m times (rx, ry, rz), for the rows at `at`.
-void symmetricTimes(D d, const SymmetricBlocks& m, std::size_t at, V rx, V ry, V rz, V& ox, V& oy, V& oz) {
+HWY_INLINE void symmetricTimes(D d, const SymmetricBlocks& m, std::size_t at, V rx, V ry, V rz, V& ox, V& oy, V& oz) {
     const V xx = loadFloats(d, m.xx.data() + at), xy = loadFloats(d, m.xy.data() + at);
     const V xz = loadFloats(d, m.xz.data() + at), yy = loadFloats(d, m.yy.data() + at);
     const V yz = loadFloats(d, m.yz.data() + at), zz = loadFloats(d, m.zz.data() + at);
