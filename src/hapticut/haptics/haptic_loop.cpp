@@ -143,6 +143,7 @@ void HapticLoop::dropVolumeForMultiRate() noexcept {
 
 void HapticLoop::adoptWorker(std::unique_ptr<PhysicsWorker> worker, long fromStep) {
     worker_ = std::move(worker);
+    frameCursor_ = 0;
     reserveTouched(frameNodes_, roomToGrow(model_.nodes.size()));
     reserveTouched(pendingNodes_, std::size_t{1} << 14);  // what cuts change between two physics steps
     reserveTouched(pendingSprings_, std::size_t{1} << 14);
@@ -613,12 +614,13 @@ void HapticLoop::pressVolume() noexcept {
 void HapticLoop::advanceMultiRate(Frame& frame) noexcept {
     worker_->setTools(model_.tools);
     // Cuts and edits reach the physics' copy between its steps: hold it, and bring it up to date once
-    // it is idle, with every frame it made taken in first. Until then it steps the organ as it was.
+    // it is idle, with every frame it made taken in first (a part a step, as ever). Until then it steps
+    // the organ as it was.
+    bool taken = false;
     if (pendingSync_ || pendingEditCount_ > 0) {
         if (!worker_->idle()) {
             worker_->requestHold();
-        } else {
-            takeFrames(frame);
+        } else if (taken = true; takeFrames(frame)) {
             const auto syncStart = Clock::now();
             syncWorker();
             stats_.syncTime_us.record(std::chrono::duration<double, std::micro>(Clock::now() - syncStart).count());
@@ -627,39 +629,60 @@ void HapticLoop::advanceMultiRate(Frame& frame) noexcept {
     }
     if (!worker_->threaded() && !paused_ && (stepIndex_ + 1) % config_.simulatedPhysicsEvery == 0)
         worker_->stepNow(config_.simulatedPhysicsEvery / config_.rate_hz);
-    takeFrames(frame);
+    if (!taken || !worker_->threaded()) takeFrames(frame);
 }
 
-void HapticLoop::takeFrames(Frame& frame) noexcept {
+bool HapticLoop::takeFrames(Frame& frame) noexcept {
+    // In real time a frame comes in a part at a time, its first nodes (the region grows from the tools,
+    // so those are the touched ones) first: a frame of a large region taken whole cost the step that
+    // took it 0.7-4.5 ms on the 1,000,000-triangle heart (its tree's refit most), an overrun every
+    // frame. The nodes not yet in keep the previous frame's state, which shares their faces, so the
+    // surface stays closed while it catches up over a few steps; the physics fills its other frame
+    // meanwhile and waits for this one back. In simulated time it all comes in at once.
+    std::size_t budget = realtime_ ? kFrameNodesPerStep : std::numeric_limits<std::size_t>::max();
     bool any = false, whole = false;
     movedFaces_.clear();
+    auto finish = [&](bool allIn) {
+        if (!any) return allIn;
+        whole ? refitWholeTree() : bvh_.refitFaces(treeSurface(), movedFaces_);
+        const collision::SurfaceView view = surface();
+        for (std::size_t h = 0; h < hands_.size(); ++h)
+            if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
+        return allIn;
+    };
     physics::Nodes& n = model_.nodes;
-    while (const PhysicsFrame* f = worker_->takeFrame()) {
-        any = true;
-        for (std::size_t k = 0; k < f->nodes.size(); ++k) {
+    while (budget > 0) {
+        const PhysicsFrame* f = worker_->takeFrame();
+        if (!f) return finish(true);
+        if (frameCursor_ == 0) {
+            lastFrameStep_ = stepIndex_ + 1;  // the frame's state is the next step's present
+            if (!f->finite) {
+                tripWatchdog();
+                for (HandFrame& hand : frame) hand.force_N = Vec3::Zero();
+            }
+        }
+        const std::size_t from = frameCursor_, to = from + std::min(budget, f->nodes.size() - from);
+        const std::span<const std::uint32_t> part(f->nodes.data() + from, to - from);
+        for (std::size_t k = from; k < to; ++k) {
             n.position[f->nodes[k]] = f->positions[k];
             n.velocity[f->nodes[k]] = f->velocities[k];
         }
-        snapshots_.nodesMoved(f->nodes);
-        if (frameNodes_.size() + f->nodes.size() <= frameNodes_.capacity())
-            frameNodes_.insert(frameNodes_.end(), f->nodes.begin(), f->nodes.end());
-        whole = whole || !gatherFacesRound(f->nodes);
+        snapshots_.nodesMoved(part);
+        if (frameNodes_.size() + part.size() <= frameNodes_.capacity())
+            frameNodes_.insert(frameNodes_.end(), part.begin(), part.end());
+        whole = whole || !gatherFacesRound(part);
+        any = true;
+        budget -= part.size();
+        frameCursor_ = to;
+        if (to < f->nodes.size()) return finish(false);
+        frameCursor_ = 0;
         if (f->implicit) stats_.solver.record(f->solve);
         lastSolve_ = f->solve;
         ++stats_.physicsSteps;
         stats_.physicsTime_s += f->dt_s;
-        if (!f->finite) {
-            tripWatchdog();
-            for (HandFrame& hand : frame) hand.force_N = Vec3::Zero();
-        }
         worker_->releaseFrame();
     }
-    if (!any) return;
-    lastFrameStep_ = stepIndex_ + 1;  // the frame's state is the next step's present
-    const collision::SurfaceView view = surface();
-    whole ? refitWholeTree() : bvh_.refitFaces(treeSurface(), movedFaces_);
-    for (std::size_t h = 0; h < hands_.size(); ++h)
-        if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
+    return finish(worker_->takeFrame() == nullptr);  // the budget ran out at a frame's end
 }
 
 void HapticLoop::syncWorker() noexcept {
