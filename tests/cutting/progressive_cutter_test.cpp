@@ -264,6 +264,32 @@ TEST(ProgressiveCutter, WithoutWallsAStrokeAcrossAnEarlierWoundJoinsItIntoOneOpe
     EXPECT_EQ(countGroups(cut.mesh(), false), 1) << "and the grid is still one piece";
 }
 
+// A stroke that turns back across its own wound: right, down, left under its first leg and up across
+// it. The way on then crosses only the cut's own older lip, which it may not join (that would cut a loop
+// of tissue free), so the cut ends there and the blade starts a new one beyond. Kept waiting, the cut
+// never followed the blade again.
+TEST(ProgressiveCutter, AStrokeThatTurnsBackAcrossItsOwnWoundEndsThereAndCutsOnBeyondIt) {
+    CutModel cut = cuttable(mesh::procedural::makeGrid(20, 0.005));
+    const double mass = physics::totalMass(cut.model());
+    ProgressiveCutter cutter(cut);
+    const std::vector<Vec3> corners{Vec3(-0.032, 0.0043, 0), Vec3(0.028, 0.0043, 0), Vec3(0.028, -0.0157, 0),
+                                    Vec3(-0.012, -0.0157, 0), Vec3(-0.012, 0.0243, 0)};
+    double highest = -1;  // the farthest up the last leg a cut point lies, beyond the first leg
+    for (std::size_t leg = 0; leg + 1 < corners.size(); ++leg)
+        for (int i = 0; i <= 100; ++i) {
+            const Vec3 at = corners[leg] + (corners[leg + 1] - corners[leg]) * (i / 100.0);
+            const auto [face, bary] = touch(cut, at);
+            cutter.cutAt(face, bary);
+            if (leg == 3 && cutter.cutting())
+                highest = std::max(highest, cut.mesh().positions[cutter.points().back()].y());
+        }
+    cutter.endCut();
+    EXPECT_EQ(cutter.stats().cuts, 2) << "the first cut ends at its own wound, and a second starts beyond";
+    EXPECT_GT(highest, 0.015) << "the second cut follows the blade up past the first leg";
+    const InvariantReport r = checkInvariants(cut, mass);
+    EXPECT_TRUE(r.ok()) << r.problems.front();
+}
+
 TEST(ProgressiveCutter, RandomStrokesOnTheHeartKeepEveryInvariant) {
     std::mt19937 rng(3);
     CutModel cut = cuttable(mesh::procedural::makeHeart({}));
