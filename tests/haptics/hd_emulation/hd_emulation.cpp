@@ -260,7 +260,10 @@ void hdEmu_lastForce(double out[3]) {
     std::lock_guard lock(emu().mutex);
     std::memcpy(out, emu().force, sizeof emu().force);
 }
-double hdEmu_maxForceSent() { return emu().maxForceSent; }
+double hdEmu_maxForceSent() {  // read while the servo thread runs, as lastForce is
+    std::lock_guard lock(emu().mutex);
+    return emu().maxForceSent;
+}
 long hdEmu_ticks() { return emu().ticks; }
 long hdEmu_ticksWithCallbacks() { return emu().ticksWithCallbacks; }
 void hdEmu_stallScheduler(long ms) { emu().stallMs = ms; }
