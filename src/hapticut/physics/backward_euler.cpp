@@ -42,8 +42,8 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
         const Vec3 guess = k < count ? deltaV_[region.nodes[k]] : Vec3::Zero();
         solution_.x[k] = guess.x(), solution_.y[k] = guess.y(), solution_.z[k] = guess.z();
     }
-    double firstNorm2 = 0;
-    SolveReport report = solve(0, firstNorm2);
+    double stepNorm2 = 0;  // set by the first solve, the measure of the corrections
+    SolveReport report = solve(stepNorm2);
     auto apply = [&](bool whole) {
         for (std::size_t k = 0; k < count; ++k) {
             const std::uint32_t i = region.nodes[k];
@@ -61,8 +61,7 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
            system_.largestRelativeMotion(model.springs, region, motion_) > kLinearMotion) {
         system_.assemble(model, h, region, startVelocity_);
         for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(a->begin(), a->end(), 0.0);
-        double correctionNorm2 = 0;
-        const SolveReport correction = solve(firstNorm2, correctionNorm2);
+        const SolveReport correction = solve(stepNorm2);
         report.iterations += correction.iterations;
         report.relativeResidual = correction.relativeResidual;
         report.converged = report.converged && correction.converged;
@@ -73,7 +72,7 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
     return report;
 }
 
-SolveReport BackwardEuler::solve(double referenceNorm2, double& rhsNorm2) {
+SolveReport BackwardEuler::solve(double& stepNorm2) {
     const std::size_t rows = system_.rows();
     const kernels::Field& b = system_.rhs();
     const kernels::SystemRows matrix = system_.matrix();
@@ -81,12 +80,14 @@ SolveReport BackwardEuler::solve(double referenceNorm2, double& rhsNorm2) {
     SolveReport report;
     double bNorm2 = 0;
     for (std::size_t k = 0; k < rows; ++k) bNorm2 += b.x[k] * b.x[k] + b.y[k] * b.y[k] + b.z[k] * b.z[k];
-    rhsNorm2 = bNorm2;
     if (bNorm2 == 0) {
         for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(a->begin(), a->end(), 0.0);
         return report;
     }
-    if (referenceNorm2 > 0) bNorm2 = referenceNorm2;
+    if (stepNorm2 > 0)
+        bNorm2 = stepNorm2;
+    else
+        stepNorm2 = bNorm2;
     const double forceFloor = settings_.forceTolerance_N * h_;
     const double stop2 = std::max(settings_.tolerance * settings_.tolerance * bNorm2, forceFloor * forceFloor);
 

@@ -58,10 +58,9 @@ public:
     void forget(std::uint32_t i) { deltaV_[i].setZero(); }
 
 private:
-    /// Solves the assembled system from the warm start in solution_. `referenceNorm2`, when positive, is
-    /// the squared norm the tolerance is taken of instead of this right-hand side's; the latter is returned
-    /// through `rhsNorm2`.
-    SolveReport solve(double referenceNorm2, double& rhsNorm2);
+    /// Solves the assembled system from the warm start in solution_, to `tolerance` of the step's
+    /// right-hand side: `stepNorm2`, its squared norm, when positive; else this one's, kept there.
+    SolveReport solve(double& stepNorm2);
 
     SolverSettings settings_;
     double h_ = 0;  // the step being solved (s)
