@@ -4,6 +4,7 @@
 #include <map>
 
 #include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/physics/backward_euler_system.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/spring_forces.h"
 #include "hapticut/scene/bench_scenes.h"
@@ -56,6 +57,28 @@ BENCHMARK(BM_Step<physics::Scheme::ExplicitEuler>)->Arg(1619)->Arg(9714)->Arg(10
 BENCHMARK(BM_Step<physics::Scheme::Midpoint>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step<physics::Scheme::RungeKutta4>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step<physics::Scheme::SymplecticEuler>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
+
+/// The implicit step's assembly alone (matrix, right-hand side and preconditioner) of the whole heart
+/// at a 1 ms step, the heart moving: a fixed cost of every implicit step and Newton correction.
+void BM_ImplicitAssemble(benchmark::State& state) {
+    physics::MassSpringModel model = heartModel(static_cast<int>(state.range(0)));
+    for (std::size_t i = 0; i < model.nodes.size(); ++i) model.nodes.velocity[i] = Vec3(1e-2, 0, 0);
+    std::vector<std::uint32_t> nodes(model.nodes.size()), springs(model.springs.size());
+    for (std::size_t i = 0; i < nodes.size(); ++i) nodes[i] = static_cast<std::uint32_t>(i);
+    for (std::size_t e = 0; e < springs.size(); ++e) springs[e] = static_cast<std::uint32_t>(e);
+    physics::BackwardEulerSystem system;
+    system.reserve(nodes.size(), springs.size());
+    system.resize(nodes.size());
+    const physics::SolveRegion region{nodes, nodes, springs};
+    for (auto _ : state) {
+        system.assemble(model, 1e-3, region);
+        benchmark::DoNotOptimize(system.rhs().x.data());
+    }
+    state.counters["ns_per_spring"] =
+        benchmark::Counter(static_cast<double>(springs.size()),
+                           benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ImplicitAssemble)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
 
 void BM_MakeHeart(benchmark::State& state) {
     mesh::procedural::HeartOptions options;

@@ -1,11 +1,11 @@
 // Assembly of the backward-Euler system, and its rows laid out for the kernels (solver_kernels.h).
 #include "hapticut/physics/backward_euler_system.h"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
 #include "hapticut/common/reserve.h"
+#include "hapticut/physics/spring_forces.h"
 
 namespace hapticut::physics {
 
@@ -15,8 +15,8 @@ void BackwardEulerSystem::reserve(std::size_t nodes, std::size_t springs) {
     reserveTouched(diagonal_, rows);
     reserveTouched(rowStart_, nodes + 1);
     reserveTouched(couplings_, 2 * springs);
-    reserveTouched(blockSum_, nodes);
     reserveTouched(restingSum_, nodes);
+    reserveTouched(restingOf_, rows);
     reserveTouched(pinned_, rows);
     for (auto* field : {&rhs_.x, &rhs_.y, &rhs_.z}) reserveTouched(*field, rows);
     for (auto* blocks : {&toResting_, &inverseBlock_})
@@ -37,6 +37,16 @@ void BackwardEulerSystem::setBlock(kernels::SymmetricBlocks& blocks, std::size_t
     blocks.yy[k] = f(m(1, 1)), blocks.yz[k] = f(m(1, 2)), blocks.zz[k] = f(m(2, 2));
 }
 
+void BackwardEulerSystem::setSymmetricInverse(kernels::SymmetricBlocks& blocks, std::size_t k, double xx, double xy,
+                                              double xz, double yy, double yz, double zz) {
+    // The adjugate over the determinant, each cofactor once (the block is symmetric, so is its inverse).
+    const double cxx = yy * zz - yz * yz, cxy = xz * yz - xy * zz, cxz = xy * yz - xz * yy;
+    const double inverseDet = 1 / (xx * cxx + xy * cxy + xz * cxz);
+    const auto f = [&](double value) { return static_cast<float>(value * inverseDet); };
+    blocks.xx[k] = f(cxx), blocks.xy[k] = f(cxy), blocks.xz[k] = f(cxz);
+    blocks.yy[k] = f(xx * zz - xz * xz), blocks.yz[k] = f(xy * xz - xx * yz), blocks.zz[k] = f(xx * yy - xy * xy);
+}
+
 void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, SolveRegion region,
                                    std::span<const Vec3> startVelocity) {
     // The first linearisation adds h² K v to the right-hand side; a correction subtracts M (v - v0).
@@ -54,8 +64,8 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     toResting_.resize(rows_);
     inverseBlock_.resize(rows_);
     pinned_.assign(rows_, 0);
-    blockSum_.resize(count);
-    restingSum_.resize(count);
+    restingSum_.clear();
+    restingOf_.assign(count, kNoResting);
     rhs_.resize(rows_);
     rowStart_.assign(count + 1, 0);
     for (std::uint32_t i : region.touched) unknownOf_[i] = kResting;
@@ -69,8 +79,6 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         const Vec3 b = h * f - (correction ? Vec3(n.mass[i] * (v[i] - startVelocity[k])) : Vec3(h2 * ka * v[i]));
         rhs_.x[k] = b.x(), rhs_.y[k] = b.y(), rhs_.z[k] = b.z();
         diagonal_[k] = n.mass[i] + h * da + h2 * ka;
-        blockSum_[k].setZero();
-        restingSum_[k].setZero();
     }
     for (const PointSpring& tool : model.tools) {
         if (!tool.active) continue;
@@ -100,48 +108,46 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     couplings_.resize(rowStart_[count]);
     std::uint32_t* next = rowStart_.data();  // each row's next free slot; rowStart_[k] ends at row k's end
     auto rowEnd = [&](std::uint32_t k) { return next[k]++; };
-    for (std::uint32_t e : region.springs) {
-        const std::uint32_t a = s.a[e], b = s.b[e];
-        const Vec3 d = x[b] - x[a];
-        const double len2 = d.squaredNorm();
-        const std::uint32_t ka = unknownOf_[a], kb = unknownOf_[b];
-        const bool inner = ka != kResting && kb != kResting;
-        if (len2 < 1e-24) {  // coincident ends have no direction, as in the explicit force
-            if (inner) couplings_[rowEnd(ka)] = {kb, 0, 0, 0, 0}, couplings_[rowEnd(kb)] = {ka, 0, 0, 0, 0};
-            continue;
-        }
-        const double len = std::sqrt(len2);
-        const Vec3 dir = d / len;
-        const Vec3 dv = v[b] - v[a];
-        const double ks = s.stiffness[e], kd = s.damping[e];
-        const Vec3 force = (ks * (len - s.restLength[e]) + kd * dv.dot(dir)) * dir;  // on a
-        const double alpha = std::max(0.0, 1 - s.restLength[e] / len);
-        const Vec3 contribution =
-            h * force + (correction ? Vec3::Zero() : Vec3(h2 * ks * (alpha * dv + (1 - alpha) * dir.dot(dv) * dir)));
-        const double c0 = h2 * ks * alpha;
-        const Vec3 u = std::sqrt(h2 * ks * (1 - alpha) + h * kd) * dir;
-        const Mat3 block = c0 * Mat3::Identity() + u * u.transpose();
-        if (ka != kResting) {
-            rhs_.x[ka] += contribution.x(), rhs_.y[ka] += contribution.y(), rhs_.z[ka] += contribution.z();
-            blockSum_[ka] += block;
-        }
-        if (kb != kResting) {
-            rhs_.x[kb] -= contribution.x(), rhs_.y[kb] -= contribution.y(), rhs_.z[kb] -= contribution.z();
-            blockSum_[kb] += block;
-        }
-        if (inner) {
-            const auto f = [](double value) { return static_cast<float>(value); };
-            couplings_[rowEnd(ka)] = {kb, f(c0), f(u.x()), f(u.y()), f(u.z())};
-            couplings_[rowEnd(kb)] = {ka, f(c0), f(u.x()), f(u.y()), f(u.z())};
-        } else {
-            restingSum_[ka != kResting ? ka : kb] += block;
+    // The springs' terms come from the SIMD kernel a chunk at a time. Each spring writes its coupling to
+    // both rows and its right-hand side to both ends; the rows' diagonal blocks are summed from their
+    // couplings afterwards, row by row, so that no 3×3 block is scattered.
+    const kernels::SpringArrays arrays = springArrays(s);
+    kernels::SpringJacobians& chunk = chunk_;  // one chunk's terms (14 KB: a member, not on the stack)
+    for (std::size_t begin = 0; begin < region.springs.size(); begin += kernels::SpringJacobians::kSprings) {
+        const std::size_t size = std::min(kernels::SpringJacobians::kSprings, region.springs.size() - begin);
+        const std::uint32_t* list = region.springs.data() + begin;
+        kernels::springJacobians(arrays, list, size, x.size(), coordinates(x.data()), coordinates(v.data()), h,
+                                 !correction, chunk);
+        for (std::size_t i = 0; i < size; ++i) {
+            const std::uint32_t ka = unknownOf_[s.a[list[i]]], kb = unknownOf_[s.b[list[i]]];
+            const bool inner = ka != kResting && kb != kResting;
+            if (!chunk.apart[i]) {  // coincident ends have no direction, as in the explicit force
+                if (inner) couplings_[rowEnd(ka)] = {kb, 0, 0, 0, 0}, couplings_[rowEnd(kb)] = {ka, 0, 0, 0, 0};
+                continue;
+            }
+            const double bx = chunk.bx[i], by = chunk.by[i], bz = chunk.bz[i];
+            if (ka != kResting) rhs_.x[ka] += bx, rhs_.y[ka] += by, rhs_.z[ka] += bz;
+            if (kb != kResting) rhs_.x[kb] -= bx, rhs_.y[kb] -= by, rhs_.z[kb] -= bz;
+            const double c0 = chunk.c0[i], ux = chunk.ux[i], uy = chunk.uy[i], uz = chunk.uz[i];
+            if (inner) {
+                const auto f = [](double value) { return static_cast<float>(value); };
+                couplings_[rowEnd(ka)] = {kb, f(c0), f(ux), f(uy), f(uz)};
+                couplings_[rowEnd(kb)] = {ka, f(c0), f(ux), f(uy), f(uz)};
+            } else {
+                std::uint32_t& at = restingOf_[ka != kResting ? ka : kb];
+                if (at == kNoResting)
+                    at = static_cast<std::uint32_t>(restingSum_.size()), restingSum_.push_back(Mat3::Zero());
+                const Vec3 u(ux, uy, uz);
+                Mat3& resting = restingSum_[at];
+                resting += u * u.transpose();
+                resting.diagonal().array() += c0;
+            }
         }
     }
     // The filling moved each row's start to its end: move them back.
     for (std::size_t k = count; k > 0; --k) rowStart_[k] = rowStart_[k - 1];
     rowStart_[0] = 0;
     for (std::uint32_t k = 0; k < count; ++k) {
-        setBlock(toResting_, k, restingSum_[k]);
         if (n.inverseMass[region.nodes[k]] == 0) {
             // A pinned node's row is left out: no terms, no right-hand side, no preconditioner, so its
             // unknown stays zero.
@@ -152,9 +158,23 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
             rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
             continue;
         }
-        Mat3 block = blockSum_[k];
-        block.diagonal().array() += diagonal_[k];
-        setBlock(inverseBlock_, k, block.inverse());  // positive definite: the mass alone makes it so
+        // The row's diagonal block, m + h d + h² k and its springs' blocks, from the couplings as the
+        // product reads them (in single precision: a preconditioner need not be exact).
+        double xx = diagonal_[k], xy = 0, xz = 0, yy = diagonal_[k], yz = 0, zz = diagonal_[k];
+        if (restingOf_[k] == kNoResting) {
+            setBlock(toResting_, k, Mat3::Zero());
+        } else {
+            const Mat3& r = restingSum_[restingOf_[k]];
+            setBlock(toResting_, k, r);
+            xx += r(0, 0), xy += r(0, 1), xz += r(0, 2), yy += r(1, 1), yz += r(1, 2), zz += r(2, 2);
+        }
+        for (std::uint32_t j = rowStart_[k]; j < rowStart_[k + 1]; ++j) {
+            const Coupling& c = couplings_[j];
+            const double ux = c.ux, uy = c.uy, uz = c.uz;
+            xx += c.c0 + ux * ux, xy += ux * uy, xz += ux * uz;
+            yy += c.c0 + uy * uy, yz += uy * uz, zz += c.c0 + uz * uz;
+        }
+        setSymmetricInverse(inverseBlock_, k, xx, xy, xz, yy, yz, zz);  // definite: the mass alone makes it so
     }
     for (std::size_t k = count; k < rows_; ++k) {  // the padding rows are zero throughout
         setBlock(toResting_, k, Mat3::Zero());

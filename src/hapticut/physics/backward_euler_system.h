@@ -12,6 +12,7 @@
 #include "hapticut/geometry/vec.h"
 #include "hapticut/physics/mass_spring_model.h"
 #include "hapticut/physics/solver_kernels.h"
+#include "hapticut/physics/spring_kernels.h"
 
 namespace hapticut::physics {
 
@@ -68,6 +69,9 @@ private:
         float c0, ux, uy, uz;
     };
     static void setBlock(kernels::SymmetricBlocks& blocks, std::size_t k, const Mat3& m);
+    /// Block k of `blocks` = the inverse of the symmetric block with these entries.
+    static void setSymmetricInverse(kernels::SymmetricBlocks& blocks, std::size_t k, double xx, double xy, double xz,
+                                    double yy, double yz, double zz);
     /// Lays the rows' couplings out slice by slice for the kernels (pinned rows get none).
     void sliceCouplings();
 
@@ -79,10 +83,15 @@ private:
     kernels::SymmetricBlocks toResting_;   // its springs to resting neighbours, whose Δv is zero
     std::vector<std::uint32_t> rowStart_;  // its couplings are rowStart_[k] .. rowStart_[k + 1]
     std::vector<Coupling> couplings_;
-    kernels::SlicedCouplings sliced_;          // the same, as the kernels read them
-    kernels::SymmetricBlocks inverseBlock_;    // the preconditioner
-    std::vector<Mat3> blockSum_, restingSum_;  // its springs' blocks (all, to resting neighbours), while assembling
+    kernels::SlicedCouplings sliced_;        // the same, as the kernels read them
+    kernels::SymmetricBlocks inverseBlock_;  // the preconditioner
+    // Its springs' blocks to resting neighbours, while assembling: few rows have any (the edge of an awake
+    // region), so each such row has one block in restingSum_, at restingOf_[k].
+    static constexpr std::uint32_t kNoResting = ~std::uint32_t{0};
+    std::vector<std::uint32_t> restingOf_;
+    std::vector<Mat3> restingSum_;
     kernels::Field rhs_;
+    kernels::SpringJacobians chunk_;    // the springs' terms, a chunk at a time
     std::vector<std::uint8_t> pinned_;  // 1 for nodes without inverse mass: their rows are left out
 };
 

@@ -5,13 +5,9 @@
 
 namespace hapticut::physics {
 
-namespace {
-
 kernels::SpringArrays springArrays(const Springs& s) {
     return {s.a.data(), s.b.data(), s.restLength.data(), s.stiffness.data(), s.damping.data()};
 }
-
-}  // namespace
 
 void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
     kernels::addSpringForces(springArrays(s), s.size(), x.size(), coordinates(x.data()), coordinates(v.data()),

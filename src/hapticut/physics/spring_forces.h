@@ -4,8 +4,12 @@
 #include <span>
 
 #include "hapticut/physics/mass_spring_model.h"
+#include "hapticut/physics/spring_kernels.h"
 
 namespace hapticut::physics {
+
+/// The springs' arrays as the SIMD kernels read them.
+kernels::SpringArrays springArrays(const Springs& s);
 
 /// Structural springs (R3): f_a = [k_s(|l| - r) + k_d (l'·l)/|l|] l/|l|, f_b = -f_a, with l = x_b - x_a.
 void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);

@@ -1,6 +1,6 @@
-// The springs' forces as a SIMD kernel: this file is compiled once per target by Highway's foreach_target,
-// and the HWY_ONCE part at the end dispatches to the best one the machine supports (solver_kernels.cpp's
-// forceTarget chooses for both files).
+// The springs' forces, and their Jacobians for the implicit step, as SIMD kernels: this file is compiled
+// once per target by Highway's foreach_target, and the HWY_ONCE part at the end dispatches to the best
+// one the machine supports (solver_kernels.cpp's forceTarget chooses for both files).
 //
 // A spring's force takes a square root, a division and some thirty products, which the vector lanes
 // share; its two scattered additions to the node forces stay scalar, in the springs' order, so that no
@@ -46,6 +46,29 @@ inline void addToEnds(std::uint32_t a, std::uint32_t b, double fx, double fy, do
     double* fb = f + 3 * std::size_t{b};
     fa[0] += fx, fa[1] += fy, fa[2] += fz;
     fb[0] -= fx, fb[1] -= fy, fb[2] -= fz;
+}
+
+/// Spring k's implicit terms into slot i of `out`, scalar (the kernel's formula, for the lanes it cannot load).
+inline void springJacobian(const SpringArrays& s, std::uint32_t k, const double* __restrict x,
+                           const double* __restrict v, double h, bool first, SpringJacobians& out, std::size_t i) {
+    const std::size_t ia = 3 * std::size_t{s.a[k]}, ib = 3 * std::size_t{s.b[k]};
+    const double dx = x[ib] - x[ia], dy = x[ib + 1] - x[ia + 1], dz = x[ib + 2] - x[ia + 2];
+    const double len2 = dx * dx + dy * dy + dz * dz;
+    out.apart[i] = !(len2 < kCoincident2);
+    if (!out.apart[i]) return;
+    const double len = std::sqrt(len2), inverseLen = 1 / len;
+    const double nx = dx * inverseLen, ny = dy * inverseLen, nz = dz * inverseLen;
+    const double dvx = v[ib] - v[ia], dvy = v[ib + 1] - v[ia + 1], dvz = v[ib + 2] - v[ia + 2];
+    const double ks = s.stiffness[k], kd = s.damping[k], h2ks = h * h * ks;
+    const double stretchRate = dvx * nx + dvy * ny + dvz * nz;
+    const double alpha = std::max(0.0, 1 - s.restLength[k] * inverseLen);
+    const double along =
+        h * (ks * (len - s.restLength[k]) + kd * stretchRate) + (first ? h2ks * (1 - alpha) * stretchRate : 0.0);
+    const double across = first ? h2ks * alpha : 0.0;
+    out.bx[i] = along * nx + across * dvx, out.by[i] = along * ny + across * dvy, out.bz[i] = along * nz + across * dvz;
+    out.c0[i] = h2ks * alpha;
+    const double scale = std::sqrt(h2ks * (1 - alpha) + h * kd);
+    out.ux[i] = scale * nx, out.uy[i] = scale * ny, out.uz[i] = scale * nz;
 }
 
 }  // namespace hapticut::physics::kernels
@@ -184,6 +207,70 @@ void AddListedSpringForces(const SpringArrays& s, const std::uint32_t* list, std
     AddForces<true>(s, list, count, nodeCount, x, v, f);
 }
 
+void SpringJacobiansOf(const SpringArrays& s, const std::uint32_t* list, std::size_t count, std::size_t nodeCount,
+                       const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, double h, bool first,
+                       SpringJacobians& out) {
+    const D d;
+    const std::size_t lanes = hn::Lanes(d);
+    std::size_t i = 0;
+    for (; i + lanes <= count; i += lanes) {
+        const std::uint32_t* spring = list + i;
+        std::size_t at[kMaxLanes], bt[kMaxLanes];
+        bool inside = true;
+        for (std::size_t lane = 0; lane < lanes; ++lane) {
+            const std::uint32_t a = s.a[spring[lane]], b = s.b[spring[lane]];
+            at[lane] = 3 * std::size_t{a}, bt[lane] = 3 * std::size_t{b};
+            inside &= HAPTICUT_SPRING_ROWS == 0 || (a + 1 < nodeCount && b + 1 < nodeCount);
+        }
+        if (!inside) {  // a row of the last node would read past the arrays: this group goes one by one
+            for (std::size_t lane = 0; lane < lanes; ++lane)
+                springJacobian(s, spring[lane], x, v, h, first, out, i + lane);
+            continue;
+        }
+        V xa, ya, za, xb, yb, zb, va, wa, ua, vb, wb, ub;
+        LoadNodes(d, x, at, xa, ya, za), LoadNodes(d, x, bt, xb, yb, zb);
+        LoadNodes(d, v, at, ua, va, wa), LoadNodes(d, v, bt, ub, vb, wb);
+        bool run = true;  // consecutive springs, whose constants load as one vector each
+        for (std::size_t lane = 1; lane < lanes; ++lane) run &= spring[lane] == spring[0] + lane;
+        V rest, ks, kd;
+        if (run) {
+            rest = hn::LoadU(d, s.restLength + spring[0]), ks = hn::LoadU(d, s.stiffness + spring[0]);
+            kd = hn::LoadU(d, s.damping + spring[0]);
+        } else {
+            HWY_ALIGN std::int64_t index[kMaxLanes];
+            for (std::size_t lane = 0; lane < lanes; ++lane) index[lane] = spring[lane];
+            const auto k = hn::Load(DI64(), index);
+            rest = hn::GatherIndex(d, s.restLength, k), ks = hn::GatherIndex(d, s.stiffness, k);
+            kd = hn::GatherIndex(d, s.damping, k);
+        }
+        const V hv = hn::Set(d, h), zero = hn::Zero(d), one = hn::Set(d, 1.0);
+        const V dx = hn::Sub(xb, xa), dy = hn::Sub(yb, ya), dz = hn::Sub(zb, za);
+        const V len2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
+        const auto apart = hn::Not(hn::Lt(len2, hn::Set(d, kCoincident2)));
+        const V len = hn::Sqrt(len2);
+        const V inverseLen = hn::Div(one, len);
+        const V nx = hn::Mul(dx, inverseLen), ny = hn::Mul(dy, inverseLen), nz = hn::Mul(dz, inverseLen);
+        const V dvx = hn::Sub(ub, ua), dvy = hn::Sub(vb, va), dvz = hn::Sub(wb, wa);
+        const V h2ks = hn::Mul(hn::Mul(hv, hv), ks);
+        const V stretchRate = hn::Add(hn::Add(hn::Mul(dvx, nx), hn::Mul(dvy, ny)), hn::Mul(dvz, nz));
+        const V alpha = hn::Max(zero, hn::Sub(one, hn::Mul(rest, inverseLen)));
+        V along = hn::Mul(hv, hn::Add(hn::Mul(ks, hn::Sub(len, rest)), hn::Mul(kd, stretchRate)));
+        const V across = first ? hn::Mul(h2ks, alpha) : zero;
+        if (first) along = hn::Add(along, hn::Mul(hn::Mul(h2ks, hn::Sub(one, alpha)), stretchRate));
+        hn::Store(hn::Add(hn::Mul(along, nx), hn::Mul(across, dvx)), d, out.bx + i);
+        hn::Store(hn::Add(hn::Mul(along, ny), hn::Mul(across, dvy)), d, out.by + i);
+        hn::Store(hn::Add(hn::Mul(along, nz), hn::Mul(across, dvz)), d, out.bz + i);
+        hn::Store(hn::Mul(h2ks, alpha), d, out.c0 + i);
+        const V scale = hn::Sqrt(hn::Add(hn::Mul(h2ks, hn::Sub(one, alpha)), hn::Mul(hv, kd)));
+        hn::Store(hn::Mul(scale, nx), d, out.ux + i), hn::Store(hn::Mul(scale, ny), d, out.uy + i);
+        hn::Store(hn::Mul(scale, nz), d, out.uz + i);
+        std::uint8_t bits[(kMaxLanes + 7) / 8];
+        hn::StoreMaskBits(d, apart, bits);
+        for (std::size_t lane = 0; lane < lanes; ++lane) out.apart[i + lane] = bits[lane / 8] >> lane % 8 & 1;
+    }
+    for (; i < count; ++i) springJacobian(s, list[i], x, v, h, first, out, i);
+}
+
 }  // namespace hapticut::physics::kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
@@ -192,6 +279,7 @@ namespace hapticut::physics::kernels {
 
 HWY_EXPORT(AddSpringForces);
 HWY_EXPORT(AddListedSpringForces);
+HWY_EXPORT(SpringJacobiansOf);
 
 void addSpringForces(const SpringArrays& springs, std::size_t count, std::size_t nodes, const double* x,
                      const double* v, double* f) {
@@ -201,6 +289,11 @@ void addSpringForces(const SpringArrays& springs, std::size_t count, std::size_t
 void addListedSpringForces(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
                            const double* x, const double* v, double* f) {
     HWY_DYNAMIC_DISPATCH(AddListedSpringForces)(springs, list, count, nodes, x, v, f);
+}
+
+void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
+                     const double* x, const double* v, double h, bool firstLinearisation, SpringJacobians& out) {
+    HWY_DYNAMIC_DISPATCH(SpringJacobiansOf)(springs, list, count, nodes, x, v, h, firstLinearisation, out);
 }
 
 }  // namespace hapticut::physics::kernels

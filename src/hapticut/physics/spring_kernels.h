@@ -1,5 +1,6 @@
-// The structural springs' forces as a SIMD kernel (Google Highway, chosen when the program starts, like
-// the implicit solve's kernels): the explicit integrators' inner loop.
+// The structural springs' forces and their Jacobians as SIMD kernels (Google Highway, chosen when the
+// program starts, like the implicit solve's kernels): the explicit integrators' inner loop and the
+// implicit step's assembly.
 #pragma once
 
 #include <cstddef>
@@ -26,5 +27,21 @@ void addSpringForces(const SpringArrays& springs, std::size_t count, std::size_t
 /// The same for the springs listed in `list` (an active region's).
 void addListedSpringForces(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
                            const double* x, const double* v, double* f);
+
+/// The implicit step's terms of a chunk of springs (backward_euler_system.h): whether the ends are
+/// apart (the rest is undefined where they are not), the spring's part of the right-hand side on its
+/// end a, h f + h² K dv (the second term only for a step's first linearisation), and its block
+/// c0 I + u uᵀ = h² K + h D.
+struct SpringJacobians {
+    static constexpr std::size_t kSprings = 256;
+    alignas(64) double bx[kSprings], by[kSprings], bz[kSprings];
+    alignas(64) double c0[kSprings], ux[kSprings], uy[kSprings], uz[kSprings];
+    bool apart[kSprings];
+};
+
+/// The terms of the springs listed in `list[0..count)`, count at most SpringJacobians::kSprings, for a
+/// step of h seconds; `firstLinearisation` adds h² K dv to the right-hand side.
+void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
+                     const double* x, const double* v, double h, bool firstLinearisation, SpringJacobians& out);
 
 }  // namespace hapticut::physics::kernels
