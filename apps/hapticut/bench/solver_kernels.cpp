@@ -52,8 +52,10 @@ std::vector<KernelTiming> timeSolverKernels(const physics::MassSpringModel& mode
         double sink = 0;
         const double product = medianOf([&] { sink += physics::kernels::multiply(system.matrix(), y, out); });
         const double forces = medianOf([&] { physics::accumulateSpringForces(model.springs, x, v, f); });
+        const double assembly = medianOf([&] { system.assemble(model, 1e-3, {nodes, nodes, springs}); });
         const auto count = static_cast<double>(springs.size());
-        timings.push_back({target, product, 1e3 * product / (2.0 * count), forces, 1e3 * forces / count});
+        timings.push_back({target, product, 1e3 * product / (2.0 * count), forces, 1e3 * forces / count, assembly,
+                           1e3 * assembly / count});
         if (sink == 42 || !f[0].allFinite()) timings.back().target += "";  // keeps the work from being optimised away
     }
     physics::kernels::forceTarget(nullptr);

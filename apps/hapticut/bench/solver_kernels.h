@@ -1,4 +1,5 @@
-// The physics' SIMD kernels (the implicit solve's matrix product, the explicit schemes' spring forces)
+// The physics' SIMD kernels (the implicit solve's matrix product and assembly, the explicit schemes'
+// spring forces)
 // under every instruction set this machine runs, in one run, so that their gain is measured against the
 // portable code on the same machine and moment.
 #pragma once
@@ -16,10 +17,12 @@ struct KernelTiming {
     double ns_per_coupling = 0;   // per spring end: each spring is read from both of its rows
     double spring_forces_us = 0;  // median time of every spring's force added to the nodes
     double ns_per_spring = 0;
+    double assembly_us = 0;  // median time of the implicit step's assembly of the whole model
+    double assembly_ns_per_spring = 0;
 };
 
-/// Times the product on `model` (all nodes unknowns, a 1 ms step) and the spring forces (every node
-/// moved and moving a little) for at least `seconds` each per target.
+/// Times the product and the assembly on `model` (all nodes unknowns, a 1 ms step) and the spring
+/// forces (every node moved and moving a little) for at least `seconds` each per target.
 std::vector<KernelTiming> timeSolverKernels(const physics::MassSpringModel& model, double seconds);
 
 }  // namespace hapticut::bench
