@@ -122,6 +122,22 @@ HWY_INLINE void LoadNodes(D d, const double* HWY_RESTRICT p, const std::size_t* 
 }
 #endif
 
+/// The rest lengths, stiffnesses and dampings of springs `spring[0..lanes)`: one load each for a run of
+/// consecutive springs, gathers otherwise.
+HWY_INLINE void LoadConstants(D d, const SpringArrays& s, const std::uint32_t* spring, bool run, V& rest, V& ks,
+                              V& kd) {
+    if (run) {
+        rest = hn::LoadU(d, s.restLength + spring[0]), ks = hn::LoadU(d, s.stiffness + spring[0]);
+        kd = hn::LoadU(d, s.damping + spring[0]);
+        return;
+    }
+    HWY_ALIGN std::int64_t index[kMaxLanes];
+    for (std::size_t lane = 0; lane < hn::Lanes(d); ++lane) index[lane] = spring[lane];
+    const auto i = hn::Load(DI64(), index);
+    rest = hn::GatherIndex(d, s.restLength, i), ks = hn::GatherIndex(d, s.stiffness, i);
+    kd = hn::GatherIndex(d, s.damping, i);
+}
+
 /// The forces of springs `spring[0..lanes)`, the scalar formula's operations in the same order.
 HWY_INLINE void ComputeGroup(const SpringArrays& s, const std::uint32_t* spring, bool contiguous, std::size_t nodeCount,
                              const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, ChunkForces& chunk,
@@ -148,16 +164,7 @@ HWY_INLINE void ComputeGroup(const SpringArrays& s, const std::uint32_t* spring,
     LoadNodes(d, x, at, xa, ya, za), LoadNodes(d, x, bt, xb, yb, zb);
     LoadNodes(d, v, at, ua, va, wa), LoadNodes(d, v, bt, ub, vb, wb);
     V rest, ks, kd;
-    if (contiguous) {
-        rest = hn::LoadU(d, s.restLength + spring[0]), ks = hn::LoadU(d, s.stiffness + spring[0]);
-        kd = hn::LoadU(d, s.damping + spring[0]);
-    } else {
-        HWY_ALIGN std::int64_t index[kMaxLanes];
-        for (std::size_t lane = 0; lane < lanes; ++lane) index[lane] = spring[lane];
-        const auto i = hn::Load(DI64(), index);
-        rest = hn::GatherIndex(d, s.restLength, i), ks = hn::GatherIndex(d, s.stiffness, i);
-        kd = hn::GatherIndex(d, s.damping, i);
-    }
+    LoadConstants(d, s, spring, contiguous, rest, ks, kd);
     const V dx = hn::Sub(xb, xa), dy = hn::Sub(yb, ya), dz = hn::Sub(zb, za);
     const V len2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
     const auto apart = hn::Not(hn::Lt(len2, hn::Set(d, kCoincident2)));
@@ -230,19 +237,10 @@ void SpringJacobiansOf(const SpringArrays& s, const std::uint32_t* list, std::si
         V xa, ya, za, xb, yb, zb, va, wa, ua, vb, wb, ub;
         LoadNodes(d, x, at, xa, ya, za), LoadNodes(d, x, bt, xb, yb, zb);
         LoadNodes(d, v, at, ua, va, wa), LoadNodes(d, v, bt, ub, vb, wb);
-        bool run = true;  // consecutive springs, whose constants load as one vector each
+        bool run = true;
         for (std::size_t lane = 1; lane < lanes; ++lane) run &= spring[lane] == spring[0] + lane;
         V rest, ks, kd;
-        if (run) {
-            rest = hn::LoadU(d, s.restLength + spring[0]), ks = hn::LoadU(d, s.stiffness + spring[0]);
-            kd = hn::LoadU(d, s.damping + spring[0]);
-        } else {
-            HWY_ALIGN std::int64_t index[kMaxLanes];
-            for (std::size_t lane = 0; lane < lanes; ++lane) index[lane] = spring[lane];
-            const auto k = hn::Load(DI64(), index);
-            rest = hn::GatherIndex(d, s.restLength, k), ks = hn::GatherIndex(d, s.stiffness, k);
-            kd = hn::GatherIndex(d, s.damping, k);
-        }
+        LoadConstants(d, s, spring, run, rest, ks, kd);
         const V hv = hn::Set(d, h), zero = hn::Zero(d), one = hn::Set(d, 1.0);
         const V dx = hn::Sub(xb, xa), dy = hn::Sub(yb, ya), dz = hn::Sub(zb, za);
         const V len2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
