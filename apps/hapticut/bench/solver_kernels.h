@@ -1,7 +1,6 @@
 // The physics' SIMD kernels (the implicit solve's matrix product and assembly, the explicit schemes'
-// spring forces)
-// under every instruction set this machine runs, in one run, so that their gain is measured against the
-// portable code on the same machine and moment.
+// spring forces) under every instruction set this machine runs, in one run, so that their gain is
+// measured against the portable code on the same machine and moment.
 #pragma once
 
 #include <string>
