@@ -40,14 +40,6 @@ inline bool springForce(const SpringArrays& s, std::uint32_t k, const double* __
     return true;
 }
 
-/// Spring force (fx, fy, fz) added to its end a and taken from its end b.
-inline void addToEnds(std::uint32_t a, std::uint32_t b, double fx, double fy, double fz, double* __restrict f) {
-    double* fa = f + 3 * std::size_t{a};
-    double* fb = f + 3 * std::size_t{b};
-    fa[0] += fx, fa[1] += fy, fa[2] += fz;
-    fb[0] -= fx, fb[1] -= fy, fb[2] -= fz;
-}
-
 /// Spring k's implicit terms into slot i of `out`, scalar (the kernel's formula, for the lanes it cannot load).
 inline void springJacobian(const SpringArrays& s, std::uint32_t k, const double* __restrict x,
                            const double* __restrict v, double h, bool first, SpringJacobians& out, std::size_t i) {
@@ -99,7 +91,7 @@ constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
 struct ChunkForces {
     static constexpr std::size_t kSprings = 256;
     HWY_ALIGN double x[kSprings], y[kSprings], z[kSprings];
-    std::uint32_t a[kSprings], b[kSprings];
+    std::uint32_t a[kSprings], b[kSprings];  // the ends of a listed chunk's springs
     bool apart[kSprings];
 };
 
@@ -138,33 +130,33 @@ HWY_INLINE void LoadConstants(D d, const SpringArrays& s, const std::uint32_t* s
     kd = hn::GatherIndex(d, s.damping, i);
 }
 
-/// The forces of springs `spring[0..lanes)`, the scalar formula's operations in the same order.
-HWY_INLINE void ComputeGroup(const SpringArrays& s, const std::uint32_t* spring, bool contiguous, std::size_t nodeCount,
+/// The forces of the springs with ends a[0..lanes) and b[0..lanes), `spring` their first index if they
+/// are consecutive (`list` null) or listed in `list`, into the chunk from `first` on; the scalar
+/// formula's operations in the same order. False if a row of the last node would have been read past
+/// the arrays: the caller then takes this group one by one.
+HWY_INLINE bool ComputeGroup(const SpringArrays& s, const std::uint32_t* a, const std::uint32_t* b,
+                             std::uint32_t spring, const std::uint32_t* list, std::size_t lastNode,
                              const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, ChunkForces& chunk,
                              std::size_t first) {
     const D d;
     const std::size_t lanes = hn::Lanes(d);
-    std::uint32_t* a = chunk.a + first;
-    std::uint32_t* b = chunk.b + first;
     std::size_t at[kMaxLanes], bt[kMaxLanes];
     bool inside = true;
     for (std::size_t lane = 0; lane < lanes; ++lane) {
-        a[lane] = s.a[spring[lane]], b[lane] = s.b[spring[lane]];
         at[lane] = 3 * std::size_t{a[lane]}, bt[lane] = 3 * std::size_t{b[lane]};
-        inside &= HAPTICUT_SPRING_ROWS == 0 || (a[lane] + 1 < nodeCount && b[lane] + 1 < nodeCount);
+        inside &= HAPTICUT_SPRING_ROWS == 0 || (a[lane] != lastNode && b[lane] != lastNode);
     }
-    if (!inside) {  // a row of the last node would read past the arrays: this group goes one by one
-        for (std::size_t lane = 0; lane < lanes; ++lane) {
-            const std::size_t i = first + lane;
-            chunk.apart[i] = springForce(s, spring[lane], x, v, chunk.x[i], chunk.y[i], chunk.z[i]);
-        }
-        return;
-    }
+    if (!inside) return false;
     V xa, ya, za, xb, yb, zb, va, wa, ua, vb, wb, ub;
     LoadNodes(d, x, at, xa, ya, za), LoadNodes(d, x, bt, xb, yb, zb);
     LoadNodes(d, v, at, ua, va, wa), LoadNodes(d, v, bt, ub, vb, wb);
     V rest, ks, kd;
-    LoadConstants(d, s, spring, contiguous, rest, ks, kd);
+    if (list == nullptr) {
+        rest = hn::LoadU(d, s.restLength + spring), ks = hn::LoadU(d, s.stiffness + spring);
+        kd = hn::LoadU(d, s.damping + spring);
+    } else {
+        LoadConstants(d, s, list, false, rest, ks, kd);
+    }
     const V dx = hn::Sub(xb, xa), dy = hn::Sub(yb, ya), dz = hn::Sub(zb, za);
     const V len2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
     const auto apart = hn::Not(hn::Lt(len2, hn::Set(d, kCoincident2)));
@@ -175,32 +167,57 @@ HWY_INLINE void ComputeGroup(const SpringArrays& s, const std::uint32_t* spring,
     const V scale = hn::Mul(hn::Add(hn::Mul(ks, stretch), hn::Mul(kd, stretchRate)), invLen);
     hn::Store(hn::Mul(scale, dx), d, chunk.x + first), hn::Store(hn::Mul(scale, dy), d, chunk.y + first);
     hn::Store(hn::Mul(scale, dz), d, chunk.z + first);
-    std::uint8_t bits[(kMaxLanes + 7) / 8];
-    hn::StoreMaskBits(d, apart, bits);
-    for (std::size_t lane = 0; lane < lanes; ++lane) chunk.apart[first + lane] = bits[lane / 8] >> lane % 8 & 1;
+    if (hn::AllTrue(d, apart)) {
+        for (std::size_t lane = 0; lane < lanes; ++lane) chunk.apart[first + lane] = true;
+    } else {
+        std::uint8_t bits[(kMaxLanes + 7) / 8];
+        hn::StoreMaskBits(d, apart, bits);
+        for (std::size_t lane = 0; lane < lanes; ++lane) chunk.apart[first + lane] = bits[lane / 8] >> lane % 8 & 1;
+    }
+    return true;
+}
+
+/// Adds a chunk's forces to its springs' ends, in the springs' order. Springs that follow each other
+/// with the same end a (the edges' order lists a node's springs to later nodes together) sum onto it
+/// in registers and store it once, which leaves the same bits as adding each to memory in turn: only
+/// the additions to ends b, which belong to other nodes, go through memory as they come.
+HWY_INLINE void AddChunk(const std::uint32_t* HWY_RESTRICT a, const std::uint32_t* HWY_RESTRICT b,
+                         const ChunkForces& chunk, std::size_t size, double* HWY_RESTRICT f) {
+    for (std::size_t i = 0; i < size;) {
+        const std::uint32_t node = a[i];
+        double* fa = f + 3 * std::size_t{node};
+        double fx = fa[0], fy = fa[1], fz = fa[2];
+        for (; i < size && a[i] == node; ++i) {
+            if (!chunk.apart[i]) continue;  // also every spring from a node to itself
+            fx += chunk.x[i], fy += chunk.y[i], fz += chunk.z[i];
+            double* fb = f + 3 * std::size_t{b[i]};
+            fb[0] -= chunk.x[i], fb[1] -= chunk.y[i], fb[2] -= chunk.z[i];
+        }
+        fa[0] = fx, fa[1] = fy, fa[2] = fz;
+    }
 }
 
 template <bool kListed>
 void AddForces(const SpringArrays& s, const std::uint32_t* list, std::size_t count, std::size_t nodeCount,
                const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, double* HWY_RESTRICT f) {
     const std::size_t lanes = hn::Lanes(D());
+    const std::size_t lastNode = nodeCount - 1;
     ChunkForces chunk;
-    std::uint32_t spring[kMaxLanes];
     for (std::size_t begin = 0; begin < count; begin += ChunkForces::kSprings) {
         const std::size_t size = std::min(ChunkForces::kSprings, count - begin);
+        const std::uint32_t* chunkList = kListed ? list + begin : nullptr;
+        if (kListed)
+            for (std::size_t i = 0; i < size; ++i) chunk.a[i] = s.a[chunkList[i]], chunk.b[i] = s.b[chunkList[i]];
+        const std::uint32_t* a = kListed ? chunk.a : s.a + begin;
+        const std::uint32_t* b = kListed ? chunk.b : s.b + begin;
+        auto spring = [&](std::size_t i) { return kListed ? chunkList[i] : static_cast<std::uint32_t>(begin + i); };
         std::size_t i = 0;
-        for (; i + lanes <= size; i += lanes) {
-            for (std::size_t lane = 0; lane < lanes; ++lane)
-                spring[lane] = kListed ? list[begin + i + lane] : static_cast<std::uint32_t>(begin + i + lane);
-            ComputeGroup(s, spring, !kListed, nodeCount, x, v, chunk, i);
-        }
-        for (; i < size; ++i) {
-            const std::uint32_t k = kListed ? list[begin + i] : static_cast<std::uint32_t>(begin + i);
-            chunk.a[i] = s.a[k], chunk.b[i] = s.b[k];
-            chunk.apart[i] = springForce(s, k, x, v, chunk.x[i], chunk.y[i], chunk.z[i]);
-        }
-        for (i = 0; i < size; ++i)
-            if (chunk.apart[i]) addToEnds(chunk.a[i], chunk.b[i], chunk.x[i], chunk.y[i], chunk.z[i], f);
+        for (; i + lanes <= size; i += lanes)
+            if (!ComputeGroup(s, a + i, b + i, spring(i), kListed ? chunkList + i : nullptr, lastNode, x, v, chunk, i))
+                for (std::size_t j = i; j < i + lanes; ++j)
+                    chunk.apart[j] = springForce(s, spring(j), x, v, chunk.x[j], chunk.y[j], chunk.z[j]);
+        for (; i < size; ++i) chunk.apart[i] = springForce(s, spring(i), x, v, chunk.x[i], chunk.y[i], chunk.z[i]);
+        AddChunk(a, b, chunk, size, f);
     }
 }
 
