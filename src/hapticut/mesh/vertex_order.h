@@ -1,6 +1,6 @@
 // Vertex order for memory locality: a mesh whose vertices come in no spatial order (a decimator's or an
-// exporter's) makes every spring, product and refit jump through memory; renumbered along a Z-order
-// (Morton) curve, neighbours sit close together in every per-node array.
+// exporter's) makes every spring, product and refit jump through memory; renumbered in reverse
+// Cuthill-McKee order, neighbours sit close together in every per-node array.
 #pragma once
 
 #include "hapticut/mesh/surface_mesh.h"
@@ -18,11 +18,11 @@ struct VertexOrderResult {
     std::vector<std::uint32_t> previousIndex;
 };
 
-/// Renumbers the vertices along a Morton curve through the bounding box, and sorts the faces by their
-/// lowest vertex and the edges as edgesOfFaces does, when that brings the edges' mean span down to less
-/// than a quarter of what it was; otherwise leaves the mesh as it is (an order already spatial, such as
-/// the procedural heart's or a marching-cubes surface's, is kept). UVs, normals and parts go with their
-/// faces.
+/// Renumbers the vertices in reverse Cuthill-McKee order over the edges, one connected part after
+/// another, and sorts the faces by their lowest vertex and the edges as edgesOfFaces does, when that
+/// brings the edges' mean span down to less than a quarter of what it was; otherwise leaves the mesh as
+/// it is (an order already local, such as the procedural heart's or a marching-cubes surface's, is
+/// kept). UVs, normals and parts go with their faces.
 VertexOrderResult orderVerticesForLocality(SurfaceMesh& mesh);
 
 }  // namespace hapticut::mesh
