@@ -94,7 +94,8 @@ PYBIND11_MODULE(_hapticut, module) {
                 return fileVertices(m.source.vertexOrder.previousIndex, m.source.mesh.positions.size());
             },
             "(N,) uint32: each vertex's index in the file it came from. A file whose vertices came in no spatial "
-            "order is renumbered in reverse Cuthill-McKee order when it loads, for speed; otherwise this is 0, 1, 2, ...")
+            "order is renumbered in reverse Cuthill-McKee order when it loads, for speed; otherwise this is 0, 1, 2, "
+            "...")
         .def_property_readonly(
             "part_names", [](const Model& m) { return m.source.mesh.partNames; },
             "the named parts (OBJ objects and groups, glTF and FBX meshes); empty for a model of one part")

@@ -189,7 +189,8 @@ void bindSimulation(py::module_& module) {
                 return fileVertices(source.vertexOrder.previousIndex, source.mesh.positions.size());
             },
             "(N0,) uint32: for the N0 nodes the organ had when it loaded, each one's vertex index in the model file "
-            "(a file in no spatial order is renumbered in reverse Cuthill-McKee order for speed; otherwise 0, 1, 2, ...); "
+            "(a file in no spatial order is renumbered in reverse Cuthill-McKee order for speed; otherwise 0, 1, 2, "
+            "...); "
             "the nodes cuts add come after them")
         .def_property_readonly("time_s", &Simulation::time_s, "simulated time so far (s)")
         .def_property_readonly("steps", &Simulation::steps, "steps taken")

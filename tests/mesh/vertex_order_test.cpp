@@ -124,8 +124,10 @@ TEST(VertexOrder, ShuffledPartsAreNumberedOneAfterAnotherEachInANarrowBand) {
     std::uint32_t lastLeft = 0, firstRight = 2 * n, lastRight = 0, firstLeft = 2 * n;
     for (std::uint32_t i = 0; i < 2 * n; ++i) {
         const bool left = m.positions[i].x() < 0.1;
-        if (left) lastLeft = std::max(lastLeft, i), firstLeft = std::min(firstLeft, i);
-        else lastRight = std::max(lastRight, i), firstRight = std::min(firstRight, i);
+        if (left)
+            lastLeft = std::max(lastLeft, i), firstLeft = std::min(firstLeft, i);
+        else
+            lastRight = std::max(lastRight, i), firstRight = std::min(firstRight, i);
     }
     EXPECT_TRUE(lastLeft < firstRight || lastRight < firstLeft)
         << "left " << firstLeft << "-" << lastLeft << ", right " << firstRight << "-" << lastRight;

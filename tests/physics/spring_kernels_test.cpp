@@ -173,5 +173,79 @@ TEST(SpringKernels, EveryInstructionSetGivesTheImplicitTermsOfTheJacobian) {
     EXPECT_TRUE(kernels::forceTarget(nullptr));
 }
 
+// The preconditioner's blocks: every row's diagonal term plus its couplings' c0 I + u uᵀ, inverted. Two
+// slices of rows of different lengths (the padding slots coupled to their own row at zero), and a
+// padding row whose singular block the caller replaces.
+TEST(SpringKernels, EveryInstructionSetInvertsEachRowsBlockToTheScalarLoopsBits) {
+    constexpr std::size_t kSlice = kernels::kSliceRows;
+    const std::size_t rows = 2 * kSlice, realRows = rows - 1;
+    std::vector<std::size_t> length(rows);
+    kernels::SlicedCouplings c;
+    c.sliceBegin = {0};
+    std::vector<double> diagonal(rows, 0.0);
+    for (std::size_t slice = 0; slice < 2; ++slice) {
+        std::size_t width = 0;
+        for (std::size_t lane = 0; lane < kSlice; ++lane) {
+            const std::size_t k = slice * kSlice + lane;
+            length[k] = k < realRows ? (3 * k + 1) % 9 : 0;  // 0 to 8 couplings
+            width = std::max(width, length[k]);
+            if (k < realRows) diagonal[k] = 1e-3 * (1 + 0.1 * std::sin(static_cast<double>(k)));
+        }
+        const std::size_t begin = c.sliceBegin.back();
+        c.sliceBegin.push_back(static_cast<std::uint32_t>(begin + width * kSlice));
+        for (auto* a : {&c.c0, &c.ux, &c.uy, &c.uz}) a->resize(c.sliceBegin.back(), 0.0f);
+        c.other.resize(c.sliceBegin.back());
+        for (std::size_t j = 0; j < width; ++j)
+            for (std::size_t lane = 0; lane < kSlice; ++lane) {
+                const std::size_t k = slice * kSlice + lane, slot = begin + j * kSlice + lane;
+                c.other[slot] = static_cast<std::int32_t>(k);
+                if (j >= length[k]) continue;
+                const Vec3 u = test::wobble(7 * slot + j, 0.03);
+                c.c0[slot] = static_cast<float>(2e-5 * (1 + std::cos(static_cast<double>(slot)))), c.ux[slot] = u.x();
+                c.uy[slot] = u.y(), c.uz[slot] = u.z();
+            }
+    }
+    // The loop the kernel replaces, one row at a time in the couplings' order.
+    kernels::SymmetricBlocks expected;
+    expected.resize(rows);
+    for (std::size_t k = 0; k < realRows; ++k) {
+        double xx = diagonal[k], xy = 0, xz = 0, yy = diagonal[k], yz = 0, zz = diagonal[k];
+        const std::size_t slice = k / kSlice, lane = k % kSlice;
+        for (std::size_t j = 0; j < length[k]; ++j) {
+            const std::size_t slot = c.sliceBegin[slice] + j * kSlice + lane;
+            const double ux = c.ux[slot], uy = c.uy[slot], uz = c.uz[slot];
+            xx += c.c0[slot] + ux * ux, xy += ux * uy, xz += ux * uz;
+            yy += c.c0[slot] + uy * uy, yz += uy * uz, zz += c.c0[slot] + uz * uz;
+        }
+        const double cxx = yy * zz - yz * yz, cxy = xz * yz - xy * zz, cxz = xy * yz - xz * yy;
+        const double inverseDet = 1 / (xx * cxx + xy * cxy + xz * cxz);
+        const auto f = [&](double value) { return static_cast<float>(value * inverseDet); };
+        expected.xx[k] = f(cxx), expected.xy[k] = f(cxy), expected.xz[k] = f(cxz);
+        expected.yy[k] = f(xx * zz - xz * xz), expected.yz[k] = f(xy * xz - xx * yz),
+        expected.zz[k] = f(xx * yy - xy * xy);
+        // And it is the block's inverse.
+        Mat3 block;
+        block << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+        Mat3 inverse;
+        inverse << expected.xx[k], expected.xy[k], expected.xz[k], expected.xy[k], expected.yy[k], expected.yz[k],
+            expected.xz[k], expected.yz[k], expected.zz[k];
+        ASSERT_LT((block * inverse - Mat3::Identity()).norm(), 1e-5) << "row " << k;
+    }
+    for (const char* target : kernels::supportedTargets()) {
+        ASSERT_TRUE(kernels::forceTarget(target)) << target;
+        kernels::SymmetricBlocks inverse;
+        inverse.resize(rows);
+        kernels::invertRowBlocks(c, rows, diagonal.data(), inverse);
+        for (std::size_t k = 0; k < realRows; ++k)
+            for (auto member :
+                 {&kernels::SymmetricBlocks::xx, &kernels::SymmetricBlocks::xy, &kernels::SymmetricBlocks::xz,
+                  &kernels::SymmetricBlocks::yy, &kernels::SymmetricBlocks::yz, &kernels::SymmetricBlocks::zz})
+                ASSERT_EQ(std::memcmp(&(inverse.*member)[k], &(expected.*member)[k], sizeof(float)), 0)
+                    << target << " row " << k << ": " << (inverse.*member)[k] << " against " << (expected.*member)[k];
+        EXPECT_FALSE(std::isfinite(inverse.xx[realRows])) << target << ": a padding row's block is singular";
+    }
+    EXPECT_TRUE(kernels::forceTarget(nullptr));
+}
+
 }  // namespace
 }  // namespace hapticut::physics

@@ -154,20 +154,30 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
             pinned_[k] = 1;
             diagonal_[k] = 0;
             setBlock(toResting_, k, Mat3::Zero());
-            setBlock(inverseBlock_, k, Mat3::Zero());
             rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
             continue;
         }
-        // The row's diagonal block, m + h d + h² k and its springs' blocks, from the couplings as the
-        // product reads them (in single precision: a preconditioner need not be exact).
-        double xx = diagonal_[k], xy = 0, xz = 0, yy = diagonal_[k], yz = 0, zz = diagonal_[k];
-        if (restingOf_[k] == kNoResting) {
-            setBlock(toResting_, k, Mat3::Zero());
-        } else {
-            const Mat3& r = restingSum_[restingOf_[k]];
-            setBlock(toResting_, k, r);
-            xx += r(0, 0), xy += r(0, 1), xz += r(0, 2), yy += r(1, 1), yz += r(1, 2), zz += r(2, 2);
+        setBlock(toResting_, k, restingOf_[k] == kNoResting ? Mat3::Zero() : restingSum_[restingOf_[k]]);
+    }
+    for (std::size_t k = count; k < rows_; ++k) {  // the padding rows are zero throughout
+        setBlock(toResting_, k, Mat3::Zero());
+        rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
+    }
+    sliceCouplings();
+    // The preconditioner: each row's diagonal block, m + h d + h² k and its springs' blocks, from the
+    // couplings as the product reads them (in single precision: a preconditioner need not be exact),
+    // inverted by the SIMD kernel a slice at a time. The few rows with springs to resting neighbours
+    // add those in double, so they are summed again here, and pinned and padding rows have none.
+    kernels::invertRowBlocks(sliced_, rows_, diagonal_.data(), inverseBlock_);
+    for (std::uint32_t k = 0; k < count; ++k) {
+        if (pinned_[k]) {
+            setBlock(inverseBlock_, k, Mat3::Zero());
+            continue;
         }
+        if (restingOf_[k] == kNoResting) continue;
+        const Mat3& r = restingSum_[restingOf_[k]];
+        double xx = diagonal_[k] + r(0, 0), xy = r(0, 1), xz = r(0, 2), yy = diagonal_[k] + r(1, 1), yz = r(1, 2),
+               zz = diagonal_[k] + r(2, 2);
         for (std::uint32_t j = rowStart_[k]; j < rowStart_[k + 1]; ++j) {
             const Coupling& c = couplings_[j];
             const double ux = c.ux, uy = c.uy, uz = c.uz;
@@ -176,12 +186,7 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         }
         setSymmetricInverse(inverseBlock_, k, xx, xy, xz, yy, yz, zz);  // definite: the mass alone makes it so
     }
-    for (std::size_t k = count; k < rows_; ++k) {  // the padding rows are zero throughout
-        setBlock(toResting_, k, Mat3::Zero());
-        setBlock(inverseBlock_, k, Mat3::Zero());
-        rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
-    }
-    sliceCouplings();
+    for (std::size_t k = count; k < rows_; ++k) setBlock(inverseBlock_, k, Mat3::Zero());
 }
 
 void BackwardEulerSystem::sliceCouplings() {

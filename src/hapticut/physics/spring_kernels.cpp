@@ -286,6 +286,47 @@ void SpringJacobiansOf(const SpringArrays& s, const std::uint32_t* list, std::si
     for (; i < count; ++i) springJacobian(s, list[i], x, v, h, first, out, i);
 }
 
+void InvertRowBlocks(const SlicedCouplings& c, std::size_t rows, const double* HWY_RESTRICT diagonal,
+                     SymmetricBlocks& inverse) {
+    // Every target's lanes divide a slice; the full-width tag's, which may be wider than the forces'.
+    using DF = hn::ScalableTag<double>;
+    const DF d;
+    const hn::Rebind<float, DF> df;
+    const std::size_t lanes = hn::Lanes(d);
+    auto widened = [&](const std::vector<float>& a, std::size_t at) { return hn::PromoteTo(d, hn::LoadU(df, &a[at])); };
+    auto store = [&](hn::Vec<DF> value, std::vector<float>& a, std::size_t at) {
+        hn::StoreU(hn::DemoteTo(df, value), df, &a[at]);
+    };
+    for (std::size_t slice = 0; slice * kSliceRows < rows; ++slice) {
+        const std::size_t begin = c.sliceBegin[slice];
+        const std::size_t width = (c.sliceBegin[slice + 1] - begin) / kSliceRows;
+        for (std::size_t group = 0; group < kSliceRows; group += lanes) {
+            const std::size_t row = slice * kSliceRows + group;
+            auto xx = hn::LoadU(d, diagonal + row), yy = xx, zz = xx;
+            auto xy = hn::Zero(d), xz = xy, yz = xy;
+            for (std::size_t j = 0; j < width; ++j) {
+                const std::size_t slot = begin + j * kSliceRows + group;
+                const auto c0 = widened(c.c0, slot), ux = widened(c.ux, slot);
+                const auto uy = widened(c.uy, slot), uz = widened(c.uz, slot);
+                xx = hn::Add(xx, hn::Add(c0, hn::Mul(ux, ux))), xy = hn::Add(xy, hn::Mul(ux, uy));
+                xz = hn::Add(xz, hn::Mul(ux, uz));
+                yy = hn::Add(yy, hn::Add(c0, hn::Mul(uy, uy))), yz = hn::Add(yz, hn::Mul(uy, uz));
+                zz = hn::Add(zz, hn::Add(c0, hn::Mul(uz, uz)));
+            }
+            const auto cxx = hn::Sub(hn::Mul(yy, zz), hn::Mul(yz, yz));
+            const auto cxy = hn::Sub(hn::Mul(xz, yz), hn::Mul(xy, zz));
+            const auto cxz = hn::Sub(hn::Mul(xy, yz), hn::Mul(xz, yy));
+            const auto det = hn::Add(hn::Add(hn::Mul(xx, cxx), hn::Mul(xy, cxy)), hn::Mul(xz, cxz));
+            const auto inverseDet = hn::Div(hn::Set(d, 1.0), det);
+            store(hn::Mul(cxx, inverseDet), inverse.xx, row), store(hn::Mul(cxy, inverseDet), inverse.xy, row);
+            store(hn::Mul(cxz, inverseDet), inverse.xz, row);
+            store(hn::Mul(hn::Sub(hn::Mul(xx, zz), hn::Mul(xz, xz)), inverseDet), inverse.yy, row);
+            store(hn::Mul(hn::Sub(hn::Mul(xy, xz), hn::Mul(xx, yz)), inverseDet), inverse.yz, row);
+            store(hn::Mul(hn::Sub(hn::Mul(xx, yy), hn::Mul(xy, xy)), inverseDet), inverse.zz, row);
+        }
+    }
+}
+
 }  // namespace hapticut::physics::kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
@@ -295,6 +336,7 @@ namespace hapticut::physics::kernels {
 HWY_EXPORT(AddSpringForces);
 HWY_EXPORT(AddListedSpringForces);
 HWY_EXPORT(SpringJacobiansOf);
+HWY_EXPORT(InvertRowBlocks);
 
 void addSpringForces(const SpringArrays& springs, std::size_t count, std::size_t nodes, const double* x,
                      const double* v, double* f) {
@@ -309,6 +351,11 @@ void addListedSpringForces(const SpringArrays& springs, const std::uint32_t* lis
 void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
                      const double* x, const double* v, double h, bool firstLinearisation, SpringJacobians& out) {
     HWY_DYNAMIC_DISPATCH(SpringJacobiansOf)(springs, list, count, nodes, x, v, h, firstLinearisation, out);
+}
+
+void invertRowBlocks(const SlicedCouplings& couplings, std::size_t rows, const double* diagonal,
+                     SymmetricBlocks& inverse) {
+    HWY_DYNAMIC_DISPATCH(InvertRowBlocks)(couplings, rows, diagonal, inverse);
 }
 
 }  // namespace hapticut::physics::kernels

@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "hapticut/physics/solver_kernels.h"
+
 namespace hapticut::physics::kernels {
 
 /// The springs' arrays as the kernel reads them (Springs in mass_spring_model.h).
@@ -43,5 +45,14 @@ struct SpringJacobians {
 /// step of h seconds; `firstLinearisation` adds h² K dv to the right-hand side.
 void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
                      const double* x, const double* v, double h, bool firstLinearisation, SpringJacobians& out);
+
+/// The block-Jacobi preconditioner of rows [0, rows) (a whole number of slices): each row's block
+/// diagonal[k] I + Σ_j (c0 I + u uᵀ) over its slots in `couplings` (padding slots add nothing), summed
+/// in double in the slots' order and inverted by its cofactors, into `inverse` in single precision. The
+/// same bits as that loop written out for one row (BackwardEulerSystem::setSymmetricInverse); a row
+/// whose block is singular (a padding row's, diagonal zero) gets non-finite entries for the caller to
+/// replace.
+void invertRowBlocks(const SlicedCouplings& couplings, std::size_t rows, const double* diagonal,
+                     SymmetricBlocks& inverse);
 
 }  // namespace hapticut::physics::kernels
