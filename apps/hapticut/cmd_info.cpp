@@ -44,6 +44,12 @@ int info(const InfoOptions& o) {
                 r.bboxMin.z(), r.bboxMax.x(), r.bboxMax.y(), r.bboxMax.z());
     std::printf("  min angle %.2f deg, mean edge %.4g m, shortest edge %.4g m, area %.4g m^2\n", r.minAngleDeg,
                 r.meanEdgeLength_m, r.shortestEdge_m, r.area_m2);
+    const mesh::VertexOrderResult& order = source->vertexOrder;
+    if (order.renumbered)
+        std::printf("  vertex order: renumbered for locality (reverse Cuthill-McKee), mean edge span %.0f -> %.0f\n",
+                    order.spanBefore, order.spanAfter);
+    else
+        std::printf("  vertex order: kept, mean edge span %.0f\n", order.spanBefore);
     for (const mesh::PartSummary& p : mesh::summariseParts(source->mesh))
         std::printf("  part '%s': %zu faces, %zu vertices, %s\n", p.name.c_str(), p.faces, p.vertices,
                     p.closed() ? "closed" : (std::to_string(p.boundaryEdges) + " boundary edges").c_str());

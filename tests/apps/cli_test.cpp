@@ -313,6 +313,8 @@ TEST_F(Cli, ARemeshedModelIsRenumberedForLocalityAndBenchMeasuresIt) {
     EXPECT_LT(info["vertex_order"]["mean_edge_span_after"].get<double>(),
               0.25 * info["vertex_order"]["mean_edge_span_before"].get<double>());
     EXPECT_EQ(nlohmann::json::parse(run("info heart --json").out)["vertex_order"]["renumbered"], false);
+    EXPECT_NE(run("info " + path("r.obj")).out.find("vertex order: renumbered for locality"), std::string::npos);
+    EXPECT_NE(run("info heart").out.find("vertex order: kept,"), std::string::npos);
 
     const CliResult b =
         run("bench --model " + path("r.obj") + " --integrators rk4 --seconds 0.02 --json " + path("b.json"));
