@@ -59,12 +59,14 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     const bool closedOrgan = organ.closedBeforeCuts();
     // Volume and strain, for the report: passes over the whole organ, taken a slice a step so that no
     // step of a large organ pays for all of it (the observer runs on the loop's thread in real time).
-    // A volume sums its slices, current and rest shape alike; a cut during a pass spoils it.
+    // A volume sums its slices, current and rest shape alike; a cut during a pass spoils it. The rest
+    // shape's changes only with a cut, so a sound pass's rest volume serves every pass after it until
+    // the next one.
     constexpr std::size_t kFacesPerStep = 2'000, kSpringsPerStep = 3'000;
     std::size_t faceCursor = 0, springCursor = 0;
-    double volume_m3 = 0, restVolume_m3 = 0;
-    long passVersion = loop.topologyVersion();
-    bool passSound = true;
+    double volume_m3 = 0, restVolume_m3 = 0, knownRestVolume_m3 = 0;
+    long passVersion = loop.topologyVersion(), knownRestVersion = -1;
+    bool passSound = true, restKnown = false;
     LatencyHistogram cuttingForce_mN(1, 20'000);  // any values, here forces in mN: never allocates
     double minCuttingForce_N = std::numeric_limits<double>::infinity();
     auto observe = [&](const haptics::StepOutput& s) {
@@ -96,17 +98,20 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
             const std::size_t end = std::min(faces.size(), faceCursor + kFacesPerStep);
             const std::span<const mesh::Face> slice = faces.subspan(faceCursor, end - faceCursor);
             volume_m3 += physics::enclosedVolume(model.nodes.position, slice);
-            restVolume_m3 += physics::enclosedVolume(model.nodes.restPosition, slice);
+            if (!restKnown) restVolume_m3 += physics::enclosedVolume(model.nodes.restPosition, slice);
             passSound = passSound && loop.topologyVersion() == passVersion && loop.cutter().woundsClosed();
             faceCursor = end;
             if (faceCursor == faces.size()) {
-                if (passSound && restVolume_m3 > 0) {
+                if (passSound && !restKnown) knownRestVolume_m3 = restVolume_m3, knownRestVersion = passVersion;
+                const double rest_m3 = restKnown ? knownRestVolume_m3 : restVolume_m3;
+                if (passSound && rest_m3 > 0) {
                     r.volumeChangeMax_pct =
-                        std::max(r.volumeChangeMax_pct, 100 * std::abs(volume_m3 - restVolume_m3) / restVolume_m3);
+                        std::max(r.volumeChangeMax_pct, 100 * std::abs(volume_m3 - rest_m3) / rest_m3);
                     ++r.volumeMeasurements;
                 }
                 faceCursor = 0, volume_m3 = restVolume_m3 = 0;
                 passVersion = loop.topologyVersion(), passSound = true;
+                restKnown = knownRestVersion == passVersion;
             }
         }
         const std::size_t springEnd = std::min(model.springs.size(), springCursor + kSpringsPerStep);
