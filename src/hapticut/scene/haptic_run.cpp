@@ -60,7 +60,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     // Volume and strain, for the report: passes over the whole organ, taken a slice a step so that no
     // step of a large organ pays for all of it (the observer runs on the loop's thread in real time).
     // A volume sums its slices, current and rest shape alike; a cut during a pass spoils it. The rest
-    // shape's changes only with a cut, so a sound pass's rest volume serves every pass after it until
+    // shape changes only with a cut, so a sound pass's rest volume serves every pass after it until
     // the next one.
     constexpr std::size_t kFacesPerStep = 2'000, kSpringsPerStep = 3'000;
     std::size_t faceCursor = 0, springCursor = 0;
