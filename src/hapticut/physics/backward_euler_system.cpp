@@ -37,16 +37,6 @@ void BackwardEulerSystem::setBlock(kernels::SymmetricBlocks& blocks, std::size_t
     blocks.yy[k] = f(m(1, 1)), blocks.yz[k] = f(m(1, 2)), blocks.zz[k] = f(m(2, 2));
 }
 
-void BackwardEulerSystem::setSymmetricInverse(kernels::SymmetricBlocks& blocks, std::size_t k, double xx, double xy,
-                                              double xz, double yy, double yz, double zz) {
-    // The adjugate over the determinant, each cofactor once (the block is symmetric, so is its inverse).
-    const double cxx = yy * zz - yz * yz, cxy = xz * yz - xy * zz, cxz = xy * yz - xz * yy;
-    const double inverseDet = 1 / (xx * cxx + xy * cxy + xz * cxz);
-    const auto f = [&](double value) { return static_cast<float>(value * inverseDet); };
-    blocks.xx[k] = f(cxx), blocks.xy[k] = f(cxy), blocks.xz[k] = f(cxz);
-    blocks.yy[k] = f(xx * zz - xz * xz), blocks.yz[k] = f(xy * xz - xx * yz), blocks.zz[k] = f(xx * yy - xy * xy);
-}
-
 void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, SolveRegion region,
                                    std::span<const Vec3> startVelocity) {
     // The first linearisation adds h² K v to the right-hand side; a correction subtracts M (v - v0).
@@ -164,29 +154,10 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
     }
     sliceCouplings();
-    // The preconditioner: each row's diagonal block, m + h d + h² k and its springs' blocks, from the
-    // couplings as the product reads them (in single precision: a preconditioner need not be exact),
-    // inverted by the SIMD kernel a slice at a time. The few rows with springs to resting neighbours
-    // add those in double, so they are summed again here, and pinned and padding rows have none.
-    kernels::invertRowBlocks(sliced_, rows_, diagonal_.data(), inverseBlock_);
-    for (std::uint32_t k = 0; k < count; ++k) {
-        if (pinned_[k]) {
-            setBlock(inverseBlock_, k, Mat3::Zero());
-            continue;
-        }
-        if (restingOf_[k] == kNoResting) continue;
-        const Mat3& r = restingSum_[restingOf_[k]];
-        double xx = diagonal_[k] + r(0, 0), xy = r(0, 1), xz = r(0, 2), yy = diagonal_[k] + r(1, 1), yz = r(1, 2),
-               zz = diagonal_[k] + r(2, 2);
-        for (std::uint32_t j = rowStart_[k]; j < rowStart_[k + 1]; ++j) {
-            const Coupling& c = couplings_[j];
-            const double ux = c.ux, uy = c.uy, uz = c.uz;
-            xx += c.c0 + ux * ux, xy += ux * uy, xz += ux * uz;
-            yy += c.c0 + uy * uy, yz += uy * uz, zz += c.c0 + uz * uz;
-        }
-        setSymmetricInverse(inverseBlock_, k, xx, xy, xz, yy, yz, zz);  // definite: the mass alone makes it so
-    }
-    for (std::size_t k = count; k < rows_; ++k) setBlock(inverseBlock_, k, Mat3::Zero());
+    // The preconditioner: each row's diagonal block, m + h d + h² k and its springs' blocks, as the
+    // product reads them (in single precision: a preconditioner need not be exact), inverted by the
+    // SIMD kernel a slice at a time.
+    kernels::invertRowBlocks(matrix(), inverseBlock_);
 }
 
 void BackwardEulerSystem::sliceCouplings() {

@@ -69,9 +69,6 @@ private:
         float c0, ux, uy, uz;
     };
     static void setBlock(kernels::SymmetricBlocks& blocks, std::size_t k, const Mat3& m);
-    /// Block k of `blocks` = the inverse of the symmetric block with these entries.
-    static void setSymmetricInverse(kernels::SymmetricBlocks& blocks, std::size_t k, double xx, double xy, double xz,
-                                    double yy, double yz, double zz);
     /// Lays the rows' couplings out slice by slice for the kernels (pinned rows get none).
     void sliceCouplings();
 

@@ -286,24 +286,24 @@ void SpringJacobiansOf(const SpringArrays& s, const std::uint32_t* list, std::si
     for (; i < count; ++i) springJacobian(s, list[i], x, v, h, first, out, i);
 }
 
-void InvertRowBlocks(const SlicedCouplings& c, std::size_t rows, const double* HWY_RESTRICT diagonal,
-                     SymmetricBlocks& inverse) {
+void InvertRowBlocks(const SystemRows& a, SymmetricBlocks& inverse) {
     // Every target's lanes divide a slice; the full-width tag's, which may be wider than the forces'.
     using DF = hn::ScalableTag<double>;
     const DF d;
     const hn::Rebind<float, DF> df;
     const std::size_t lanes = hn::Lanes(d);
-    auto widened = [&](const std::vector<float>& a, std::size_t at) { return hn::PromoteTo(d, hn::LoadU(df, &a[at])); };
-    auto store = [&](hn::Vec<DF> value, std::vector<float>& a, std::size_t at) {
-        hn::StoreU(hn::DemoteTo(df, value), df, &a[at]);
-    };
-    for (std::size_t slice = 0; slice * kSliceRows < rows; ++slice) {
+    const SlicedCouplings& c = *a.couplings;
+    const SymmetricBlocks& r = *a.toResting;
+    auto widened = [&](const std::vector<float>& v, std::size_t at) { return hn::PromoteTo(d, hn::LoadU(df, &v[at])); };
+    for (std::size_t slice = 0; slice * kSliceRows < a.rows; ++slice) {
         const std::size_t begin = c.sliceBegin[slice];
         const std::size_t width = (c.sliceBegin[slice + 1] - begin) / kSliceRows;
         for (std::size_t group = 0; group < kSliceRows; group += lanes) {
             const std::size_t row = slice * kSliceRows + group;
-            auto xx = hn::LoadU(d, diagonal + row), yy = xx, zz = xx;
-            auto xy = hn::Zero(d), xz = xy, yz = xy;
+            const auto diagonal = hn::LoadU(d, a.diagonal + row);
+            auto xx = hn::Add(diagonal, widened(r.xx, row)), xy = widened(r.xy, row), xz = widened(r.xz, row);
+            auto yy = hn::Add(diagonal, widened(r.yy, row)), yz = widened(r.yz, row);
+            auto zz = hn::Add(diagonal, widened(r.zz, row));
             for (std::size_t j = 0; j < width; ++j) {
                 const std::size_t slot = begin + j * kSliceRows + group;
                 const auto c0 = widened(c.c0, slot), ux = widened(c.ux, slot);
@@ -317,12 +317,15 @@ void InvertRowBlocks(const SlicedCouplings& c, std::size_t rows, const double* H
             const auto cxy = hn::Sub(hn::Mul(xz, yz), hn::Mul(xy, zz));
             const auto cxz = hn::Sub(hn::Mul(xy, yz), hn::Mul(xz, yy));
             const auto det = hn::Add(hn::Add(hn::Mul(xx, cxx), hn::Mul(xy, cxy)), hn::Mul(xz, cxz));
-            const auto inverseDet = hn::Div(hn::Set(d, 1.0), det);
-            store(hn::Mul(cxx, inverseDet), inverse.xx, row), store(hn::Mul(cxy, inverseDet), inverse.xy, row);
-            store(hn::Mul(cxz, inverseDet), inverse.xz, row);
-            store(hn::Mul(hn::Sub(hn::Mul(xx, zz), hn::Mul(xz, xz)), inverseDet), inverse.yy, row);
-            store(hn::Mul(hn::Sub(hn::Mul(xy, xz), hn::Mul(xx, yz)), inverseDet), inverse.yz, row);
-            store(hn::Mul(hn::Sub(hn::Mul(xx, yy), hn::Mul(xy, xy)), inverseDet), inverse.zz, row);
+            // A row without a diagonal (pinned, or padding) is left out of the solve: a zero block.
+            const auto inverseDet = hn::IfThenZeroElse(hn::Eq(diagonal, hn::Zero(d)), hn::Div(hn::Set(d, 1.0), det));
+            auto store = [&](hn::Vec<DF> value, std::vector<float>& v) {
+                hn::StoreU(hn::DemoteTo(df, hn::Mul(value, inverseDet)), df, &v[row]);
+            };
+            store(cxx, inverse.xx), store(cxy, inverse.xy), store(cxz, inverse.xz);
+            store(hn::Sub(hn::Mul(xx, zz), hn::Mul(xz, xz)), inverse.yy);
+            store(hn::Sub(hn::Mul(xy, xz), hn::Mul(xx, yz)), inverse.yz);
+            store(hn::Sub(hn::Mul(xx, yy), hn::Mul(xy, xy)), inverse.zz);
         }
     }
 }
@@ -353,9 +356,8 @@ void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std
     HWY_DYNAMIC_DISPATCH(SpringJacobiansOf)(springs, list, count, nodes, x, v, h, firstLinearisation, out);
 }
 
-void invertRowBlocks(const SlicedCouplings& couplings, std::size_t rows, const double* diagonal,
-                     SymmetricBlocks& inverse) {
-    HWY_DYNAMIC_DISPATCH(InvertRowBlocks)(couplings, rows, diagonal, inverse);
+void invertRowBlocks(const SystemRows& rows, SymmetricBlocks& inverse) {
+    HWY_DYNAMIC_DISPATCH(InvertRowBlocks)(rows, inverse);
 }
 
 }  // namespace hapticut::physics::kernels

@@ -46,13 +46,10 @@ struct SpringJacobians {
 void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
                      const double* x, const double* v, double h, bool firstLinearisation, SpringJacobians& out);
 
-/// The block-Jacobi preconditioner of rows [0, rows) (a whole number of slices): each row's block
-/// diagonal[k] I + Σ_j (c0 I + u uᵀ) over its slots in `couplings` (padding slots add nothing), summed
-/// in double in the slots' order and inverted by its cofactors, into `inverse` in single precision. The
-/// same bits as that loop written out for one row (BackwardEulerSystem::setSymmetricInverse); a row
-/// whose block is singular (a padding row's, diagonal zero) gets non-finite entries for the caller to
-/// replace.
-void invertRowBlocks(const SlicedCouplings& couplings, std::size_t rows, const double* diagonal,
-                     SymmetricBlocks& inverse);
+/// The block-Jacobi preconditioner of `rows` (a whole number of slices): each row's block, diagonal I
+/// plus its block to resting neighbours plus Σ_j (c0 I + u uᵀ) over its slots (padding slots add
+/// nothing), as the product reads them, summed in double in that order and inverted by its cofactors,
+/// into `inverse` in single precision. A row whose diagonal is zero (pinned, or padding) gets a zero block.
+void invertRowBlocks(const SystemRows& rows, SymmetricBlocks& inverse);
 
 }  // namespace hapticut::physics::kernels
