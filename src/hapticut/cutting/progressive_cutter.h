@@ -90,6 +90,10 @@ private:
     bool fanContains(std::uint32_t vertex, const Vec3& q) const;
     /// Adds the next cut point toward q across the fan of the last one; false when there is none.
     bool crossToward(const Vec3& q);
+    /// The neighbour of the last point, over the organ's surface and not yet in the cut, whose edge
+    /// leads most nearly toward q, within kMostAskewStep of the way.
+    std::optional<std::uint32_t> neighbourToward(const Vec3& q) const;
+    static constexpr double kMostAskewStep = 0.25;  // the cosine of 75 degrees
     /// The cut's point on edge (a, b) at a + u (b - a): a new vertex, or an end of the edge when the
     /// split would be too close to it or make a sliver.
     std::uint32_t pointOnEdge(std::uint32_t a, std::uint32_t b, double u);
@@ -128,7 +132,7 @@ private:
     bool wholeAtStart_ = true;    // with asserts: every invariant held before the first cut (else an unrepaired import)
     std::vector<std::uint32_t> nearbyFaces_, ring_;  // scratch for projectBlade
     struct Crossing {                                // an edge the way to the blade crosses
-        double gap;
+        double along;                                // where, as a fraction of the way
         std::uint32_t a, b;
         double u;
     };
