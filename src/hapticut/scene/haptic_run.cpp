@@ -66,7 +66,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     std::size_t faceCursor = 0, springCursor = 0;
     double volume_m3 = 0, restVolume_m3 = 0, knownRestVolume_m3 = 0;
     long passVersion = loop.topologyVersion(), knownRestVersion = -1;
-    bool passSound = true, restKnown = false;
+    bool passSound = true;
     LatencyHistogram cuttingForce_mN(1, 20'000);  // any values, here forces in mN: never allocates
     double minCuttingForce_N = std::numeric_limits<double>::infinity();
     auto observe = [&](const haptics::StepOutput& s) {
@@ -98,6 +98,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
             const std::size_t end = std::min(faces.size(), faceCursor + kFacesPerStep);
             const std::span<const mesh::Face> slice = faces.subspan(faceCursor, end - faceCursor);
             volume_m3 += physics::enclosedVolume(model.nodes.position, slice);
+            const bool restKnown = knownRestVersion == passVersion;
             if (!restKnown) restVolume_m3 += physics::enclosedVolume(model.nodes.restPosition, slice);
             passSound = passSound && loop.topologyVersion() == passVersion && loop.cutter().woundsClosed();
             faceCursor = end;
@@ -111,7 +112,6 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
                 }
                 faceCursor = 0, volume_m3 = restVolume_m3 = 0;
                 passVersion = loop.topologyVersion(), passSound = true;
-                restKnown = knownRestVersion == passVersion;
             }
         }
         const std::size_t springEnd = std::min(model.springs.size(), springCursor + kSpringsPerStep);
