@@ -234,6 +234,53 @@ TEST(Bvh, FacesWhoseCornersChangedAreFoundWithoutARefit) {
     expectMatchesBruteForce(bvh, s, rng, 100);
 }
 
+// The queries walk boxes stored in single precision: widened by the rounding's bound, they must stay
+// exact for an organ of any size and anywhere, and for queries from far away. A tiny organ, one the
+// size of a room, one 40 m from the origin; segments lying in the boxes' face planes, and segments
+// from a kilometre off that end on a vertex.
+TEST(Bvh, QueriesStayExactForOrgansOfAnySizeFarFromTheOriginAndFromFarAway) {
+    std::mt19937 rng(12);
+    const Soup heart = heartSoup(1619);
+    for (const auto& [scale, offset] : {std::pair{1e-3, Vec3(0, 0, 0)}, std::pair{30.0, Vec3(0, 0, 0)},
+                                        std::pair{1.0, Vec3(25, -40, 7)}, std::pair{1e-2, Vec3(-3, 2, 1)}}) {
+        Soup s = heart;
+        for (Vec3& p : s.positions) p = offset + scale * p;
+        Bvh bvh;
+        bvh.build(s.view());
+        std::uniform_real_distribution<double> u(-0.09, 0.09);
+        std::uniform_int_distribution<std::size_t> vertex(0, s.positions.size() - 1);
+        std::normal_distribution<double> n(0, 1);
+        std::vector<std::pair<Vec3, Vec3>> segments;
+        for (int q = 0; q < 150; ++q) {
+            const Vec3 target = s.positions[vertex(rng)];
+            const int axis = q % 3;
+            Vec3 a = target, b = target;
+            a[axis] -= 0.2 * scale;
+            b[axis] += 0.2 * scale;
+            segments.emplace_back(a, b);                                                          // in face planes
+            segments.emplace_back(target + 1000 * scale * Vec3(n(rng), n(rng), n(rng)), target);  // from afar
+            segments.emplace_back(offset + scale * Vec3(u(rng), u(rng), u(rng)),
+                                  offset + scale * Vec3(u(rng), u(rng), u(rng)));
+        }
+        for (const auto& [a, b] : segments) {
+            int crossings = 0;
+            const auto brute = bruteFirstHit(s, a, b, &crossings);
+            const auto hit = bvh.firstHit(s.view(), a, b);
+            ASSERT_EQ(hit.has_value(), brute.has_value()) << "scale " << scale;
+            if (hit) {
+                EXPECT_DOUBLE_EQ(hit->t, *brute);
+            }
+            EXPECT_EQ(bvh.countCrossings(s.view(), a, b), crossings) << "scale " << scale;
+            for (const Vec3& p : {a, b}) {
+                const auto closest = bvh.closestPoint(s.view(), p);
+                ASSERT_TRUE(closest.has_value());
+                EXPECT_NEAR(closest->distance, bruteClosest(s, p), 1e-14 * (scale + closest->distance))
+                    << "scale " << scale;
+            }
+        }
+    }
+}
+
 TEST(Bvh, SegmentThroughASharedEdgeOrVertexHitsTheSurface) {
     // A flat square of two triangles; segments through the diagonal and the corner must hit.
     Soup s;

@@ -1,9 +1,11 @@
 // Bounding volume hierarchy over triangles. Nodes are stored in preorder, so a reverse sweep refits
-// every box from its children, and a traversal needs only a fixed-size stack.
+// every box from its children; every box written is copied into the wide tree the queries walk, and
+// a traversal needs only a fixed-size stack.
 #include "hapticut/collision/bvh.h"
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 
 #include "hapticut/common/assert.h"
@@ -12,65 +14,27 @@
 
 namespace hapticut::collision {
 
-namespace {
-
-double boxDistanceSquared(const geometry::Aabb& box, const Vec3& p) {
-    const Vec3 d = (box.min - p).cwiseMax(p - box.max).cwiseMax(0.0);
-    return d.squaredNorm();
-}
-
-/// A segment from + t·dir, t in [0, 1], ready for slab tests: 1 / dir per axis, and which axes it runs
-/// parallel to (there 1 / dir is infinite, and a segment in a box's face plane would give 0 · inf).
-struct SlabSegment {
-    Vec3 from, invDir;
-    std::array<bool, 3> parallel{};
-    SlabSegment(const Vec3& a, const Vec3& b) : from(a) {
-        const Vec3 dir = b - a;
-        for (int k = 0; k < 3; ++k) {
-            parallel[static_cast<std::size_t>(k)] = dir[k] == 0;
-            invDir[k] = dir[k] != 0 ? 1 / dir[k] : 0;
-        }
-    }
-    /// Where the segment enters the box within [0, t_max], or infinity if it misses it. Boxes touching
-    /// the segment only on their faces count.
-    double enters(const geometry::Aabb& box, double t_max) const {
-        double t0 = 0, t1 = t_max;
-        for (int k = 0; k < 3; ++k) {
-            if (parallel[static_cast<std::size_t>(k)]) {  // the same branch for every box of a query
-                if (from[k] < box.min[k] || from[k] > box.max[k]) return std::numeric_limits<double>::infinity();
-                continue;
-            }
-            const double a = (box.min[k] - from[k]) * invDir[k], b = (box.max[k] - from[k]) * invDir[k];
-            t0 = std::max(t0, std::min(a, b));
-            t1 = std::min(t1, std::max(a, b));
-        }
-        return t0 <= t1 ? t0 : std::numeric_limits<double>::infinity();
-    }
-};
-
-}  // namespace
-
 template <class Visit>
 void Bvh::visitLeaf(const Node& leaf, Visit&& visit) const {
     for (std::uint32_t k = leaf.start; k < leaf.start + leaf.count; ++k) visit(faceOrder_[k]);
     for (std::uint32_t f = leaf.added; f != kNone; f = addedNext_[f]) visit(f);
 }
 
-template <class Enter, class Visit>
-void Bvh::traverse(Enter&& enter, Visit&& visit) const {
-    if (nodes_.empty()) return;
-    std::array<std::uint32_t, kMaxDepth> stack;
+template <class Lanes, class Visit>
+void Bvh::traverse(Lanes&& lanes, Visit&& visit) const {
+    if (wide_.empty()) return;
+    std::array<std::uint32_t, kWideStack> stack;
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
-        const Node& node = nodes_[stack[--top]];
-        if (!enter(node.box)) continue;
-        if (node.count > 0) {
-            visitLeaf(node, visit);
-            continue;
+        const WideNode& node = wide_[stack[--top]];
+        for (unsigned mask = lanes(node); mask != 0; mask &= mask - 1) {
+            const std::uint32_t child = node.child[static_cast<std::size_t>(std::countr_zero(mask))];
+            if (child & WideNode::kLeafBit)
+                visitLeaf(nodes_[child & ~WideNode::kLeafBit], visit);
+            else
+                stack[top++] = child;
         }
-        stack[top++] = node.right;
-        stack[top++] = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
     }
 }
 
@@ -99,6 +63,16 @@ void Bvh::build(const SurfaceView& s) {
     leafOf_.assign(n, kNone);
     addedNext_.assign(n, kNone);
     if (n > 0) buildNode(s, 0, n, centroids, 0);
+    wide_.clear();
+    laneSources_.clear();
+    laneOf_.assign(nodes_.size(), kNone);
+    if (n > 0) {
+        wide_.reserve(nodes_.size() / 2 + 1);
+        laneSources_.reserve(nodes_.size() / 2 + 1);
+        wide_.emplace_back();
+        laneSources_.push_back({kNone, kNone, kNone, kNone});
+        collapse(0, 0);
+    }
     staleMark_.assign(nodes_.size(), 0);
     marked_.reserve(nodes_.size());
     markedDeepestFirst_.reserve(nodes_.size());
@@ -140,6 +114,53 @@ std::uint32_t Bvh::buildNode(const SurfaceView& s, std::uint32_t start, std::uin
     return index;
 }
 
+void Bvh::collapse(std::uint32_t node, std::uint32_t wide) {
+    std::array<std::uint32_t, 4> lanes{};
+    int count = 0;
+    auto children = [&](std::uint32_t n, auto&& add) {
+        add(n + 1);
+        add(nodes_[n].right);
+    };
+    if (nodes_[node].count > 0) {
+        lanes[count++] = node;  // a tree that is one leaf: the wide root holds it in its only lane
+    } else {
+        children(node, [&](std::uint32_t c) {
+            if (nodes_[c].count > 0)
+                lanes[count++] = c;
+            else
+                children(c, [&](std::uint32_t g) { lanes[count++] = g; });
+        });
+    }
+    for (int lane = 0; lane < count; ++lane) {
+        const std::uint32_t c = lanes[static_cast<std::size_t>(lane)];
+        std::uint32_t child = c | WideNode::kLeafBit;
+        if (nodes_[c].count == 0) {
+            child = static_cast<std::uint32_t>(wide_.size());
+            wide_.emplace_back();
+            laneSources_.push_back({kNone, kNone, kNone, kNone});
+            collapse(c, child);
+        }
+        wide_[wide].child[static_cast<std::size_t>(lane)] = child;
+        laneSources_[wide][static_cast<std::size_t>(lane)] = c;
+        wide_[wide].lanes |= 1u << lane;
+        laneOf_[c] = 4 * wide + static_cast<std::uint32_t>(lane);
+        publish(c);
+    }
+}
+
+void Bvh::publish(std::size_t i) {
+    const std::uint32_t at = laneOf_[i];
+    if (at == kNone) return;
+    wide_[at / 4].set(static_cast<int>(at % 4), nodes_[i].box);
+}
+
+double Bvh::boxScale() const {
+    // The root's box holds every other: its largest coordinate bounds the magnitude of all of them.
+    if (nodes_.empty()) return 0;
+    const geometry::Aabb& root = nodes_.front().box;
+    return std::max(root.min.cwiseAbs().maxCoeff(), root.max.cwiseAbs().maxCoeff());
+}
+
 void Bvh::recomputeBox(const SurfaceView& s, std::size_t i) {
     Node& node = nodes_[i];
     if (node.count > 0) {
@@ -160,6 +181,11 @@ void Bvh::recomputeBox(const SurfaceView& s, std::size_t i) {
 void Bvh::refit(const SurfaceView& s) {
     // Children come after their parent in preorder, so one pass backwards visits them first.
     for (std::size_t i = nodes_.size(); i-- > 0;) recomputeBox(s, i);
+    // Then every box into the wide tree, in its order: cheaper than writing each as it is recomputed.
+    for (std::size_t w = 0; w < wide_.size(); ++w)
+        for (std::size_t lane = 0; lane < 4; ++lane)
+            if (const std::uint32_t node = laneSources_[w][lane]; node != kNone)
+                wide_[w].set(static_cast<int>(lane), nodes_[node].box);
 }
 
 void Bvh::refitFaces(const SurfaceView& s, std::span<const std::uint32_t> faces) {
@@ -189,7 +215,10 @@ void Bvh::refitFaces(const SurfaceView& s, std::span<const std::uint32_t> faces)
     if (marked_.empty()) return;
     if (8 * marked_.size() > highest) {
         for (std::uint32_t node = highest + 1; node-- > 0;)
-            if (staleMark_[node] == refitCall_) recomputeBox(s, node);
+            if (staleMark_[node] == refitCall_) {
+                recomputeBox(s, node);
+                publish(node);
+            }
         return;
     }
     std::array<std::uint32_t, kMaxDepth + 1> next{};
@@ -200,7 +229,10 @@ void Bvh::refitFaces(const SurfaceView& s, std::span<const std::uint32_t> faces)
     }
     markedDeepestFirst_.resize(marked_.size());
     for (std::uint32_t node : marked_) markedDeepestFirst_[next[nodes_[node].depth]++] = node;
-    for (std::uint32_t node : markedDeepestFirst_) recomputeBox(s, node);
+    for (std::uint32_t node : markedDeepestFirst_) {
+        recomputeBox(s, node);
+        publish(node);
+    }
 }
 
 void Bvh::growToContain(std::uint32_t node, const geometry::Aabb& box) {
@@ -210,6 +242,7 @@ void Bvh::growToContain(std::uint32_t node, const geometry::Aabb& box) {
             return;  // so are its ancestors
         b.grow(box.min);
         b.grow(box.max);
+        publish(node);
     }
 }
 
@@ -250,9 +283,38 @@ void Bvh::facesChanged(const SurfaceView& s, std::span<const std::uint32_t> chan
     }
 }
 
+namespace {
+
+/// A wide node's child waiting on a query's stack, with the key it was accepted by (the squared
+/// distance or the entry along a segment): skipped when popped if a hit found since is nearer.
+struct Pending {
+    std::uint32_t child;
+    float key;
+};
+
+/// Pushes the accepted lanes of `node` farthest first, so that the nearest is searched first and
+/// tightens the bound for the rest.
+template <std::size_t N>
+void pushNearestLast(const WideNode& node, unsigned mask, const Float4& key, std::array<Pending, N>& stack, int& top) {
+    // An insertion sort straight onto the stack: four entries at most, so no copy and no call.
+    const int bottom = top;
+    for (; mask != 0; mask &= mask - 1) {
+        const int lane = std::countr_zero(mask);
+        const Pending entry{node.child[static_cast<std::size_t>(lane)], key[lane]};
+        int j = top++;
+        for (; j > bottom && stack[static_cast<std::size_t>(j - 1)].key < entry.key; --j)
+            stack[static_cast<std::size_t>(j)] = stack[static_cast<std::size_t>(j - 1)];
+        stack[static_cast<std::size_t>(j)] = entry;
+    }
+}
+
+}  // namespace
+
 std::optional<SurfacePoint> Bvh::closestPoint(const SurfaceView& s, const Vec3& p, double max_distance) const {
     std::optional<SurfacePoint> best;
     double bestD2 = max_distance * max_distance;
+    const WidePoint query(p, boxScale());
+    float reach = query.reach(bestD2);
     auto consider = [&](std::uint32_t f) {
         const mesh::Face& face = s.faces[f];
         const auto c =
@@ -261,31 +323,22 @@ std::optional<SurfacePoint> Bvh::closestPoint(const SurfaceView& s, const Vec3& 
         if (d2 < bestD2 || (!best && d2 <= bestD2)) {
             bestD2 = d2;
             best = SurfacePoint{f, c.point, c.bary, 0};
+            reach = query.reach(bestD2);
         }
     };
-    if (!nodes_.empty()) {
-        std::array<std::uint32_t, kMaxDepth> stack;
-        int top = 0;
-        stack[top++] = 0;
-        while (top > 0) {
-            const Node& node = nodes_[stack[--top]];
-            if (boxDistanceSquared(node.box, p) > bestD2) continue;
-            if (node.count > 0) {
-                visitLeaf(node, consider);
-                continue;
-            }
-            const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
-            const double dl = boxDistanceSquared(nodes_[left].box, p),
-                         dr = boxDistanceSquared(nodes_[node.right].box, p);
-            // Push the farther child first, so the nearer one is searched first and tightens the bound.
-            if (dl < dr) {
-                stack[top++] = node.right;
-                stack[top++] = left;
-            } else {
-                stack[top++] = left;
-                stack[top++] = node.right;
-            }
+    std::array<Pending, kWideStack> stack;
+    int top = 0;
+    if (!wide_.empty()) stack[top++] = {0, 0};
+    while (top > 0) {
+        const Pending entry = stack[static_cast<std::size_t>(--top)];
+        if (entry.key > reach) continue;
+        if (entry.child & WideNode::kLeafBit) {
+            visitLeaf(nodes_[entry.child & ~WideNode::kLeafBit], consider);
+            continue;
         }
+        const WideNode& node = wide_[entry.child];
+        Float4 d2;
+        pushNearestLast(node, query.within(node, reach, d2), d2, stack, top);
     }
     if (best) best->distance = std::sqrt(bestD2);
     return best;
@@ -295,7 +348,6 @@ std::optional<SegmentHit> Bvh::firstHit(const SurfaceView& s, const Vec3& from, 
     std::optional<SegmentHit> best;
     double bestT = 1;
     const Vec3 dir = to - from;
-    const SlabSegment segment(from, to);
     auto consider = [&](std::uint32_t f) {
         const mesh::Face& face = s.faces[f];
         const auto hit = geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]],
@@ -305,60 +357,60 @@ std::optional<SegmentHit> Bvh::firstHit(const SurfaceView& s, const Vec3& from, 
             best = SegmentHit{f, hit->t, from + hit->t * dir, hit->bary};
         }
     };
-    if (nodes_.empty()) return best;
     // A box is skipped only where the segment enters it clearly after the best hit: faces meeting at
     // a vertex on the segment give hits within rounding of each other and of their boxes' entries.
-    auto reachable = [&](double t) { return t <= bestT + 1e-9; };
-    // Nearer child first, so that the first hit found cuts the segment short for the rest.
-    struct Entry {
-        std::uint32_t node;
-        double t;  // where the segment enters its box: skipped if a hit found since is nearer
-    };
-    std::array<Entry, kMaxDepth> stack;
+    auto reachable = [&](float t) { return t <= bestT + 1e-9; };
+    const WideSegment segment(from, to, boxScale());
+    std::array<Pending, kWideStack> stack;
     int top = 0;
-    if (const double t = segment.enters(nodes_[0].box, 1); reachable(t)) stack[top++] = {0, t};
+    if (!wide_.empty()) stack[top++] = {0, 0};
     while (top > 0) {
-        const Entry entry = stack[--top];
-        if (!reachable(entry.t)) continue;
-        const Node& node = nodes_[entry.node];
-        if (node.count > 0) {
-            visitLeaf(node, consider);
+        const Pending entry = stack[static_cast<std::size_t>(--top)];
+        if (!reachable(entry.key)) continue;
+        if (entry.child & WideNode::kLeafBit) {
+            visitLeaf(nodes_[entry.child & ~WideNode::kLeafBit], consider);
             continue;
         }
-        const auto left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
-        const double tl = segment.enters(nodes_[left].box, 1), tr = segment.enters(nodes_[node.right].box, 1);
-        const bool leftFirst = tl <= tr;
-        const std::uint32_t nearChild = leftFirst ? left : node.right, farChild = leftFirst ? node.right : left;
-        const double tNear = leftFirst ? tl : tr, tFar = leftFirst ? tr : tl;
-        if (reachable(tFar)) stack[top++] = {farChild, tFar};
-        if (reachable(tNear)) stack[top++] = {nearChild, tNear};
+        const WideNode& node = wide_[entry.child];
+        Float4 t;
+        pushNearestLast(node, segment.meets(node, 1, t), t, stack, top);
     }
     return best;
 }
 
 int Bvh::countCrossings(const SurfaceView& s, const Vec3& from, const Vec3& to) const {
     int crossings = 0;
-    const SlabSegment segment(from, to);
-    traverse([&](const geometry::Aabb& box) { return segment.enters(box, 1) <= 1; },
-             [&](std::uint32_t f) {
-                 const mesh::Face& face = s.faces[f];
-                 if (geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]],
-                                                        s.positions[face[2]]))
-                     ++crossings;
-             });
+    const WideSegment segment(from, to, boxScale());
+    traverse(
+        [&](const WideNode& node) {
+            Float4 t;
+            return segment.meets(node, 1, t);
+        },
+        [&](std::uint32_t f) {
+            const mesh::Face& face = s.faces[f];
+            if (geometry::intersectSegmentTriangle(from, to, s.positions[face[0]], s.positions[face[1]],
+                                                   s.positions[face[2]]))
+                ++crossings;
+        });
     return crossings;
 }
 
 void Bvh::facesWithinRadius(const SurfaceView& s, const Vec3& p, double radius, std::vector<std::uint32_t>& out) const {
     out.clear();
     const double r2 = radius * radius;
-    traverse([&](const geometry::Aabb& box) { return boxDistanceSquared(box, p) <= r2; },
-             [&](std::uint32_t f) {
-                 const mesh::Face& face = s.faces[f];
-                 const auto c = geometry::closestPointOnTriangle(p, s.positions[face[0]], s.positions[face[1]],
-                                                                 s.positions[face[2]]);
-                 if ((c.point - p).squaredNorm() <= r2) out.push_back(f);
-             });
+    const WidePoint query(p, boxScale());
+    const float reach = query.reach(r2);
+    traverse(
+        [&](const WideNode& node) {
+            Float4 d2;
+            return query.within(node, reach, d2);
+        },
+        [&](std::uint32_t f) {
+            const mesh::Face& face = s.faces[f];
+            const auto c =
+                geometry::closestPointOnTriangle(p, s.positions[face[0]], s.positions[face[1]], s.positions[face[2]]);
+            if ((c.point - p).squaredNorm() <= r2) out.push_back(f);
+        });
 }
 
 }  // namespace hapticut::collision

@@ -1,14 +1,17 @@
 // Bounding volume hierarchy over the triangles of a deforming mesh: build, linear-time refit, faces
 // added and changed by cuts in time proportional to the tree's depth, and closest-point, first-hit
-// and radius queries that never allocate.
+// and radius queries that never allocate. A binary tree is built and kept up to date; queries walk
+// the same tree collapsed to four boxes a node (wide_node.h), half as deep and tested four at a time.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <optional>
 #include <span>
 #include <vector>
 
+#include "hapticut/collision/wide_node.h"
 #include "hapticut/geometry/aabb.h"
 #include "hapticut/mesh/surface_mesh.h"
 
@@ -85,15 +88,25 @@ private:
         std::uint32_t depth = 0;      // the root's is 0
     };
     static constexpr int kMaxDepth = 64;
+    // A wide node pops one entry and pushes up to four, on a tree at most kMaxDepth / 2 wide nodes deep.
+    static constexpr int kWideStack = 2 * kMaxDepth;
 
     std::uint32_t buildNode(const SurfaceView& s, std::uint32_t start, std::uint32_t count,
                             std::vector<Vec3>& centroids, int depth);
     geometry::Aabb faceBox(const SurfaceView& s, std::uint32_t f) const;
     /// Node i's box from its faces (a leaf) or its children (an inner node).
     void recomputeBox(const SurfaceView& s, std::size_t i);
-    /// Visits the faces of every leaf whose box (and ancestors' boxes) `enter` accepts.
-    template <class Enter, class Visit>
-    void traverse(Enter&& enter, Visit&& visit) const;
+    /// Collapses the binary tree under `node` into wide node `wide`: its lanes are the node's children,
+    /// or their children where those are inner nodes.
+    void collapse(std::uint32_t node, std::uint32_t wide);
+    /// Copies node i's box into the lane that holds it in the wide tree, if one does (recomputeBox
+    /// leaves that to its callers).
+    void publish(std::size_t i);
+    /// The largest coordinate magnitude of any box: what the wide tree's rounding is relative to.
+    double boxScale() const;
+    /// Visits the faces of every leaf whose lane `lanes` accepts, as bits of a wide node.
+    template <class Lanes, class Visit>
+    void traverse(Lanes&& lanes, Visit&& visit) const;
     template <class Visit>
     void visitLeaf(const Node& leaf, Visit&& visit) const;
     void insertFace(const SurfaceView& s, std::uint32_t f);
@@ -106,6 +119,9 @@ private:
     // refitFaces: per node, the call that last marked it for recomputing; the nodes it marked, and
     // the same deepest first (both reserved for every node at the build).
     std::vector<std::uint32_t> staleMark_, marked_, markedDeepestFirst_;
+    std::vector<WideNode> wide_;
+    std::vector<std::uint32_t> laneOf_;  // per binary node: 4 · wide node + lane holding its box, or kNone
+    std::vector<std::array<std::uint32_t, 4>> laneSources_;  // per wide node: the binary node in each lane
     std::uint32_t refitCall_ = 0;
     std::size_t builtFaces_ = 0, addedFaces_ = 0;
     double margin_m_ = 0;

@@ -148,9 +148,15 @@ void GodObjectProxy::findContact(const collision::SurfaceView& s, const collisio
         // R12: the faces around the touched face's corners first; they hold every face the proxy can
         // slide onto across an edge or a vertex in one step.
         double best = reach * reach;
-        for (std::uint32_t v : s.faces[contact_.face])
-            for (std::uint32_t f : topology_->of(v)) {
+        const mesh::Face& touched = s.faces[contact_.face];
+        for (std::size_t corner = 0; corner < 3; ++corner)
+            for (std::uint32_t f : topology_->of(touched[corner])) {
                 const mesh::Face& face = s.faces[f];
+                // A face round an earlier corner as well was measured there already.
+                auto holds = [&](std::size_t c) {
+                    return face[0] == touched[c] || face[1] == touched[c] || face[2] == touched[c];
+                };
+                if ((corner > 0 && holds(0)) || (corner > 1 && holds(1))) continue;
                 const auto c = geometry::closestPointOnTriangle(position_, s.positions[face[0]], s.positions[face[1]],
                                                                 s.positions[face[2]]);
                 const double d2 = (c.point - position_).squaredNorm();
@@ -233,7 +239,9 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
         planes_[planeCount_++] = {n, n.dot(hit->point) + params_.offset_m};
         goal = applyFriction(constrainedGoal(device_m), device_m, contactStart_);
     }
-    pushOutIfInside(s, bvh);
+    // The face last hit, or touched when the update began, bounds the search for the nearest surface
+    // point: usually it lies within the offset, and the search then looks no farther.
+    pushOutIfInside(s, bvh, lastHitFace);
     findContact(s, bvh);
     return planeCount_;
 }
