@@ -141,14 +141,16 @@ Vec3 GodObjectProxy::applyFriction(const Vec3& goal, const Vec3& device_m, const
     return slip > held ? Vec3(goal + tangential * (held / slip)) : goal;
 }
 
-void GodObjectProxy::findContact(const collision::SurfaceView& s, const collision::Bvh& bvh) {
+void GodObjectProxy::findContact(const collision::SurfaceView& s, const collision::Bvh& bvh,
+                                 std::optional<std::uint32_t> touched_face) {
     const double reach = 3 * params_.offset_m;
     std::optional<collision::SurfacePoint> near;
-    if (contact_.active && topology_ && contact_.face < s.faces.size()) {
+    if (!touched_face && contact_.active) touched_face = contact_.face;
+    if (touched_face && topology_ && *touched_face < s.faces.size()) {
         // R12: the faces around the touched face's corners first; they hold every face the proxy can
         // slide onto across an edge or a vertex in one step.
         double best = reach * reach;
-        const mesh::Face& touched = s.faces[contact_.face];
+        const mesh::Face& touched = s.faces[*touched_face];
         for (std::size_t corner = 0; corner < 3; ++corner)
             for (std::uint32_t f : topology_->of(touched[corner])) {
                 const mesh::Face& face = s.faces[f];
@@ -219,7 +221,11 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
             // head for the device again. The next hit brings it back onto the surface now rather than
             // a step later. Resting on the planes (flat or concave), it stays.
             const auto below = bvh.firstHit(s, position_, device_m);
-            if (!below || below->t * (device_m - position_).norm() <= 2 * params_.offset_m) break;
+            if (!below) break;
+            if (below->t * (device_m - position_).norm() <= 2 * params_.offset_m) {
+                lastHitFace = below->face;  // the face the proxy rests on now, whose neighbours hold its contact
+                break;
+            }
             planeCount_ = 0;
             goal = device_m;
             continue;
@@ -240,9 +246,11 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
         goal = applyFriction(constrainedGoal(device_m), device_m, contactStart_);
     }
     // The face last hit, or touched when the update began, bounds the search for the nearest surface
-    // point: usually it lies within the offset, and the search then looks no farther.
+    // point: usually it lies within the offset, and the search then looks no farther. It is the
+    // touched face whose neighbours are searched for the contact, too: on a fine mesh a slide can
+    // leave the neighbours of the face touched when the update began.
     pushOutIfInside(s, bvh, lastHitFace);
-    findContact(s, bvh);
+    findContact(s, bvh, lastHitFace);
     return planeCount_;
 }
 

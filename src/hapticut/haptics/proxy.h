@@ -77,7 +77,10 @@ private:
                     const collision::SurfacePoint& near);
     Vec3 constrainedGoal(const Vec3& device_m) const;
     Vec3 applyFriction(const Vec3& goal, const Vec3& device_m, const Vec3& from) const;
-    void findContact(const collision::SurfaceView& surface, const collision::Bvh& bvh);
+    /// The contact from the faces round `touched_face` (the contact's face if not given) when one is
+    /// within reach (R12), from the whole tree otherwise.
+    void findContact(const collision::SurfaceView& surface, const collision::Bvh& bvh,
+                     std::optional<std::uint32_t> touched_face = std::nullopt);
 
     ProxyParams params_;
     Vec3 position_ = Vec3::Zero();
