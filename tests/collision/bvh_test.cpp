@@ -235,9 +235,9 @@ TEST(Bvh, FacesWhoseCornersChangedAreFoundWithoutARefit) {
 }
 
 // The queries walk boxes stored in single precision: widened by the rounding's bound, they must stay
-// exact for an organ of any size and anywhere, and for queries from far away. A tiny organ, one the
-// size of a room, one 40 m from the origin; segments lying in the boxes' face planes, and segments
-// from a kilometre off that end on a vertex.
+// exact for an organ of any size and anywhere, and for queries from far away. The heart (about 0.1 m)
+// shrunk to a tenth of a millimetre, grown to 3.6 m, moved 48 m from the origin, and shrunk to 1 mm 3.7 m
+// from it; segments lying in the boxes' face planes, and segments from a kilometre off that end on a vertex.
 TEST(Bvh, QueriesStayExactForOrgansOfAnySizeFarFromTheOriginAndFromFarAway) {
     std::mt19937 rng(12);
     const Soup heart = heartSoup(1619);
