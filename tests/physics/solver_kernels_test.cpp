@@ -81,6 +81,84 @@ TEST(BackwardEulerSystem, IsTheForcesJacobianByFiniteDifferences) {
     EXPECT_LT(worst, 1e-5 * scale) << "worst difference " << worst << " in products up to " << scale;
 }
 
+/// Every number of two assembled systems' rows is the same: right-hand side, products and preconditioner;
+/// the `pinned` rows are zero in both.
+void expectSameSystem(const BackwardEulerSystem& kept, const BackwardEulerSystem& fresh, const kernels::Field& y,
+                      std::span<const std::uint32_t> pinned, const char* when) {
+    ASSERT_EQ(kept.rows(), fresh.rows()) << when;
+    kernels::Field keptProduct, freshProduct;
+    keptProduct.resize(kept.rows()), freshProduct.resize(fresh.rows());
+    EXPECT_EQ(kernels::multiply(kept.matrix(), y, keptProduct), kernels::multiply(fresh.matrix(), y, freshProduct))
+        << when;
+    const kernels::SymmetricBlocks &a = kept.inverseBlocks(), &b = fresh.inverseBlocks();
+    for (std::size_t k = 0; k < kept.rows(); ++k) {
+        ASSERT_EQ(at(kept.rhs(), k), at(fresh.rhs(), k)) << when << ", row " << k;
+        ASSERT_EQ(at(keptProduct, k), at(freshProduct, k)) << when << ", row " << k;
+        ASSERT_TRUE(a.xx[k] == b.xx[k] && a.xy[k] == b.xy[k] && a.xz[k] == b.xz[k] && a.yy[k] == b.yy[k] &&
+                    a.yz[k] == b.yz[k] && a.zz[k] == b.zz[k])
+            << when << ", row " << k;
+    }
+    for (std::uint32_t k : pinned) {
+        EXPECT_EQ(at(keptProduct, k), Vec3::Zero()) << when << ", pinned row " << k;
+        EXPECT_EQ(at(kept.rhs(), k), Vec3::Zero()) << when << ", pinned row " << k;
+    }
+}
+
+// A step over the layout of the last one writes the springs' terms where they were laid out; the system
+// must be the one laid out afresh, as the organ moves and as nodes are pinned and freed, over the whole
+// organ and over a region with resting neighbours.
+TEST(BackwardEulerSystem, AStepOverTheLastLayoutAssemblesWhatAFreshLayoutWould) {
+    StretchedHeart h;
+    MassSpringModel& m = h.model;
+    // A region: the nodes within 3 cm of one, its springs and their resting ends.
+    std::vector<std::uint32_t> near, touched, springs;
+    std::vector<std::uint8_t> in(m.nodes.size(), 0), seen(m.nodes.size(), 0);
+    for (std::uint32_t i = 0; i < m.nodes.size(); ++i)
+        if ((m.nodes.position[i] - m.nodes.position[0]).norm() < 0.03) near.push_back(i), in[i] = seen[i] = 1;
+    touched = near;
+    for (std::uint32_t e = 0; e < m.springs.size(); ++e) {
+        const std::uint32_t a = m.springs.a[e], b = m.springs.b[e];
+        if (!in[a] && !in[b]) continue;
+        springs.push_back(e);
+        for (std::uint32_t j : {a, b})
+            if (!seen[j]) seen[j] = 1, touched.push_back(j);
+    }
+    ASSERT_GT(near.size(), 20u);
+    ASSERT_LT(near.size(), h.nodes.size() / 2);
+    const SolveRegion whole{h.nodes, h.nodes, h.springs, 7}, part{near, touched, springs, 8};
+    BackwardEulerSystem kept, fresh;
+    for (BackwardEulerSystem* s : {&kept, &fresh})
+        s->reserve(h.nodes.size(), h.springs.size()), s->resize(h.nodes.size());
+    for (const SolveRegion& region : {whole, part}) {
+        SolveRegion afresh = region;
+        afresh.layout = 0;
+        for (int round = 0; round < 4; ++round) {
+            const std::string when =
+                std::string(region.layout == 7 ? "whole organ" : "region") + ", round " + std::to_string(round);
+            // The organ moves; in round 1 two nodes are pinned, in round 2 freed, in round 3 a spring's
+            // ends meet.
+            for (std::size_t i = 0; i < m.nodes.size(); ++i)
+                m.nodes.position[i] += test::wobble(i + 31 * round, 1e-4), m.nodes.velocity[i] = test::wobble(i, 1e-2);
+            for (std::uint32_t i : {near[3], near[11]}) m.nodes.inverseMass[i] = round == 1 ? 0 : 1 / m.nodes.mass[i];
+            if (round == 3) m.nodes.position[m.springs.b[springs[5]]] = m.nodes.position[m.springs.a[springs[5]]];
+            kept.assemble(m, StretchedHeart::kStep_s, region);
+            fresh.assemble(m, StretchedHeart::kStep_s, afresh);
+            kernels::Field y;
+            y.resize(kept.rows());
+            for (std::size_t k = 0; k < region.nodes.size(); ++k) {
+                const Vec3 w = test::wobble(k + 5, 1.0);
+                y.x[k] = w.x(), y.y[k] = w.y(), y.z[k] = w.z();
+            }
+            // The pinned nodes' unknowns: their places in the region's list.
+            std::vector<std::uint32_t> pinned;
+            for (std::uint32_t k = 0; k < region.nodes.size(); ++k)
+                if (m.nodes.inverseMass[region.nodes[k]] == 0) pinned.push_back(k);
+            EXPECT_EQ(pinned.size(), round == 1 ? 2u : 0u);
+            expectSameSystem(kept, fresh, y, pinned, when.c_str());
+        }
+    }
+}
+
 TEST(SolverKernels, EveryInstructionSetComputesTheSameProductAndPasses) {
     StretchedHeart h;
     const kernels::Field y = h.field(1.0), other = h.field(0.3);

@@ -115,7 +115,9 @@ TEST(StrainLimit, TheLargestStrainIsTheFormulasOverEverySpringOfASlice) {
     for (const auto& [first, last] : {std::pair<std::size_t, std::size_t>{0, n}, {0, 1}, {17, 400}, {n / 2, n}}) {
         const double expected = formula(first, last);
         EXPECT_EQ(maxStrain(m, first, last), expected) << first << "-" << last;
-        if (last - first > 100) EXPECT_GT(expected, 0.05);
+        if (last - first > 100) {
+            EXPECT_GT(expected, 0.05);
+        }
     }
     // A squeezed spring's strain counts as much as a stretched one's.
     const Vec3 a = m.nodes.position[s.a[5]];

@@ -16,8 +16,10 @@ struct KernelTiming {
     double ns_per_coupling = 0;   // per spring end: each spring is read from both of its rows
     double spring_forces_us = 0;  // median time of every spring's force added to the nodes
     double ns_per_spring = 0;
-    double assembly_us = 0;  // median time of the implicit step's assembly of the whole model
+    double assembly_us = 0;  // median time of the implicit step's assembly of the whole model, laid out afresh
     double assembly_ns_per_spring = 0;
+    double kept_layout_assembly_us = 0;  // the same over the last step's layout (SolveRegion::layout)
+    double kept_layout_assembly_ns_per_spring = 0;
 };
 
 /// Times the product and the assembly on `model` (all nodes unknowns, a 1 ms step) and the spring

@@ -24,6 +24,7 @@ void ActiveRegion::reset(const MassSpringModel& model) {
     wakeList_.clear();
     for (std::uint32_t i = 0; i < n; ++i)
         if (model.nodes.position[i] != model.nodes.restPosition[i] || model.nodes.velocity[i] != Vec3::Zero()) wake(i);
+    ++version_;
     dirty_ = true;
 }
 
@@ -87,6 +88,7 @@ void ActiveRegion::rebuild(const MassSpringModel& model, const NodeSprings& spri
             for (std::uint32_t j : {model.springs.a[k], model.springs.b[k]})
                 if (!touchedMark_[j]) touchedMark_[j] = 1, touchedNodes_.push_back(j);
         }
+    ++version_;
     dirty_ = false;
 }
 

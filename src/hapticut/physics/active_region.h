@@ -45,11 +45,14 @@ public:
     std::span<const std::uint32_t> springs() const { return activeSprings_; }
     /// 1 for an awake node, per node of the model.
     std::span<const std::uint8_t> awakeFlags() const { return awake_; }
+    /// Changes whenever the lists do.
+    std::uint64_t version() const { return version_; }
 
 private:
     void rebuild(const MassSpringModel& model, const NodeSprings& springsAt);
 
     bool dirty_ = true;
+    std::uint64_t version_ = 0;
     std::vector<std::uint8_t> awake_, touchedMark_, springMark_, wakeNext_;
     std::vector<std::uint32_t> activeNodes_, touchedNodes_, activeSprings_, wakeList_;
 };

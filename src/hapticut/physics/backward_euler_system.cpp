@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "hapticut/common/assert.h"
 #include "hapticut/common/reserve.h"
 #include "hapticut/physics/spring_forces.h"
 
@@ -14,7 +15,8 @@ void BackwardEulerSystem::reserve(std::size_t nodes, std::size_t springs) {
     reserveTouched(unknownOf_, nodes);
     reserveTouched(diagonal_, rows);
     reserveTouched(rowStart_, nodes + 1);
-    reserveTouched(couplings_, 2 * springs);
+    for (auto* list : {&endA_, &endB_, &slotA_, &slotB_}) reserveTouched(*list, springs);
+    reserveTouched(column_, nodes);
     reserveTouched(restingSum_, nodes);
     reserveTouched(restingOf_, rows);
     reserveTouched(pinned_, rows);
@@ -57,7 +59,6 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     restingSum_.clear();
     restingOf_.assign(count, kNoResting);
     rhs_.resize(rows_);
-    rowStart_.assign(count + 1, 0);
     for (std::uint32_t i : region.touched) unknownOf_[i] = kResting;
     const Vec3 g = model.gravity_m_per_s2;
     for (std::uint32_t k = 0; k < count; ++k) {
@@ -89,30 +90,24 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
             diagonal_[k] += h2 * kt * w;
         }
     }
-    // The rows' lengths first, so that each row's couplings can be written in place.
-    for (std::uint32_t e : region.springs) {
-        const std::uint32_t ka = unknownOf_[s.a[e]], kb = unknownOf_[s.b[e]];
-        if (ka != kResting && kb != kResting) ++rowStart_[ka + 1], ++rowStart_[kb + 1];
-    }
-    for (std::size_t k = 0; k < count; ++k) rowStart_[k + 1] += rowStart_[k];
-    couplings_.resize(rowStart_[count]);
-    std::uint32_t* next = rowStart_.data();  // each row's next free slot; rowStart_[k] ends at row k's end
-    auto rowEnd = [&](std::uint32_t k) { return next[k]++; };
+    if (region.layout == 0 || region.layout != layout_) layOut(s, region);
+    HAPTICUT_ASSERT(layoutMatches(s, region));
+    layout_ = region.layout;
     // The springs' terms come from the SIMD kernel a chunk at a time. Each spring writes its coupling to
-    // both rows and its right-hand side to both ends; the rows' diagonal blocks are summed from their
-    // couplings afterwards, row by row, so that no 3×3 block is scattered.
+    // its slot in both rows and its right-hand side to both ends; the rows' diagonal blocks are summed
+    // from their couplings afterwards, row by row, so that no 3×3 block is scattered.
     const kernels::SpringArrays arrays = springArrays(s);
     kernels::SpringJacobians& chunk = chunk_;  // one chunk's terms (14 KB: a member, not on the stack)
     for (std::size_t begin = 0; begin < region.springs.size(); begin += kernels::SpringJacobians::kSprings) {
         const std::size_t size = std::min(kernels::SpringJacobians::kSprings, region.springs.size() - begin);
-        const std::uint32_t* list = region.springs.data() + begin;
-        kernels::springJacobians(arrays, list, size, x.size(), coordinates(x.data()), coordinates(v.data()), h,
-                                 !correction, chunk);
+        kernels::springJacobians(arrays, region.springs.data() + begin, size, x.size(), coordinates(x.data()),
+                                 coordinates(v.data()), h, !correction, chunk);
         for (std::size_t i = 0; i < size; ++i) {
-            const std::uint32_t ka = unknownOf_[s.a[list[i]]], kb = unknownOf_[s.b[list[i]]];
+            const std::size_t e = begin + i;
+            const std::uint32_t ka = endA_[e], kb = endB_[e];
             const bool inner = ka != kResting && kb != kResting;
             if (!chunk.apart[i]) {  // coincident ends have no direction, as in the explicit force
-                if (inner) couplings_[rowEnd(ka)] = {kb, 0, 0, 0, 0}, couplings_[rowEnd(kb)] = {ka, 0, 0, 0, 0};
+                if (inner) setCoupling(slotA_[e], 0, 0, 0, 0), setCoupling(slotB_[e], 0, 0, 0, 0);
                 continue;
             }
             const double bx = chunk.bx[i], by = chunk.by[i], bz = chunk.bz[i];
@@ -120,9 +115,7 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
             if (kb != kResting) rhs_.x[kb] -= bx, rhs_.y[kb] -= by, rhs_.z[kb] -= bz;
             const double c0 = chunk.c0[i], ux = chunk.ux[i], uy = chunk.uy[i], uz = chunk.uz[i];
             if (inner) {
-                const auto f = [](double value) { return static_cast<float>(value); };
-                couplings_[rowEnd(ka)] = {kb, f(c0), f(ux), f(uy), f(uz)};
-                couplings_[rowEnd(kb)] = {ka, f(c0), f(ux), f(uy), f(uz)};
+                setCoupling(slotA_[e], c0, ux, uy, uz), setCoupling(slotB_[e], c0, ux, uy, uz);
             } else {
                 std::uint32_t& at = restingOf_[ka != kResting ? ka : kb];
                 if (at == kNoResting)
@@ -134,17 +127,19 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
             }
         }
     }
-    // The filling moved each row's start to its end: move them back.
-    for (std::size_t k = count; k > 0; --k) rowStart_[k] = rowStart_[k - 1];
-    rowStart_[0] = 0;
+    constexpr std::size_t kSlice = kernels::kSliceRows;
     for (std::uint32_t k = 0; k < count; ++k) {
         if (n.inverseMass[region.nodes[k]] == 0) {
             // A pinned node's row is left out: no terms, no right-hand side, no preconditioner, so its
-            // unknown stays zero.
+            // unknown stays zero. (Its slots are zeroed here rather than left out of the layout: a node
+            // is pinned or freed without the layout changing.)
             pinned_[k] = 1;
             diagonal_[k] = 0;
             setBlock(toResting_, k, Mat3::Zero());
             rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
+            const std::size_t first = sliced_.sliceBegin[k / kSlice] + k % kSlice;
+            for (std::uint32_t j = 0; j < rowStart_[k + 1] - rowStart_[k]; ++j)
+                setCoupling(static_cast<std::uint32_t>(first + j * kSlice), 0, 0, 0, 0);
             continue;
         }
         setBlock(toResting_, k, restingOf_[k] == kNoResting ? Mat3::Zero() : restingSum_[restingOf_[k]]);
@@ -153,47 +148,67 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         setBlock(toResting_, k, Mat3::Zero());
         rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
     }
-    sliceCouplings();
     // The preconditioner: each row's diagonal block, m + h d + h² k and its springs' blocks, as the
     // product reads them (in single precision: a preconditioner need not be exact), inverted by the
     // SIMD kernel a slice at a time.
     kernels::invertRowBlocks(matrix(), inverseBlock_);
 }
 
-void BackwardEulerSystem::sliceCouplings() {
+void BackwardEulerSystem::setCoupling(std::uint32_t slot, double c0, double ux, double uy, double uz) {
+    sliced_.c0[slot] = static_cast<float>(c0), sliced_.ux[slot] = static_cast<float>(ux);
+    sliced_.uy[slot] = static_cast<float>(uy), sliced_.uz[slot] = static_cast<float>(uz);
+}
+
+bool BackwardEulerSystem::layoutMatches(const Springs& s, SolveRegion region) const {
+    if (endA_.size() != region.springs.size()) return false;
+    for (std::size_t e = 0; e < region.springs.size(); ++e)
+        if (endA_[e] != unknownOf_[s.a[region.springs[e]]] || endB_[e] != unknownOf_[s.b[region.springs[e]]])
+            return false;
+    return rowStart_.size() == count_ + 1;
+}
+
+void BackwardEulerSystem::layOut(const Springs& s, SolveRegion region) {
     constexpr std::size_t kSlice = kernels::kSliceRows;
+    const std::size_t count = count_, listed = region.springs.size();
+    // Capacity is reserved for every node and spring: these resizes never allocate in a step.
+    endA_.resize(listed), endB_.resize(listed), slotA_.resize(listed), slotB_.resize(listed);
+    // The rows' lengths, a row's couplings in the order of the springs' list.
+    rowStart_.assign(count + 1, 0);
+    for (std::size_t e = 0; e < listed; ++e) {
+        const std::uint32_t ka = unknownOf_[s.a[region.springs[e]]], kb = unknownOf_[s.b[region.springs[e]]];
+        endA_[e] = ka, endB_[e] = kb;
+        if (ka != kResting && kb != kResting) ++rowStart_[ka + 1], ++rowStart_[kb + 1];
+    }
+    for (std::size_t k = 0; k < count; ++k) rowStart_[k + 1] += rowStart_[k];
+    // Each slice as wide as its widest row; every slot starts as a zero coupling of its row to itself.
     const std::size_t slices = rows_ / kSlice;
     sliced_.sliceBegin.resize(slices + 1);
     std::size_t slots = 0;
     for (std::size_t slice = 0; slice < slices; ++slice) {
         sliced_.sliceBegin[slice] = static_cast<std::uint32_t>(slots);
         std::uint32_t width = 0;
-        for (std::size_t k = slice * kSlice; k < std::min(count_, (slice + 1) * kSlice); ++k)
+        for (std::size_t k = slice * kSlice; k < std::min(count, (slice + 1) * kSlice); ++k)
             width = std::max(width, rowStart_[k + 1] - rowStart_[k]);
         slots += width * kSlice;
     }
     sliced_.sliceBegin[slices] = static_cast<std::uint32_t>(slots);
     sliced_.other.resize(slots);
-    for (auto* a : {&sliced_.c0, &sliced_.ux, &sliced_.uy, &sliced_.uz}) a->resize(slots);
-    for (std::size_t slice = 0; slice < slices; ++slice) {
-        const std::size_t begin = sliced_.sliceBegin[slice];
-        const std::size_t width = (sliced_.sliceBegin[slice + 1] - begin) / kSlice;
-        for (std::size_t lane = 0; lane < kSlice; ++lane) {
-            const std::size_t k = slice * kSlice + lane;
-            const bool real = k < count_ && !pinned_[k];
-            const std::size_t length = real ? rowStart_[k + 1] - rowStart_[k] : 0;
-            for (std::size_t j = 0; j < width; ++j) {
-                const std::size_t slot = begin + j * kSlice + lane;
-                if (j < length) {
-                    const Coupling& c = couplings_[rowStart_[k] + j];
-                    sliced_.other[slot] = static_cast<std::int32_t>(c.other);
-                    sliced_.c0[slot] = c.c0, sliced_.ux[slot] = c.ux, sliced_.uy[slot] = c.uy, sliced_.uz[slot] = c.uz;
-                } else {  // padding: a zero coupling to the row itself
-                    sliced_.other[slot] = static_cast<std::int32_t>(k);
-                    sliced_.c0[slot] = sliced_.ux[slot] = sliced_.uy[slot] = sliced_.uz[slot] = 0;
-                }
-            }
-        }
+    for (auto* a : {&sliced_.c0, &sliced_.ux, &sliced_.uy, &sliced_.uz}) a->assign(slots, 0.0f);
+    for (std::size_t slice = 0; slice < slices; ++slice)
+        for (std::size_t slot = sliced_.sliceBegin[slice]; slot < sliced_.sliceBegin[slice + 1]; ++slot)
+            sliced_.other[slot] = static_cast<std::int32_t>(slice * kSlice + slot % kSlice);
+    // Each spring between two unknowns takes the next column of both its ends' rows.
+    column_.assign(count, 0);
+    auto nextSlot = [&](std::uint32_t k, std::uint32_t other) {
+        const auto slot =
+            static_cast<std::uint32_t>(sliced_.sliceBegin[k / kSlice] + column_[k]++ * kSlice + k % kSlice);
+        sliced_.other[slot] = static_cast<std::int32_t>(other);
+        return slot;
+    };
+    for (std::size_t e = 0; e < listed; ++e) {
+        if (endA_[e] == kResting || endB_[e] == kResting) continue;
+        slotA_[e] = nextSlot(endA_[e], endB_[e]);
+        slotB_[e] = nextSlot(endB_[e], endA_[e]);
     }
 }
 

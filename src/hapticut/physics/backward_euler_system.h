@@ -20,6 +20,9 @@ namespace hapticut::physics {
 /// resting neighbours the springs also reach; those stay where they are (their Δv is zero).
 struct SolveRegion {
     std::span<const std::uint32_t> nodes, touched, springs;
+    /// A number that changes whenever the lists or the listed springs' ends may have changed; 0 when
+    /// unknown. Steps over the same layout reuse where each spring's terms go in the matrix.
+    std::uint64_t layout = 0;
 };
 
 /// The unknowns are numbered by their place in the region's node list, so that every vector of the
@@ -60,17 +63,15 @@ public:
 private:
     static constexpr std::uint32_t kResting = ~std::uint32_t{0};
 
-    /// A spring's c0 I + u uᵀ, seen from one end: `other` is the unknown at its other end. The matrix
-    /// is kept in single precision: it halves the memory each iteration streams through, and the
-    /// solution is still the double-precision right-hand side's (a rounded matrix changes the path of
-    /// the iterations, not where a converged solve ends up).
-    struct Coupling {
-        std::uint32_t other;
-        float c0, ux, uy, uz;
-    };
     static void setBlock(kernels::SymmetricBlocks& blocks, std::size_t k, const Mat3& m);
-    /// Lays the rows' couplings out slice by slice for the kernels (pinned rows get none).
-    void sliceCouplings();
+    /// Works out where each of the region's springs writes its terms (endA_ .. slotB_) and lays the
+    /// rows out slice by slice for the kernels, every slot a zero coupling of its row to itself until
+    /// a spring writes it. Needs unknownOf_, count_ and rows_ for the region.
+    void layOut(const Springs& springs, SolveRegion region);
+    /// Whether the kept layout is the one `region` would be given (checked where assertions are on).
+    bool layoutMatches(const Springs& springs, SolveRegion region) const;
+    /// Sets slot `slot` of the couplings to c0 I + u uᵀ.
+    void setCoupling(std::uint32_t slot, double c0, double ux, double uy, double uz);
 
     std::vector<std::uint32_t> unknownOf_;  // by node: its unknown, or kResting; valid on the region's touched nodes
     std::size_t count_ = 0, rows_ = 0;
@@ -78,9 +79,19 @@ private:
     // gathers and never scatters: every row is summed in registers and written once.
     std::vector<double> diagonal_;         // m + h d + h² k of its own terms and the tool's
     kernels::SymmetricBlocks toResting_;   // its springs to resting neighbours, whose Δv is zero
-    std::vector<std::uint32_t> rowStart_;  // its couplings are rowStart_[k] .. rowStart_[k + 1]
-    std::vector<Coupling> couplings_;
-    kernels::SlicedCouplings sliced_;        // the same, as the kernels read them
+    std::vector<std::uint32_t> rowStart_;  // it has rowStart_[k + 1] - rowStart_[k] couplings
+    // A spring's c0 I + u uᵀ, once in each end's row, laid out for the kernels. The matrix is kept in
+    // single precision: it halves the memory each iteration streams through, and the solution is still
+    // the double-precision right-hand side's (a rounded matrix changes the path of the iterations, not
+    // where a converged solve ends up).
+    kernels::SlicedCouplings sliced_;
+    // By the region's springs, in its list's order: the unknowns at the ends (kResting for a resting
+    // neighbour) and, for a spring between two unknowns, its slot in end a's row and in end b's. They
+    // depend only on the region's lists and the springs' ends: laying them out took most of an
+    // assembly, so steps over the same layout (region.layout) reuse them and write the slots in place.
+    std::uint64_t layout_ = 0;  // the region.layout they were laid out for; 0: none
+    std::vector<std::uint32_t> endA_, endB_, slotA_, slotB_;
+    std::vector<std::uint32_t> column_;      // by unknown, while laying out: its row's next free column
     kernels::SymmetricBlocks inverseBlock_;  // the preconditioner
     // Its springs' blocks to resting neighbours, while assembling: few rows have any (the edge of an awake
     // region), so each such row has one block in restingSum_, at restingOf_[k].

@@ -25,6 +25,7 @@ void Stepper::setToolStiffness(double stiffness_N_per_m) {
 void Stepper::setActiveRegion(bool on) {
     activeRegion_ = on;
     region_.invalidate();
+    ++layout_;
 }
 
 void Stepper::reserveFor(std::size_t n, std::size_t ns) {
@@ -52,6 +53,7 @@ void Stepper::prepare(const MassSpringModel& model) {
     implicit_.resize(n);
     springsAt_.build(model.springs, n);
     region_.reset(model);
+    ++layout_;
     preparedNodes_ = n;
     preparedSprings_ = ns;
 }
@@ -83,6 +85,7 @@ void Stepper::topologyChanged(const MassSpringModel& model, std::span<const std:
     for (auto k = static_cast<std::uint32_t>(allSprings_.size()); k < ns; ++k) allSprings_.push_back(k);
     implicit_.resize(n);
     region_.resize(n, ns);
+    ++layout_;  // the edited springs' ends moved
     springsAt_.update(model.springs, n, springs);
     visitedIn_.resize(n, 0);
     if (++visit_ == 0) std::fill(visitedIn_.begin(), visitedIn_.end(), 0), visit_ = 1;
@@ -109,8 +112,8 @@ int Stepper::substepsFor(double dt_s) const {
 }
 
 SolveRegion Stepper::solveRegion() const {
-    if (activeRegion_) return {region_.nodes(), region_.touched(), region_.springs()};
-    return {allNodes_, allNodes_, allSprings_};
+    if (activeRegion_) return {region_.nodes(), region_.touched(), region_.springs(), layout_};
+    return {allNodes_, allNodes_, allSprings_, layout_};
 }
 
 std::span<const std::uint32_t> Stepper::integratedNodes() const {
@@ -131,7 +134,10 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
     result.substeps = substepsFor(dt_s);
     Nodes& n = model.nodes;
 
-    if (activeRegion_) region_.admit(model, springsAt_);
+    if (activeRegion_) {
+        region_.admit(model, springsAt_);
+        if (region_.version() != regionVersion_) regionVersion_ = region_.version(), ++layout_;
+    }
     const std::span<const std::uint32_t> nodes = integratedNodes();
     for (std::uint32_t i : nodes) x0_[i] = n.position[i], v0_[i] = n.velocity[i];
     if (activeRegion_)

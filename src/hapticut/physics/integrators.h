@@ -102,6 +102,9 @@ private:
     BackwardEuler implicit_;
     bool activeRegion_ = false;
     ActiveRegion region_;
+    // Changes whenever the solve region's lists or the springs' ends may have: at every preparation,
+    // edit and switch of the active region, and when the region's lists change (SolveRegion::layout).
+    std::uint64_t layout_ = 1, regionVersion_ = 0;
     NodeSprings springsAt_;
 };
 
