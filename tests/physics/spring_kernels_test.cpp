@@ -201,8 +201,9 @@ TEST(SpringKernels, EveryInstructionSetInvertsEachRowsBlockToTheScalarLoopsBits)
                 c.other[slot] = static_cast<std::int32_t>(k);
                 if (j >= length[k]) continue;
                 const Vec3 u = test::wobble(7 * slot + j, 0.03);
-                c.c0[slot] = static_cast<float>(2e-5 * (1 + std::cos(static_cast<double>(slot)))), c.ux[slot] = u.x();
-                c.uy[slot] = u.y(), c.uz[slot] = u.z();
+                const Eigen::Vector3f uf = u.cast<float>();
+                c.c0[slot] = static_cast<float>(2e-5 * (1 + std::cos(static_cast<double>(slot))));
+                c.ux[slot] = uf.x(), c.uy[slot] = uf.y(), c.uz[slot] = uf.z();
             }
     }
     kernels::SymmetricBlocks resting;  // every third row has springs to resting neighbours
