@@ -87,7 +87,7 @@ private:
     kernels::SlicedCouplings sliced_;
     // By the region's springs, in its list's order: the unknowns at the ends (kResting for a resting
     // neighbour) and, for a spring between two unknowns, its slot in end a's row and in end b's. They
-    // depend only on the region's lists and the springs' ends: laying them out took most of an
+    // depend only on the region's lists and the springs' ends: laying them out was a third of an
     // assembly, so steps over the same layout (region.layout) reuse them and write the slots in place.
     std::uint64_t layout_ = 0;  // the region.layout they were laid out for; 0: none
     std::vector<std::uint32_t> endA_, endB_, slotA_, slotB_;
