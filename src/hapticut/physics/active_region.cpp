@@ -1,12 +1,14 @@
 // The active region: admission before a step, sleep after it.
 #include "hapticut/physics/active_region.h"
 
+#include <algorithm>
+
 #include "hapticut/common/reserve.h"
 
 namespace hapticut::physics {
 
 void ActiveRegion::reserve(std::size_t nodes, std::size_t springs) {
-    for (auto* list : {&activeNodes_, &touchedNodes_, &wakeList_}) reserveTouched(*list, nodes);
+    for (auto* list : {&activeNodes_, &touchedNodes_, &wakeList_, &merged_}) reserveTouched(*list, nodes);
     for (auto* marks : {&awake_, &wakeNext_, &touchedMark_}) reserveTouched(*marks, nodes);
     reserveTouched(springMark_, springs);
     reserveTouched(activeSprings_, springs);
@@ -72,6 +74,17 @@ void ActiveRegion::admit(const MassSpringModel& model, const NodeSprings& spring
 }
 
 void ActiveRegion::rebuild(const MassSpringModel& model, const NodeSprings& springsAt) {
+    // The awake nodes in index order, so that the solve's unknowns follow the organ's vertex order (its
+    // neighbours near in index; mesh/vertex_order.h) rather than the order they woke in. Falling asleep
+    // keeps the order, so only the nodes admitted since the last rebuild, at the end, are sorted and
+    // merged in: proportional to the region, and no allocation (merged_ is reserved).
+    const auto tail = std::is_sorted_until(activeNodes_.begin(), activeNodes_.end());
+    if (tail != activeNodes_.end()) {
+        std::sort(tail, activeNodes_.end());
+        merged_.resize(activeNodes_.size());
+        std::merge(activeNodes_.begin(), tail, tail, activeNodes_.end(), merged_.begin());
+        std::copy(merged_.begin(), merged_.end(), activeNodes_.begin());
+    }
     for (std::uint32_t k : activeSprings_) springMark_[k] = 0;
     for (std::uint32_t i : touchedNodes_) touchedMark_[i] = 0;
     activeSprings_.clear();

@@ -55,6 +55,7 @@ private:
     std::uint64_t version_ = 0;
     std::vector<std::uint8_t> awake_, touchedMark_, springMark_, wakeNext_;
     std::vector<std::uint32_t> activeNodes_, touchedNodes_, activeSprings_, wakeList_;
+    std::vector<std::uint32_t> merged_;  // rebuild's room to merge newly admitted nodes into the sorted ones
 };
 
 }  // namespace hapticut::physics
