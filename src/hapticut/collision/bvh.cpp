@@ -14,6 +14,33 @@
 
 namespace hapticut::collision {
 
+namespace {
+
+/// A wide node's child waiting on a query's stack, with the key it was accepted by (the squared
+/// distance or the entry along a segment): skipped when popped if a hit found since is nearer.
+struct Pending {
+    std::uint32_t child;
+    float key;
+};
+
+/// Pushes the accepted lanes of `node` farthest first, so that the nearest is searched first and
+/// tightens the bound for the rest.
+template <std::size_t N>
+void pushNearestLast(const WideNode& node, unsigned mask, const Float4& key, std::array<Pending, N>& stack, int& top) {
+    // An insertion sort straight onto the stack: four entries at most, so no copy and no call.
+    const int bottom = top;
+    for (; mask != 0; mask &= mask - 1) {
+        const int lane = std::countr_zero(mask);
+        const Pending entry{node.child[static_cast<std::size_t>(lane)], key[lane]};
+        int j = top++;
+        for (; j > bottom && stack[static_cast<std::size_t>(j - 1)].key < entry.key; --j)
+            stack[static_cast<std::size_t>(j)] = stack[static_cast<std::size_t>(j - 1)];
+        stack[static_cast<std::size_t>(j)] = entry;
+    }
+}
+
+}  // namespace
+
 template <class Visit>
 void Bvh::visitLeaf(const Node& leaf, Visit&& visit) const {
     for (std::uint32_t k = leaf.start; k < leaf.start + leaf.count; ++k) visit(faceOrder_[k]);
@@ -44,6 +71,25 @@ geometry::Aabb Bvh::faceBox(const SurfaceView& s, std::uint32_t f) const {
     box.min.array() -= margin_m_;
     box.max.array() += margin_m_;
     return box;
+}
+
+template <class Lanes, class Reachable, class Visit>
+void Bvh::traverseNearestFirst(Lanes&& lanes, Reachable&& reachable, Visit&& visit) const {
+    std::array<Pending, kWideStack> stack;
+    int top = 0;
+    if (!wide_.empty()) stack[top++] = {0, 0};
+    while (top > 0) {
+        const Pending entry = stack[static_cast<std::size_t>(--top)];
+        if (!reachable(entry.key)) continue;
+        if (entry.child & WideNode::kLeafBit) {
+            visitLeaf(nodes_[entry.child & ~WideNode::kLeafBit], visit);
+            continue;
+        }
+        const WideNode& node = wide_[entry.child];
+        Float4 keys;
+        const unsigned mask = lanes(node, keys);
+        pushNearestLast(node, mask, keys, stack, top);
+    }
 }
 
 void Bvh::build(const SurfaceView& s) {
@@ -283,33 +329,6 @@ void Bvh::facesChanged(const SurfaceView& s, std::span<const std::uint32_t> chan
     }
 }
 
-namespace {
-
-/// A wide node's child waiting on a query's stack, with the key it was accepted by (the squared
-/// distance or the entry along a segment): skipped when popped if a hit found since is nearer.
-struct Pending {
-    std::uint32_t child;
-    float key;
-};
-
-/// Pushes the accepted lanes of `node` farthest first, so that the nearest is searched first and
-/// tightens the bound for the rest.
-template <std::size_t N>
-void pushNearestLast(const WideNode& node, unsigned mask, const Float4& key, std::array<Pending, N>& stack, int& top) {
-    // An insertion sort straight onto the stack: four entries at most, so no copy and no call.
-    const int bottom = top;
-    for (; mask != 0; mask &= mask - 1) {
-        const int lane = std::countr_zero(mask);
-        const Pending entry{node.child[static_cast<std::size_t>(lane)], key[lane]};
-        int j = top++;
-        for (; j > bottom && stack[static_cast<std::size_t>(j - 1)].key < entry.key; --j)
-            stack[static_cast<std::size_t>(j)] = stack[static_cast<std::size_t>(j - 1)];
-        stack[static_cast<std::size_t>(j)] = entry;
-    }
-}
-
-}  // namespace
-
 std::optional<SurfacePoint> Bvh::closestPoint(const SurfaceView& s, const Vec3& p, double max_distance) const {
     std::optional<SurfacePoint> best;
     double bestD2 = max_distance * max_distance;
@@ -326,20 +345,8 @@ std::optional<SurfacePoint> Bvh::closestPoint(const SurfaceView& s, const Vec3& 
             reach = query.reach(bestD2);
         }
     };
-    std::array<Pending, kWideStack> stack;
-    int top = 0;
-    if (!wide_.empty()) stack[top++] = {0, 0};
-    while (top > 0) {
-        const Pending entry = stack[static_cast<std::size_t>(--top)];
-        if (entry.key > reach) continue;
-        if (entry.child & WideNode::kLeafBit) {
-            visitLeaf(nodes_[entry.child & ~WideNode::kLeafBit], consider);
-            continue;
-        }
-        const WideNode& node = wide_[entry.child];
-        Float4 d2;
-        pushNearestLast(node, query.within(node, reach, d2), d2, stack, top);
-    }
+    traverseNearestFirst([&](const WideNode& node, Float4& d2) { return query.within(node, reach, d2); },
+                         [&](float d2) { return d2 <= reach; }, consider);
     if (best) best->distance = std::sqrt(bestD2);
     return best;
 }
@@ -361,20 +368,8 @@ std::optional<SegmentHit> Bvh::firstHit(const SurfaceView& s, const Vec3& from, 
     // a vertex on the segment give hits within rounding of each other and of their boxes' entries.
     auto reachable = [&](float t) { return t <= bestT + 1e-9; };
     const WideSegment segment(from, to, boxScale());
-    std::array<Pending, kWideStack> stack;
-    int top = 0;
-    if (!wide_.empty()) stack[top++] = {0, 0};
-    while (top > 0) {
-        const Pending entry = stack[static_cast<std::size_t>(--top)];
-        if (!reachable(entry.key)) continue;
-        if (entry.child & WideNode::kLeafBit) {
-            visitLeaf(nodes_[entry.child & ~WideNode::kLeafBit], consider);
-            continue;
-        }
-        const WideNode& node = wide_[entry.child];
-        Float4 t;
-        pushNearestLast(node, segment.meets(node, 1, t), t, stack, top);
-    }
+    traverseNearestFirst([&](const WideNode& node, Float4& t) { return segment.meets(node, 1, t); }, reachable,
+                         consider);
     return best;
 }
 

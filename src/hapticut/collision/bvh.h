@@ -107,6 +107,11 @@ private:
     /// Visits the faces of every leaf whose lane `lanes` accepts, as bits of a wide node.
     template <class Lanes, class Visit>
     void traverse(Lanes&& lanes, Visit&& visit) const;
+    /// Visits the faces of the leaves whose lanes `lanes` accepts, nearest first by the key it gives each
+    /// lane (a squared distance, or where a segment enters), skipping an entry whose key `reachable`
+    /// no longer accepts when it comes off the stack (a hit found since is nearer).
+    template <class Lanes, class Reachable, class Visit>
+    void traverseNearestFirst(Lanes&& lanes, Reachable&& reachable, Visit&& visit) const;
     template <class Visit>
     void visitLeaf(const Node& leaf, Visit&& visit) const;
     void insertFace(const SurfaceView& s, std::uint32_t f);
