@@ -1,6 +1,7 @@
 // `hapticut bench`: integrator step cost on the procedural heart at several sizes.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -13,6 +14,7 @@
 #include "hapticut/collision/bvh.h"
 #include "hapticut/common/latency_histogram.h"
 #include "hapticut/common/output_path.h"
+#include "hapticut/common/worker_pool.h"
 #include "hapticut/haptics/contact_footprint.h"
 #include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/loop_scheduler.h"
@@ -41,6 +43,7 @@ struct BenchOptions {
     std::string model;  // a model file measured instead of the hearts (the integrators and the kernels)
     UnitOptions units;
     std::vector<std::string> integrators = {"euler", "midpoint", "rk4", "symplectic", "implicit"};
+    std::vector<unsigned> threads = {1, 0};  // the implicit solve's, each measured; 0: one per core
     double seconds = 0.5;
     std::string json;
     bool haptics = false;
@@ -236,8 +239,8 @@ int bench(const BenchOptions& o) {
     const std::vector<int> sizes = userModel ? std::vector<int>{0} : o.triangles;
     auto organ = [&](int triangles) { return userModel ? *userModel : scene::benchHeart(triangles); };
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
-    std::printf("%10s %8s %9s %-11s %11s %11s %13s %9s %15s %8s\n", "triangles", "nodes", "springs", "integrator",
-                "us/step", "p99 us", "ns/spring-ev", "substeps", "us/sim-ms@1ms", "CG its");
+    std::printf("%10s %8s %9s %-11s %7s %11s %11s %13s %9s %15s %8s\n", "triangles", "nodes", "springs", "integrator",
+                "threads", "us/step", "p99 us", "ns/spring-ev", "substeps", "us/sim-ms@1ms", "CG its");
     std::mt19937 rng(42);
     for (int triangles : sizes) {
         const auto g0 = Clock::now();
@@ -247,43 +250,61 @@ int bench(const BenchOptions& o) {
         physics::MassSpringModel model = heart.buildModel();
         for (const physics::Scheme requested : schemes) {
             const physics::Scheme scheme = physics::resolveScheme(requested, model, 1e-3);
-            physics::Stepper stepper(scheme);
-            stepper.setAutoSubstep(false);  // time one raw step; substeps are reported separately
-            stepper.prepare(model);
-            const double stable_s = stepper.stableStep_s();
-            const int substeps = std::max(1, static_cast<int>(std::ceil(1e-3 / stable_s)));
-            const double h = std::min(1e-3, stable_s);
-            std::vector<double> samples;
-            physics::SolverStats solver;
-            const auto end = Clock::now() + std::chrono::duration<double>(o.seconds);
-            while (Clock::now() < end || samples.size() < 20) {
-                perturb(model, rng);
-                for (int i = 0; i < 50; ++i) {
-                    const auto t0 = Clock::now();
-                    const physics::StepResult step = stepper.step(model, h);
-                    samples.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
-                    if (scheme == physics::Scheme::BackwardEuler) solver.record(step.solve);
+            // The explicit schemes run on one thread; the implicit solve at each thread count asked for.
+            std::vector<unsigned> threadCounts{1};
+            if (scheme == physics::Scheme::BackwardEuler) {
+                threadCounts.clear();
+                for (unsigned t : o.threads) {
+                    const unsigned resolved = t == 0 ? WorkerPool::hardwareThreads() : t;
+                    if (std::find(threadCounts.begin(), threadCounts.end(), resolved) == threadCounts.end())
+                        threadCounts.push_back(resolved);
                 }
             }
-            const Summary s = summarize(samples);
-            // A CG iteration is one product with the springs' matrix, about the cost of one force evaluation.
-            const double evaluations = scheme == physics::Scheme::BackwardEuler ? 1 + solver.iterations.summary().mean
-                                                                                : forceEvaluations(scheme);
-            const double nsPerSpring = 1e3 * s.p50 / (static_cast<double>(model.springs.size()) * evaluations);
-            std::printf("%10zu %8zu %9zu %-11s %11.1f %11.1f %13.2f %9d %15.1f %8.1f\n", mesh.faces.size(),
-                        model.nodes.size(), model.springs.size(), std::string(physics::schemeName(scheme)).c_str(),
-                        s.p50, s.p99, nsPerSpring, substeps, s.p50 * substeps, solver.iterations.summary().mean);
-            results.push_back({{"triangles", mesh.faces.size()},
-                               {"nodes", model.nodes.size()},
-                               {"springs", model.springs.size()},
-                               {"integrator", physics::schemeName(scheme)},
-                               {"step_us", toJson(s)},
-                               {"ns_per_spring_evaluation", nsPerSpring},
-                               {"stable_dt_s", stable_s},
-                               {"substeps_at_1ms", substeps},
-                               {"us_per_simulated_ms", s.p50 * substeps},
-                               {"solver", solverJson(scheme, solver, stepper.solverSettings())},
-                               {"heart_generation_s", generate_s}});
+            for (const unsigned threads : threadCounts) {
+                physics::Stepper stepper(scheme);
+                stepper.setAutoSubstep(false);  // time one raw step; substeps are reported separately
+                physics::SolverSettings settings = stepper.solverSettings();
+                settings.threads = threads;
+                stepper.setSolverSettings(settings);
+                stepper.prepare(model);
+                const double stable_s = stepper.stableStep_s();
+                const int substeps = std::max(1, static_cast<int>(std::ceil(1e-3 / stable_s)));
+                const double h = std::min(1e-3, stable_s);
+                std::vector<double> samples;
+                physics::SolverStats solver;
+                const auto end = Clock::now() + std::chrono::duration<double>(o.seconds);
+                while (Clock::now() < end || samples.size() < 20) {
+                    perturb(model, rng);
+                    for (int i = 0; i < 50; ++i) {
+                        const auto t0 = Clock::now();
+                        const physics::StepResult step = stepper.step(model, h);
+                        samples.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+                        if (scheme == physics::Scheme::BackwardEuler) solver.record(step.solve);
+                    }
+                }
+                const Summary s = summarize(samples);
+                // A CG iteration is one product with the springs' matrix, about the cost of one force evaluation.
+                const double evaluations = scheme == physics::Scheme::BackwardEuler
+                                               ? 1 + solver.iterations.summary().mean
+                                               : forceEvaluations(scheme);
+                const double nsPerSpring = 1e3 * s.p50 / (static_cast<double>(model.springs.size()) * evaluations);
+                std::printf("%10zu %8zu %9zu %-11s %7u %11.1f %11.1f %13.2f %9d %15.1f %8.1f\n", mesh.faces.size(),
+                            model.nodes.size(), model.springs.size(), std::string(physics::schemeName(scheme)).c_str(),
+                            threads, s.p50, s.p99, nsPerSpring, substeps, s.p50 * substeps,
+                            solver.iterations.summary().mean);
+                results.push_back({{"triangles", mesh.faces.size()},
+                                   {"nodes", model.nodes.size()},
+                                   {"springs", model.springs.size()},
+                                   {"integrator", physics::schemeName(scheme)},
+                                   {"threads", threads},
+                                   {"step_us", toJson(s)},
+                                   {"ns_per_spring_evaluation", nsPerSpring},
+                                   {"stable_dt_s", stable_s},
+                                   {"substeps_at_1ms", substeps},
+                                   {"us_per_simulated_ms", s.p50 * substeps},
+                                   {"solver", solverJson(scheme, solver, stepper.solverSettings())},
+                                   {"heart_generation_s", generate_s}});
+            }
         }
     }
     std::printf(
@@ -363,6 +384,12 @@ Command addBenchCommand(CLI::App& app) {
     cmd->add_option("--integrators", o->integrators, "Integrators (comma separated)")
         ->delimiter(',')
         ->capture_default_str();
+    cmd->add_option("--threads", o->threads,
+                    "Threads of the implicit solve, each measured (comma separated; 0: one per core, here " +
+                        std::to_string(WorkerPool::hardwareThreads()) + ")")
+        ->delimiter(',')
+        ->capture_default_str()
+        ->check(CLI::Range(0u, physics::kMaxSolverThreads));
     cmd->add_option("--seconds", o->seconds, "Minimum timing per case (s)")
         ->capture_default_str()
         ->check(CLI::Range(0.01, 600.0));

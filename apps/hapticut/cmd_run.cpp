@@ -37,6 +37,7 @@ struct RunOptions {
     double solverTolerance = physics::SolverSettings{}.tolerance;
     double solverForceTolerance_N = physics::SolverSettings{}.forceTolerance_N;
     int solverMaxIterations = physics::SolverSettings{}.maxIterations;
+    unsigned solverThreads = physics::SolverSettings{}.threads;
     double dt_s = 1e-3;
     long steps = 1000;
     bool stepsGiven = false;
@@ -88,6 +89,7 @@ std::optional<scene::SceneRequest> sceneRequest(const RunOptions& o) {
     if (given("--solver-tolerance")) over.solverTolerance = o.solverTolerance;
     if (given("--solver-force-tolerance")) over.solverForceTolerance_N = o.solverForceTolerance_N;
     if (given("--solver-iterations")) over.solverMaxIterations = o.solverMaxIterations;
+    if (given("--solver-threads")) over.solverThreads = o.solverThreads;
     if (given("--rate")) over.rate_hz = o.rate_hz;
     if (given("--coupling-stiffness")) over.couplingStiffness_N_per_m = o.couplingStiffness_N_per_m;
     if (given("--friction")) {
@@ -542,6 +544,11 @@ Command addRunCommand(CLI::App& app) {
     cmd->add_option("--solver-iterations", o->solverMaxIterations, "The implicit solve's iteration cap")
         ->capture_default_str()
         ->check(CLI::Range(1, physics::kMaxSolverIterations));
+    cmd->add_option("--solver-threads", o->solverThreads,
+                    "Threads that share the implicit solve, its own included (0: one per core); the results are the "
+                    "same with any number")
+        ->capture_default_str()
+        ->check(CLI::Range(0u, physics::kMaxSolverThreads));
     cmd->add_option("--dt", o->dt_s, "Time step in seconds")->capture_default_str()->check(CLI::Range(1e-7, 1.0));
     cmd->add_option("--steps", o->steps, "Number of steps")
         ->capture_default_str()

@@ -172,10 +172,10 @@ TEST(SolverKernels, EveryInstructionSetComputesTheSameProductAndPasses) {
         for (auto* f : {&product, &r, &z, &p}) f->resize(h.system.rows());
         const double yAy = kernels::multiply(h.system.matrix(), y, product);
         const kernels::Sums start =
-            kernels::startPass(h.system.rows(), h.system.rhs(), product, h.system.inverseBlocks(), r, z, p);
+            kernels::startPass({0, h.system.rows()}, h.system.rhs(), product, h.system.inverseBlocks(), r, z, p);
         const kernels::Sums update =
-            kernels::updatePass(h.system.rows(), 0.5, y, product, h.system.inverseBlocks(), x, r, z);
-        kernels::directionPass(h.system.rows(), 0.25, z, p);
+            kernels::updatePass({0, h.system.rows()}, 0.5, y, product, h.system.inverseBlocks(), x, r, z);
+        kernels::directionPass({0, h.system.rows()}, 0.25, z, p);
         EXPECT_GT(start.r2, 0);
         EXPECT_GT(update.r2, 0);
         // Each row sums in the same order on every target; only fused multiply-adds round differently.

@@ -25,5 +25,22 @@ TEST(Stepper, StepsWithoutHeapAllocation) {
     EXPECT_GT(maxDisplacement(model), 0.0);
 }
 
+TEST(Stepper, AnImplicitStepSharedOutOnThreadsAllocatesNothing) {
+    mesh::procedural::HeartOptions heart;
+    heart.triangles = 9714;  // rows in several chunks, so that the helpers take part
+    MassSpringModel model = buildModel(mesh::procedural::makeHeart(heart), Material{});
+    Stepper stepper(Scheme::BackwardEuler);
+    SolverSettings settings;
+    settings.threads = 3;
+    stepper.setSolverSettings(settings);
+    stepper.prepare(model);
+    model.nodes.externalForce[11] = Vec3(0, 0, -1);
+    (void)stepper.step(model, 1e-3);  // the first step makes each thread's scratch space
+    const long before = test::allocationCount();
+    for (int i = 0; i < 300; ++i) (void)stepper.step(model, 1e-3);
+    EXPECT_EQ(test::allocationCount() - before, 0);
+    EXPECT_GT(maxDisplacement(model), 0.0);
+}
+
 }  // namespace
 }  // namespace hapticut::physics

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "hapticut/common/reserve.h"
 
@@ -13,6 +14,7 @@ void BackwardEuler::reserve(std::size_t nodes, std::size_t springs) {
     for (auto* v : {&deltaV_, &startVelocity_, &motion_}) reserveTouched(*v, nodes);
     for (auto* field : {&solution_, &residual_, &preconditioned_, &direction_, &product_})
         for (auto* a : {&field->x, &field->y, &field->z}) reserveTouched(*a, nodes + kernels::kSliceRows);
+    reserveTouched(partial_, nodes / kernels::kChunkRows + 2);
 }
 
 void BackwardEuler::resize(std::size_t nodes) {
@@ -24,7 +26,37 @@ void BackwardEuler::setSettings(SolverSettings settings) {
     settings.maxIterations = std::clamp(settings.maxIterations, 1, kMaxSolverIterations);
     settings.maxNewtonIterations = std::clamp(settings.maxNewtonIterations, 1, 100);
     settings.forceTolerance_N = std::max(settings.forceTolerance_N, 0.0);
+    pool_.resize(std::min(settings.threads == 0 ? WorkerPool::hardwareThreads() : settings.threads, kMaxSolverThreads));
     settings_ = settings;
+}
+
+template <class Task>
+void BackwardEuler::forEachChunk(std::size_t size, Task&& task) {
+    const std::size_t chunks = (size + kernels::kChunkRows - 1) / kernels::kChunkRows;
+    pool_.forEach(chunks, [&](std::size_t chunk) {
+        task(chunk * kernels::kChunkRows, std::min(size, (chunk + 1) * kernels::kChunkRows));
+    });
+}
+
+namespace {
+
+/// The chunks' sums, added in chunk order whichever thread computed each.
+kernels::Sums total(std::span<const kernels::Sums> partial) {
+    kernels::Sums sums;
+    for (const kernels::Sums& part : partial) sums.r2 += part.r2, sums.rz += part.rz;
+    return sums;
+}
+
+std::size_t chunkOf(std::size_t firstRow) { return firstRow / kernels::kChunkRows; }
+
+}  // namespace
+
+double BackwardEuler::multiply(const kernels::Field& y, kernels::Field& out) {
+    const kernels::SystemRows matrix = system_.matrix();
+    forEachChunk(matrix.rows, [&](std::size_t first, std::size_t end) {
+        partial_[chunkOf(first)] = {kernels::multiply(matrix, y, out, {first, end}), 0};
+    });
+    return total(partial_).r2;
 }
 
 SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion region) {
@@ -34,33 +66,40 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
     // Capacity is reserved for every node: these never allocate in a step.
     startVelocity_.resize(count);
     motion_.resize(count);
-    for (std::size_t k = 0; k < count; ++k) startVelocity_[k] = n.velocity[region.nodes[k]];
-    system_.assemble(model, h, region);
-    for (auto* field : {&solution_, &residual_, &preconditioned_, &direction_, &product_})
-        field->resize(system_.rows());
-    for (std::size_t k = 0; k < system_.rows(); ++k) {  // the warm start; zero on the padding rows
-        const Vec3 guess = k < count ? deltaV_[region.nodes[k]] : Vec3::Zero();
-        solution_.x[k] = guess.x(), solution_.y[k] = guess.y(), solution_.z[k] = guess.z();
-    }
+    const std::size_t rows = (count + kernels::kSliceRows - 1) / kernels::kSliceRows * kernels::kSliceRows;
+    for (auto* field : {&solution_, &residual_, &preconditioned_, &direction_, &product_}) field->resize(rows);
+    // Every pass over the unknowns runs in chunks of rows on the pool's threads.
+    forEachChunk(rows, [&](std::size_t first, std::size_t end) {
+        for (std::size_t k = first; k < end; ++k) {  // the warm start; zero on the padding rows
+            const Vec3 guess = k < count ? deltaV_[region.nodes[k]] : Vec3::Zero();
+            solution_.x[k] = guess.x(), solution_.y[k] = guess.y(), solution_.z[k] = guess.z();
+            if (k < count) startVelocity_[k] = n.velocity[region.nodes[k]];
+        }
+    });
+    system_.assemble(model, h, region, {}, &pool_);
     double stepNorm2 = 0;  // set by the first solve, the measure of the corrections
     SolveReport report = solve(stepNorm2);
     auto apply = [&](bool whole) {
-        for (std::size_t k = 0; k < count; ++k) {
-            const std::uint32_t i = region.nodes[k];
-            const Vec3 change(solution_.x[k], solution_.y[k], solution_.z[k]);
-            n.velocity[i] += change;
-            // The first iteration moves by the whole new velocity, a correction by its change.
-            motion_[k] = h * (whole ? n.velocity[i] : change);
-            n.position[i] += motion_[k];
-        }
+        forEachChunk(count, [&](std::size_t first, std::size_t end) {
+            for (std::size_t k = first; k < end; ++k) {
+                const std::uint32_t i = region.nodes[k];
+                const Vec3 change(solution_.x[k], solution_.y[k], solution_.z[k]);
+                n.velocity[i] += change;
+                // The first iteration moves by the whole new velocity, a correction by its change.
+                motion_[k] = h * (whole ? n.velocity[i] : change);
+                n.position[i] += motion_[k];
+            }
+        });
     };
     apply(true);
     // Newton's corrections, solved with the matrix at the latest iterate x = x0 + h v, while the last
     // iteration moved the springs too far for its linearisation to hold.
     while (report.newtonIterations < settings_.maxNewtonIterations &&
-           system_.largestRelativeMotion(model.springs, region, motion_) > kLinearMotion) {
-        system_.assemble(model, h, region, startVelocity_);
-        for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(a->begin(), a->end(), 0.0);
+           system_.largestRelativeMotion(model.springs, region, motion_, &pool_) > kLinearMotion) {
+        system_.assemble(model, h, region, startVelocity_, &pool_);
+        forEachChunk(rows, [&](std::size_t first, std::size_t end) {
+            for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(&(*a)[first], &(*a)[end], 0.0);
+        });
         const SolveReport correction = solve(stepNorm2);
         report.iterations += correction.iterations;
         report.relativeResidual = correction.relativeResidual;
@@ -68,18 +107,29 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
         ++report.newtonIterations;
         apply(false);
     }
-    for (std::size_t k = 0; k < count; ++k) deltaV_[region.nodes[k]] = n.velocity[region.nodes[k]] - startVelocity_[k];
+    forEachChunk(count, [&](std::size_t first, std::size_t end) {
+        for (std::size_t k = first; k < end; ++k)
+            deltaV_[region.nodes[k]] = n.velocity[region.nodes[k]] - startVelocity_[k];
+    });
     return report;
 }
 
 SolveReport BackwardEuler::solve(double& stepNorm2) {
     const std::size_t rows = system_.rows();
     const kernels::Field& b = system_.rhs();
-    const kernels::SystemRows matrix = system_.matrix();
     const kernels::SymmetricBlocks& inverse = system_.inverseBlocks();
+    partial_.resize((rows + kernels::kChunkRows - 1) / kernels::kChunkRows);
     SolveReport report;
-    double bNorm2 = 0;
-    for (std::size_t k = 0; k < rows; ++k) bNorm2 += b.x[k] * b.x[k] + b.y[k] * b.y[k] + b.z[k] * b.z[k];
+    // x·b, or b·b with x = b: the chunks' parts added in chunk order.
+    auto dot = [&](const kernels::Field& x) {
+        forEachChunk(rows, [&](std::size_t first, std::size_t end) {
+            double sum = 0;
+            for (std::size_t k = first; k < end; ++k) sum += x.x[k] * b.x[k] + x.y[k] * b.y[k] + x.z[k] * b.z[k];
+            partial_[chunkOf(first)] = {sum, 0};
+        });
+        return total(partial_).r2;
+    };
+    double bNorm2 = dot(b);
     if (bNorm2 == 0) {
         for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(a->begin(), a->end(), 0.0);
         return report;
@@ -95,26 +145,37 @@ SolveReport BackwardEuler::solve(double& stepNorm2) {
     // The warm start g is scaled along its line to the point nearest the solution in the A-norm,
     // s = gᵀb / gᵀAg: never a worse start than zero, which the raw last change of velocity can be by
     // several times where the tissue rings or the step size changes (multi-rate steps vary).
-    const double gAg = kernels::multiply(matrix, solution_, product_);
+    const double gAg = multiply(solution_, product_);
     if (gAg > 0 && std::isfinite(gAg)) {
-        double gb = 0;
-        for (std::size_t k = 0; k < rows; ++k)
-            gb += solution_.x[k] * b.x[k] + solution_.y[k] * b.y[k] + solution_.z[k] * b.z[k];
-        const double scale = gb / gAg;
-        for (kernels::Field* field : {&solution_, &product_})
-            for (auto* a : {&field->x, &field->y, &field->z})
-                for (double& value : *a) value *= scale;
+        const double scale = dot(solution_) / gAg;
+        forEachChunk(rows, [&](std::size_t first, std::size_t end) {
+            for (kernels::Field* field : {&solution_, &product_})
+                for (auto* a : {&field->x, &field->y, &field->z})
+                    for (std::size_t k = first; k < end; ++k) (*a)[k] *= scale;
+        });
     }
-    kernels::Sums sums = kernels::startPass(rows, b, product_, inverse, residual_, preconditioned_, direction_);
+    forEachChunk(rows, [&](std::size_t first, std::size_t end) {
+        partial_[chunkOf(first)] =
+            kernels::startPass({first, end}, b, product_, inverse, residual_, preconditioned_, direction_);
+    });
+    kernels::Sums sums = total(partial_);
     double r2 = sums.r2, rz = sums.rz;
     while (r2 > stop2 && report.iterations < settings_.maxIterations) {
-        const double pq = kernels::multiply(matrix, direction_, product_);
+        const double pq = multiply(direction_, product_);
         if (!(pq > 0) || !std::isfinite(pq)) break;  // a breakdown: keep what was reached
-        sums = kernels::updatePass(rows, rz / pq, direction_, product_, inverse, solution_, residual_, preconditioned_);
+        const double alpha = rz / pq;
+        forEachChunk(rows, [&](std::size_t first, std::size_t end) {
+            partial_[chunkOf(first)] = kernels::updatePass({first, end}, alpha, direction_, product_, inverse,
+                                                           solution_, residual_, preconditioned_);
+        });
+        sums = total(partial_);
         r2 = sums.r2;
         ++report.iterations;
         if (r2 <= stop2) break;
-        kernels::directionPass(rows, sums.rz / rz, preconditioned_, direction_);
+        const double beta = sums.rz / rz;
+        forEachChunk(rows, [&](std::size_t first, std::size_t end) {
+            kernels::directionPass({first, end}, beta, preconditioned_, direction_);
+        });
         rz = sums.rz;
     }
     report.relativeResidual = std::sqrt(r2 / bNorm2);

@@ -8,12 +8,16 @@
 #include <cstdint>
 #include <vector>
 
+#include "hapticut/common/worker_pool.h"
+
 #include "hapticut/physics/backward_euler_system.h"
 
 namespace hapticut::physics {
 
 /// The most iterations a solve may be allowed (a setting above it is taken as this).
 inline constexpr int kMaxSolverIterations = 10'000;
+/// The most threads a solve may be given.
+inline constexpr unsigned kMaxSolverThreads = 256;
 
 /// When the conjugate-gradient solve stops: at a residual below `tolerance` times the step's right-hand
 /// side (both Euclidean norms, in newton-seconds), or after `maxIterations`, whichever comes first. A
@@ -30,6 +34,9 @@ struct SolverSettings {
     /// spring's ends apart by more than kLinearMotion of its rest length: there the springs turned
     /// or stretched too far within the step for one linearisation to hold.
     int maxNewtonIterations = 4;
+    /// The threads that share a solve's passes, the calling one included (a pool made once: see
+    /// worker_pool.h); 0: one per core. Results are the same, to the bit, with any number.
+    unsigned threads = 1;
 };
 
 /// A step whose springs' ends move apart by less than this fraction of their rest length is taken to
@@ -61,6 +68,12 @@ private:
     /// Solves the assembled system from the warm start in solution_, to `tolerance` of the step's
     /// right-hand side: `stepNorm2`, its squared norm, when positive; else this one's, kept there.
     SolveReport solve(double& stepNorm2);
+    /// Calls task(first, end) for the chunks of kernels::kChunkRows rows (or unknowns) that make up
+    /// 0 .. size - 1, on the pool's threads when there is one.
+    template <class Task>
+    void forEachChunk(std::size_t size, Task&& task);
+    /// out = A y over every chunk; returns yᵀ A y, summed chunk by chunk in order.
+    double multiply(const kernels::Field& y, kernels::Field& out);
 
     SolverSettings settings_;
     double h_ = 0;  // the step being solved (s)
@@ -70,6 +83,8 @@ private:
     // last Newton iteration, and the conjugate-gradient vectors (padded rows, for the kernels).
     std::vector<Vec3> startVelocity_, motion_;
     kernels::Field solution_, residual_, preconditioned_, direction_, product_;
+    OwnedWorkerPool pool_;                // shares the passes out; none when the solve runs on one thread
+    std::vector<kernels::Sums> partial_;  // by chunk: its part of a pass's sums
 };
 
 }  // namespace hapticut::physics

@@ -15,11 +15,12 @@ void BackwardEulerSystem::reserve(std::size_t nodes, std::size_t springs) {
     reserveTouched(unknownOf_, nodes);
     reserveTouched(diagonal_, rows);
     reserveTouched(rowStart_, nodes + 1);
-    for (auto* list : {&endA_, &endB_, &slotA_, &slotB_}) reserveTouched(*list, springs);
+    for (auto* list : {&endA_, &endB_, &slotA_, &slotB_, &ordered_, &position_}) reserveTouched(*list, springs);
+    reserveTouched(largestMotion_, springs / kernels::kChunkRows + 1);
+    reserveTouched(bucketStart_, 2 * (rows / kernels::kChunkRows + 1) + 1);
     reserveTouched(column_, nodes);
     reserveTouched(restingSum_, nodes);
     reserveTouched(restingOf_, rows);
-    reserveTouched(pinned_, rows);
     for (auto* field : {&rhs_.x, &rhs_.y, &rhs_.z}) reserveTouched(*field, rows);
     for (auto* blocks : {&toResting_, &inverseBlock_})
         for (auto* a : {&blocks->xx, &blocks->xy, &blocks->xz, &blocks->yy, &blocks->yz, &blocks->zz})
@@ -40,7 +41,7 @@ void BackwardEulerSystem::setBlock(kernels::SymmetricBlocks& blocks, std::size_t
 }
 
 void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, SolveRegion region,
-                                   std::span<const Vec3> startVelocity) {
+                                   std::span<const Vec3> startVelocity, OwnedWorkerPool* pool) {
     // The first linearisation adds h² K v to the right-hand side; a correction subtracts M (v - v0).
     const bool correction = !startVelocity.empty();
     const Nodes& n = model.nodes;
@@ -48,29 +49,39 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     const std::vector<Vec3>& x = n.position;
     const std::vector<Vec3>& v = n.velocity;
     const double h2 = h * h;
+    OwnedWorkerPool calling;  // no threads: every chunk on the calling thread
+    OwnedWorkerPool& threads = pool ? *pool : calling;
     // Capacity is reserved for every node and spring: these resizes never allocate in a step.
     const std::size_t count = region.nodes.size();
     count_ = count;
     rows_ = (count + kernels::kSliceRows - 1) / kernels::kSliceRows * kernels::kSliceRows;
-    diagonal_.assign(rows_, 0.0);
+    diagonal_.resize(rows_);
     toResting_.resize(rows_);
     inverseBlock_.resize(rows_);
-    pinned_.assign(rows_, 0);
-    restingSum_.clear();
-    restingOf_.assign(count, kNoResting);
     rhs_.resize(rows_);
+    if (scratch_.size() != threads.threads()) scratch_.resize(threads.threads());  // once per thread count
     for (std::uint32_t i : region.touched) unknownOf_[i] = kResting;
+    for (std::uint32_t k = 0; k < count; ++k) unknownOf_[region.nodes[k]] = k;
     const Vec3 g = model.gravity_m_per_s2;
-    for (std::uint32_t k = 0; k < count; ++k) {
-        const std::uint32_t i = region.nodes[k];
-        unknownOf_[i] = k;
-        const double ka = n.anchorStiffness[i], da = n.anchorDamping[i];
-        const Vec3 f = n.externalForce[i] - ka * (x[i] - n.restPosition[i]) - da * v[i] +
-                       (n.inverseMass[i] > 0 ? Vec3(n.mass[i] * g) : Vec3::Zero());
-        const Vec3 b = h * f - (correction ? Vec3(n.mass[i] * (v[i] - startVelocity[k])) : Vec3(h2 * ka * v[i]));
-        rhs_.x[k] = b.x(), rhs_.y[k] = b.y(), rhs_.z[k] = b.z();
-        diagonal_[k] = n.mass[i] + h * da + h2 * ka;
-    }
+    auto rowsOf = [&](std::size_t chunk) {
+        return kernels::RowRange{chunk * kernels::kChunkRows, std::min(rows_, (chunk + 1) * kernels::kChunkRows)};
+    };
+    threads.forEach(rowChunks(), [&](std::size_t chunk) {
+        const kernels::RowRange range = rowsOf(chunk);
+        for (std::size_t k = range.first; k < std::min(range.end, count); ++k) {
+            const std::uint32_t i = region.nodes[k];
+            const double ka = n.anchorStiffness[i], da = n.anchorDamping[i];
+            const Vec3 f = n.externalForce[i] - ka * (x[i] - n.restPosition[i]) - da * v[i] +
+                           (n.inverseMass[i] > 0 ? Vec3(n.mass[i] * g) : Vec3::Zero());
+            const Vec3 b = h * f - (correction ? Vec3(n.mass[i] * (v[i] - startVelocity[k])) : Vec3(h2 * ka * v[i]));
+            rhs_.x[k] = b.x(), rhs_.y[k] = b.y(), rhs_.z[k] = b.z();
+            diagonal_[k] = n.mass[i] + h * da + h2 * ka;
+        }
+        for (std::size_t k = std::max(range.first, count); k < range.end; ++k) {  // the padding rows are zero
+            diagonal_[k] = 0;
+            rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
+        }
+    });
     for (const PointSpring& tool : model.tools) {
         if (!tool.active) continue;
         const Vec3 force = tool.forceOnTool(x);
@@ -93,15 +104,56 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     if (region.layout == 0 || region.layout != layout_) layOut(s, region);
     HAPTICUT_ASSERT(layoutMatches(s, region));
     layout_ = region.layout;
+    for (Mat3& resting : restingSum_) resting.setZero();
+    // The springs' terms, bucket by bucket (layOut): the chunks' own on the pool's threads; then those
+    // between neighbouring chunks, every other boundary at a time, so that no two threads write a row;
+    // then the few that reach further, here.
+    const std::size_t chunks = rowChunks();
+    auto springsOf = [&](std::size_t bucket, unsigned worker) {
+        assembleSprings(model, h, !correction, bucketStart_[bucket], bucketStart_[bucket + 1], scratch_[worker]);
+    };
+    threads.forEach(chunks, springsOf);
+    for (std::size_t parity = 0; parity < 2; ++parity)
+        threads.forEach((chunks - parity) / 2,
+                        [&](std::size_t i, unsigned worker) { springsOf(chunks + 2 * i + parity, worker); });
+    springsOf(2 * chunks - 1, 0);
+    constexpr std::size_t kSlice = kernels::kSliceRows;
+    threads.forEach(rowChunks(), [&](std::size_t chunk) {
+        const kernels::RowRange range = rowsOf(chunk);
+        for (std::size_t k = range.first; k < std::min(range.end, count); ++k) {
+            if (n.inverseMass[region.nodes[k]] == 0) {
+                // A pinned node's row is left out: no terms, no right-hand side, no preconditioner, so its
+                // unknown stays zero. (Its slots are zeroed here rather than left out of the layout: a node
+                // is pinned or freed without the layout changing.)
+                diagonal_[k] = 0;
+                setBlock(toResting_, k, Mat3::Zero());
+                rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
+                const std::size_t first = sliced_.sliceBegin[k / kSlice] + k % kSlice;
+                for (std::uint32_t j = 0; j < rowStart_[k + 1] - rowStart_[k]; ++j)
+                    setCoupling(static_cast<std::uint32_t>(first + j * kSlice), 0, 0, 0, 0);
+                continue;
+            }
+            setBlock(toResting_, k, restingOf_[k] == kNoResting ? Mat3::Zero() : restingSum_[restingOf_[k]]);
+        }
+        for (std::size_t k = std::max(range.first, count); k < range.end; ++k) setBlock(toResting_, k, Mat3::Zero());
+        // The preconditioner: each row's diagonal block, m + h d + h² k and its springs' blocks, as the
+        // product reads them (in single precision: a preconditioner need not be exact), inverted by the
+        // SIMD kernel a slice at a time.
+        kernels::invertRowBlocks(matrix(), inverseBlock_, range);
+    });
+}
+
+void BackwardEulerSystem::assembleSprings(const MassSpringModel& model, double h, bool firstLinearisation,
+                                          std::size_t first, std::size_t end, kernels::SpringJacobians& chunk) {
     // The springs' terms come from the SIMD kernel a chunk at a time. Each spring writes its coupling to
     // its slot in both rows and its right-hand side to both ends; the rows' diagonal blocks are summed
     // from their couplings afterwards, row by row, so that no 3×3 block is scattered.
-    const kernels::SpringArrays arrays = springArrays(s);
-    kernels::SpringJacobians& chunk = chunk_;  // one chunk's terms (14 KB: a member, not on the stack)
-    for (std::size_t begin = 0; begin < region.springs.size(); begin += kernels::SpringJacobians::kSprings) {
-        const std::size_t size = std::min(kernels::SpringJacobians::kSprings, region.springs.size() - begin);
-        kernels::springJacobians(arrays, region.springs.data() + begin, size, x.size(), coordinates(x.data()),
-                                 coordinates(v.data()), h, !correction, chunk);
+    const std::vector<Vec3>& x = model.nodes.position;
+    const kernels::SpringArrays arrays = springArrays(model.springs);
+    for (std::size_t begin = first; begin < end; begin += kernels::SpringJacobians::kSprings) {
+        const std::size_t size = std::min(kernels::SpringJacobians::kSprings, end - begin);
+        kernels::springJacobians(arrays, ordered_.data() + begin, size, x.size(), coordinates(x.data()),
+                                 coordinates(model.nodes.velocity.data()), h, firstLinearisation, chunk);
         for (std::size_t i = 0; i < size; ++i) {
             const std::size_t e = begin + i;
             const std::uint32_t ka = endA_[e], kb = endB_[e];
@@ -116,42 +168,14 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
             const double c0 = chunk.c0[i], ux = chunk.ux[i], uy = chunk.uy[i], uz = chunk.uz[i];
             if (inner) {
                 setCoupling(slotA_[e], c0, ux, uy, uz), setCoupling(slotB_[e], c0, ux, uy, uz);
-            } else {
-                std::uint32_t& at = restingOf_[ka != kResting ? ka : kb];
-                if (at == kNoResting)
-                    at = static_cast<std::uint32_t>(restingSum_.size()), restingSum_.push_back(Mat3::Zero());
+            } else if (ka != kb) {  // one end awake
                 const Vec3 u(ux, uy, uz);
-                Mat3& resting = restingSum_[at];
+                Mat3& resting = restingSum_[restingOf_[ka != kResting ? ka : kb]];
                 resting += u * u.transpose();
                 resting.diagonal().array() += c0;
             }
         }
     }
-    constexpr std::size_t kSlice = kernels::kSliceRows;
-    for (std::uint32_t k = 0; k < count; ++k) {
-        if (n.inverseMass[region.nodes[k]] == 0) {
-            // A pinned node's row is left out: no terms, no right-hand side, no preconditioner, so its
-            // unknown stays zero. (Its slots are zeroed here rather than left out of the layout: a node
-            // is pinned or freed without the layout changing.)
-            pinned_[k] = 1;
-            diagonal_[k] = 0;
-            setBlock(toResting_, k, Mat3::Zero());
-            rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
-            const std::size_t first = sliced_.sliceBegin[k / kSlice] + k % kSlice;
-            for (std::uint32_t j = 0; j < rowStart_[k + 1] - rowStart_[k]; ++j)
-                setCoupling(static_cast<std::uint32_t>(first + j * kSlice), 0, 0, 0, 0);
-            continue;
-        }
-        setBlock(toResting_, k, restingOf_[k] == kNoResting ? Mat3::Zero() : restingSum_[restingOf_[k]]);
-    }
-    for (std::size_t k = count; k < rows_; ++k) {  // the padding rows are zero throughout
-        setBlock(toResting_, k, Mat3::Zero());
-        rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
-    }
-    // The preconditioner: each row's diagonal block, m + h d + h² k and its springs' blocks, as the
-    // product reads them (in single precision: a preconditioner need not be exact), inverted by the
-    // SIMD kernel a slice at a time.
-    kernels::invertRowBlocks(matrix(), inverseBlock_);
 }
 
 void BackwardEulerSystem::setCoupling(std::uint32_t slot, double c0, double ux, double uy, double uz) {
@@ -160,10 +184,13 @@ void BackwardEulerSystem::setCoupling(std::uint32_t slot, double c0, double ux, 
 }
 
 bool BackwardEulerSystem::layoutMatches(const Springs& s, SolveRegion region) const {
-    if (endA_.size() != region.springs.size()) return false;
-    for (std::size_t e = 0; e < region.springs.size(); ++e)
-        if (endA_[e] != unknownOf_[s.a[region.springs[e]]] || endB_[e] != unknownOf_[s.b[region.springs[e]]])
+    if (endA_.size() != region.springs.size() || bucketStart_.size() != 2 * rowChunks() + 1) return false;
+    for (std::size_t e = 0; e < region.springs.size(); ++e) {
+        const std::uint32_t p = position_[e];
+        if (p >= ordered_.size() || ordered_[p] != region.springs[e] || endA_[p] != unknownOf_[s.a[ordered_[p]]] ||
+            endB_[p] != unknownOf_[s.b[ordered_[p]]])
             return false;
+    }
     return rowStart_.size() == count_ + 1;
 }
 
@@ -171,14 +198,47 @@ void BackwardEulerSystem::layOut(const Springs& s, SolveRegion region) {
     constexpr std::size_t kSlice = kernels::kSliceRows;
     const std::size_t count = count_, listed = region.springs.size();
     // Capacity is reserved for every node and spring: these resizes never allocate in a step.
-    endA_.resize(listed), endB_.resize(listed), slotA_.resize(listed), slotB_.resize(listed);
-    // The rows' lengths, a row's couplings in the order of the springs' list.
-    rowStart_.assign(count + 1, 0);
+    for (auto* list : {&endA_, &endB_, &slotA_, &slotB_, &ordered_, &position_}) list->resize(listed);
+    // Each spring's bucket, for C chunks of rows: c < C when its awake ends lie in chunk c; C + c when they
+    // lie in chunks c and c + 1; 2C - 1 when further apart. A counting sort puts the springs in bucket
+    // order, each bucket in the list's order.
+    const std::size_t chunks = rowChunks(), buckets = 2 * chunks;
+    bucketStart_.assign(buckets + 1, 0);
+    auto bucketOf = [&](std::uint32_t ka, std::uint32_t kb) -> std::size_t {
+        if (ka == kResting) std::swap(ka, kb);
+        if (ka == kResting) return buckets - 1;
+        const std::size_t chunkA = ka / kernels::kChunkRows;
+        const std::size_t chunkB = kb == kResting ? chunkA : kb / kernels::kChunkRows;
+        if (chunkA == chunkB) return chunkA;
+        const std::size_t low = std::min(chunkA, chunkB);
+        return std::max(chunkA, chunkB) == low + 1 ? chunks + low : buckets - 1;
+    };
+    for (std::uint32_t spring : region.springs)
+        ++bucketStart_[bucketOf(unknownOf_[s.a[spring]], unknownOf_[s.b[spring]]) + 1];
+    for (std::size_t b = 0; b < buckets; ++b) bucketStart_[b + 1] += bucketStart_[b];
+    column_.assign(buckets, 0);  // while sorting: each bucket's next place
     for (std::size_t e = 0; e < listed; ++e) {
-        const std::uint32_t ka = unknownOf_[s.a[region.springs[e]]], kb = unknownOf_[s.b[region.springs[e]]];
-        endA_[e] = ka, endB_[e] = kb;
-        if (ka != kResting && kb != kResting) ++rowStart_[ka + 1], ++rowStart_[kb + 1];
+        const std::uint32_t spring = region.springs[e];
+        const std::uint32_t ka = unknownOf_[s.a[spring]], kb = unknownOf_[s.b[spring]];
+        const std::size_t b = bucketOf(ka, kb);
+        const std::uint32_t p = bucketStart_[b] + column_[b]++;
+        position_[e] = p, ordered_[p] = spring, endA_[p] = ka, endB_[p] = kb;
     }
+    // The rows' lengths, a row's couplings in bucket order; each row with springs to resting neighbours
+    // gets its block.
+    rowStart_.assign(count + 1, 0);
+    restingOf_.assign(count, kNoResting);
+    std::size_t resting = 0;
+    for (std::size_t p = 0; p < listed; ++p) {
+        const std::uint32_t ka = endA_[p], kb = endB_[p];
+        if (ka != kResting && kb != kResting) {
+            ++rowStart_[ka + 1], ++rowStart_[kb + 1];
+        } else if (ka != kb) {
+            std::uint32_t& at = restingOf_[ka != kResting ? ka : kb];
+            if (at == kNoResting) at = static_cast<std::uint32_t>(resting++);
+        }
+    }
+    restingSum_.resize(resting);
     for (std::size_t k = 0; k < count; ++k) rowStart_[k + 1] += rowStart_[k];
     // Each slice as wide as its widest row; every slot starts as a zero coupling of its row to itself.
     const std::size_t slices = rows_ / kSlice;
@@ -205,23 +265,34 @@ void BackwardEulerSystem::layOut(const Springs& s, SolveRegion region) {
         sliced_.other[slot] = static_cast<std::int32_t>(other);
         return slot;
     };
-    for (std::size_t e = 0; e < listed; ++e) {
-        if (endA_[e] == kResting || endB_[e] == kResting) continue;
-        slotA_[e] = nextSlot(endA_[e], endB_[e]);
-        slotB_[e] = nextSlot(endB_[e], endA_[e]);
+    for (std::size_t p = 0; p < listed; ++p) {
+        if (endA_[p] == kResting || endB_[p] == kResting) continue;
+        slotA_[p] = nextSlot(endA_[p], endB_[p]);
+        slotB_[p] = nextSlot(endB_[p], endA_[p]);
     }
 }
 
 double BackwardEulerSystem::largestRelativeMotion(const Springs& springs, SolveRegion region,
-                                                  std::span<const Vec3> motion) const {
+                                                  std::span<const Vec3> motion, OwnedWorkerPool* pool) {
+    constexpr std::size_t kChunk = 4 * kernels::kChunkRows;  // springs
+    const std::size_t listed = region.springs.size(), chunks = (listed + kChunk - 1) / kChunk;
+    largestMotion_.resize(chunks);  // reserved
+    auto largestIn = [&](std::size_t chunk) {
+        double largest2 = 0;
+        for (std::size_t e = chunk * kChunk; e < std::min(listed, (chunk + 1) * kChunk); ++e) {
+            const std::uint32_t spring = region.springs[e];
+            const double rest = springs.restLength[spring];
+            if (rest < 1e-9) continue;
+            const std::uint32_t ka = unknownOf_[springs.a[spring]], kb = unknownOf_[springs.b[spring]];
+            const Vec3 ma = ka != kResting ? motion[ka] : Vec3::Zero(), mb = kb != kResting ? motion[kb] : Vec3::Zero();
+            largest2 = std::max(largest2, (mb - ma).squaredNorm() / (rest * rest));
+        }
+        largestMotion_[chunk] = largest2;
+    };
+    OwnedWorkerPool calling;
+    (pool ? *pool : calling).forEach(chunks, largestIn);
     double largest2 = 0;
-    for (std::uint32_t e : region.springs) {
-        const double rest = springs.restLength[e];
-        if (rest < 1e-9) continue;
-        const std::uint32_t ka = unknownOf_[springs.a[e]], kb = unknownOf_[springs.b[e]];
-        const Vec3 ma = ka != kResting ? motion[ka] : Vec3::Zero(), mb = kb != kResting ? motion[kb] : Vec3::Zero();
-        largest2 = std::max(largest2, (mb - ma).squaredNorm() / (rest * rest));
-    }
+    for (double chunkLargest2 : largestMotion_) largest2 = std::max(largest2, chunkLargest2);
     return std::sqrt(largest2);
 }
 

@@ -5,10 +5,12 @@
 // one linearisation is not enough.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "hapticut/common/worker_pool.h"
 #include "hapticut/geometry/vec.h"
 #include "hapticut/physics/mass_spring_model.h"
 #include "hapticut/physics/solver_kernels.h"
@@ -47,10 +49,14 @@ public:
     /// from the model's current state, over `region`. With `startVelocity` (by unknown) the state is a
     /// Newton iterate x = x0 + h v of a step that started at those velocities, and the right-hand side
     /// is the correction's; without it, the step's first linearisation.
-    void assemble(const MassSpringModel& model, double h, SolveRegion region, std::span<const Vec3> startVelocity = {});
+    /// With `pool`, chunks of kernels::kChunkRows rows, and the springs within them, are assembled on its
+    /// threads; the result is the same, to the bit, with any number of threads.
+    void assemble(const MassSpringModel& model, double h, SolveRegion region, std::span<const Vec3> startVelocity = {},
+                  OwnedWorkerPool* pool = nullptr);
     /// The largest relative motion of a spring's ends, |m_b - m_a| / rest length, for a motion m by
     /// unknown (zero on resting neighbours); springs shorter than a nanometre are skipped.
-    double largestRelativeMotion(const Springs& springs, SolveRegion region, std::span<const Vec3> motion) const;
+    double largestRelativeMotion(const Springs& springs, SolveRegion region, std::span<const Vec3> motion,
+                                 OwnedWorkerPool* pool = nullptr);
 
     /// The number of unknowns (3-vectors): the region's nodes.
     std::size_t size() const { return count_; }
@@ -72,6 +78,13 @@ private:
     bool layoutMatches(const Springs& springs, SolveRegion region) const;
     /// Sets slot `slot` of the couplings to c0 I + u uᵀ.
     void setCoupling(std::uint32_t slot, double c0, double ux, double uy, double uz);
+    /// The terms of the laid-out springs first .. end - 1 (in bucket order), with `chunk` for scratch.
+    void assembleSprings(const MassSpringModel& model, double h, bool firstLinearisation, std::size_t first,
+                         std::size_t end, kernels::SpringJacobians& chunk);
+    /// The chunks of kernels::kChunkRows rows, the last padded; one (empty) when there are no rows.
+    std::size_t rowChunks() const {
+        return std::max<std::size_t>(1, (rows_ + kernels::kChunkRows - 1) / kernels::kChunkRows);
+    }
 
     std::vector<std::uint32_t> unknownOf_;  // by node: its unknown, or kResting; valid on the region's touched nodes
     std::size_t count_ = 0, rows_ = 0;
@@ -85,22 +98,29 @@ private:
     // the double-precision right-hand side's (a rounded matrix changes the path of the iterations, not
     // where a converged solve ends up).
     kernels::SlicedCouplings sliced_;
-    // By the region's springs, in its list's order: the unknowns at the ends (kResting for a resting
-    // neighbour) and, for a spring between two unknowns, its slot in end a's row and in end b's. They
-    // depend only on the region's lists and the springs' ends: laying them out was a third of an
-    // assembly, so steps over the same layout (region.layout) reuse them and write the slots in place.
+    // The region's springs in buckets (layOut): one per chunk of rows, for the springs whose awake ends
+    // all lie in it; one per boundary between neighbouring chunks; and a last for the springs that reach
+    // further. The chunks' buckets are assembled in parallel, then the even boundaries', then the odd
+    // ones' (no two write the same row), then the last on the calling thread. Nodes in vertex order keep
+    // almost every spring in the first two kinds. ordered_ lists the springs bucket by bucket, each in
+    // the list's order, and position_ gives each listed spring's place in it.
+    std::vector<std::uint32_t> bucketStart_, ordered_, position_;
+    // By place in ordered_: the unknowns at the ends (kResting for a resting neighbour) and, for a spring
+    // between two unknowns, its slot in end a's row and in end b's. They depend only on the region's lists
+    // and the springs' ends: laying them out was a third of an assembly, so steps over the same layout
+    // (region.layout) reuse them and write the slots in place.
     std::uint64_t layout_ = 0;  // the region.layout they were laid out for; 0: none
     std::vector<std::uint32_t> endA_, endB_, slotA_, slotB_;
     std::vector<std::uint32_t> column_;      // by unknown, while laying out: its row's next free column
     kernels::SymmetricBlocks inverseBlock_;  // the preconditioner
     // Its springs' blocks to resting neighbours, while assembling: few rows have any (the edge of an awake
-    // region), so each such row has one block in restingSum_, at restingOf_[k].
+    // region), so each such row has one block in restingSum_, at restingOf_[k], given at layout.
     static constexpr std::uint32_t kNoResting = ~std::uint32_t{0};
     std::vector<std::uint32_t> restingOf_;
     std::vector<Mat3> restingSum_;
     kernels::Field rhs_;
-    kernels::SpringJacobians chunk_;    // the springs' terms, a chunk at a time
-    std::vector<std::uint8_t> pinned_;  // 1 for nodes without inverse mass: their rows are left out
+    std::vector<double> largestMotion_;              // by chunk of springs, while finding the largest motion
+    std::vector<kernels::SpringJacobians> scratch_;  // by thread: the springs' terms, a chunk at a time
 };
 
 }  // namespace hapticut::physics

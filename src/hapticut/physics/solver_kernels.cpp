@@ -29,14 +29,14 @@ HWY_INLINE void symmetricTimes(D d, const SymmetricBlocks& m, std::size_t at, V 
     oz = hn::MulAdd(xz, rx, hn::MulAdd(yz, ry, hn::Mul(zz, rz)));
 }
 
-double Multiply(const SystemRows& a, const Field& y, Field& out) {
+double Multiply(const SystemRows& a, const Field& y, Field& out, std::size_t first, std::size_t end) {
     const D d;
     const hn::Rebind<std::int32_t, D> di32;
     const hn::Rebind<std::int64_t, D> di64;
     const std::size_t lanes = hn::Lanes(d);
     const SlicedCouplings& c = *a.couplings;
     V yAy = hn::Zero(d);
-    for (std::size_t slice = 0; slice * kSliceRows < a.rows; ++slice) {
+    for (std::size_t slice = first / kSliceRows; slice * kSliceRows < end; ++slice) {
         const std::size_t begin = c.sliceBegin[slice];
         const std::size_t width = (c.sliceBegin[slice + 1] - begin) / kSliceRows;
         for (std::size_t group = 0; group < kSliceRows; group += lanes) {
@@ -69,11 +69,11 @@ double Multiply(const SystemRows& a, const Field& y, Field& out) {
     return hn::GetLane(hn::SumOfLanes(d, yAy));
 }
 
-Sums StartPass(std::size_t rows, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r,
-               Field& z, Field& p) {
+Sums StartPass(std::size_t first, std::size_t end, const Field& b, const Field& product, const SymmetricBlocks& inverse,
+               Field& r, Field& z, Field& p) {
     const D d;
     V r2 = hn::Zero(d), rz = hn::Zero(d);
-    for (std::size_t i = 0; i < rows; i += hn::Lanes(d)) {
+    for (std::size_t i = first; i < end; i += hn::Lanes(d)) {
         const V rx = hn::Sub(hn::LoadU(d, b.x.data() + i), hn::LoadU(d, product.x.data() + i));
         const V ry = hn::Sub(hn::LoadU(d, b.y.data() + i), hn::LoadU(d, product.y.data() + i));
         const V rzv = hn::Sub(hn::LoadU(d, b.z.data() + i), hn::LoadU(d, product.z.data() + i));
@@ -88,12 +88,12 @@ Sums StartPass(std::size_t rows, const Field& b, const Field& product, const Sym
     return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz))};
 }
 
-Sums UpdatePass(std::size_t rows, double alpha, const Field& p, const Field& q, const SymmetricBlocks& inverse,
-                Field& x, Field& r, Field& z) {
+Sums UpdatePass(std::size_t first, std::size_t end, double alpha, const Field& p, const Field& q,
+                const SymmetricBlocks& inverse, Field& x, Field& r, Field& z) {
     const D d;
     const V a = hn::Set(d, alpha), minusA = hn::Set(d, -alpha);
     V r2 = hn::Zero(d), rz = hn::Zero(d);
-    for (std::size_t i = 0; i < rows; i += hn::Lanes(d)) {
+    for (std::size_t i = first; i < end; i += hn::Lanes(d)) {
         hn::StoreU(hn::MulAdd(a, hn::LoadU(d, p.x.data() + i), hn::LoadU(d, x.x.data() + i)), d, x.x.data() + i);
         hn::StoreU(hn::MulAdd(a, hn::LoadU(d, p.y.data() + i), hn::LoadU(d, x.y.data() + i)), d, x.y.data() + i);
         hn::StoreU(hn::MulAdd(a, hn::LoadU(d, p.z.data() + i), hn::LoadU(d, x.z.data() + i)), d, x.z.data() + i);
@@ -110,10 +110,10 @@ Sums UpdatePass(std::size_t rows, double alpha, const Field& p, const Field& q, 
     return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz))};
 }
 
-void DirectionPass(std::size_t rows, double beta, const Field& z, Field& p) {
+void DirectionPass(std::size_t first, std::size_t end, double beta, const Field& z, Field& p) {
     const D d;
     const V b = hn::Set(d, beta);
-    for (std::size_t i = 0; i < rows; i += hn::Lanes(d)) {
+    for (std::size_t i = first; i < end; i += hn::Lanes(d)) {
         hn::StoreU(hn::MulAdd(b, hn::LoadU(d, p.x.data() + i), hn::LoadU(d, z.x.data() + i)), d, p.x.data() + i);
         hn::StoreU(hn::MulAdd(b, hn::LoadU(d, p.y.data() + i), hn::LoadU(d, z.y.data() + i)), d, p.y.data() + i);
         hn::StoreU(hn::MulAdd(b, hn::LoadU(d, p.z.data() + i), hn::LoadU(d, z.z.data() + i)), d, p.z.data() + i);
@@ -135,20 +135,22 @@ HWY_EXPORT(StartPass);
 HWY_EXPORT(UpdatePass);
 HWY_EXPORT(DirectionPass);
 
-double multiply(const SystemRows& a, const Field& y, Field& out) { return HWY_DYNAMIC_DISPATCH(Multiply)(a, y, out); }
-
-Sums startPass(std::size_t rows, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r,
-               Field& z, Field& p) {
-    return HWY_DYNAMIC_DISPATCH(StartPass)(rows, b, product, inverse, r, z, p);
+double multiply(const SystemRows& a, const Field& y, Field& out, RowRange range) {
+    return HWY_DYNAMIC_DISPATCH(Multiply)(a, y, out, range.first, range.end);
 }
 
-Sums updatePass(std::size_t rows, double alpha, const Field& p, const Field& q, const SymmetricBlocks& inverse,
-                Field& x, Field& r, Field& z) {
-    return HWY_DYNAMIC_DISPATCH(UpdatePass)(rows, alpha, p, q, inverse, x, r, z);
+Sums startPass(RowRange range, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r, Field& z,
+               Field& p) {
+    return HWY_DYNAMIC_DISPATCH(StartPass)(range.first, range.end, b, product, inverse, r, z, p);
 }
 
-void directionPass(std::size_t rows, double beta, const Field& z, Field& p) {
-    HWY_DYNAMIC_DISPATCH(DirectionPass)(rows, beta, z, p);
+Sums updatePass(RowRange range, double alpha, const Field& p, const Field& q, const SymmetricBlocks& inverse, Field& x,
+                Field& r, Field& z) {
+    return HWY_DYNAMIC_DISPATCH(UpdatePass)(range.first, range.end, alpha, p, q, inverse, x, r, z);
+}
+
+void directionPass(RowRange range, double beta, const Field& z, Field& p) {
+    HWY_DYNAMIC_DISPATCH(DirectionPass)(range.first, range.end, beta, z, p);
 }
 
 const char* targetName() {

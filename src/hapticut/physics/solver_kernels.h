@@ -46,22 +46,33 @@ struct SystemRows {
     const SlicedCouplings* couplings = nullptr;
 };
 
-/// out = A y; returns yᵀ A y.
-double multiply(const SystemRows& a, const Field& y, Field& out);
+/// The rows a thread takes at a time when a solve's passes are shared out (a multiple of kSliceRows).
+/// Fixed, so that the partial sums, and with them every result, do not depend on the number of threads.
+inline constexpr std::size_t kChunkRows = 2048;
+
+/// Rows first .. end - 1 of a system, both multiples of kSliceRows (end may be the padded row count).
+/// The solve runs each pass over chunks of rows on several threads (worker_pool.h).
+struct RowRange {
+    std::size_t first = 0, end = 0;
+};
+
+/// Rows of out = A y; returns their part of yᵀ A y.
+double multiply(const SystemRows& a, const Field& y, Field& out, RowRange range);
+inline double multiply(const SystemRows& a, const Field& y, Field& out) { return multiply(a, y, out, {0, a.rows}); }
 
 /// The sums a conjugate-gradient pass returns: |r|² and r·z.
 struct Sums {
     double r2 = 0, rz = 0;
 };
 
-/// The first pass: r = b - Ax (`product` holds Ax), z = P⁻¹ r, p = z.
-Sums startPass(std::size_t rows, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r,
-               Field& z, Field& p);
+/// The first pass: r = b - Ax (`product` holds Ax), z = P⁻¹ r, p = z; the sums over the range's rows.
+Sums startPass(RowRange range, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r, Field& z,
+               Field& p);
 /// After a product q = A p: x += alpha p, r -= alpha q, z = P⁻¹ r.
-Sums updatePass(std::size_t rows, double alpha, const Field& p, const Field& q, const SymmetricBlocks& inverse,
-                Field& x, Field& r, Field& z);
+Sums updatePass(RowRange range, double alpha, const Field& p, const Field& q, const SymmetricBlocks& inverse, Field& x,
+                Field& r, Field& z);
 /// p = z + beta p.
-void directionPass(std::size_t rows, double beta, const Field& z, Field& p);
+void directionPass(RowRange range, double beta, const Field& z, Field& p);
 
 /// The instruction set the kernels run with on this machine ("AVX3" is AVX-512, "EMU128" portable code).
 const char* targetName();

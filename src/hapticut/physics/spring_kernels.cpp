@@ -286,7 +286,7 @@ void SpringJacobiansOf(const SpringArrays& s, const std::uint32_t* list, std::si
     for (; i < count; ++i) springJacobian(s, list[i], x, v, h, first, out, i);
 }
 
-void InvertRowBlocks(const SystemRows& a, SymmetricBlocks& inverse) {
+void InvertRowBlocks(const SystemRows& a, SymmetricBlocks& inverse, std::size_t first, std::size_t end) {
     // Every target's lanes divide a slice; the full-width tag's, which may be wider than the forces'.
     using DF = hn::ScalableTag<double>;
     const DF d;
@@ -295,7 +295,7 @@ void InvertRowBlocks(const SystemRows& a, SymmetricBlocks& inverse) {
     const SlicedCouplings& c = *a.couplings;
     const SymmetricBlocks& r = *a.toResting;
     auto widened = [&](const std::vector<float>& v, std::size_t at) { return hn::PromoteTo(d, hn::LoadU(df, &v[at])); };
-    for (std::size_t slice = 0; slice * kSliceRows < a.rows; ++slice) {
+    for (std::size_t slice = first / kSliceRows; slice * kSliceRows < end; ++slice) {
         const std::size_t begin = c.sliceBegin[slice];
         const std::size_t width = (c.sliceBegin[slice + 1] - begin) / kSliceRows;
         for (std::size_t group = 0; group < kSliceRows; group += lanes) {
@@ -356,8 +356,8 @@ void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std
     HWY_DYNAMIC_DISPATCH(SpringJacobiansOf)(springs, list, count, nodes, x, v, h, firstLinearisation, out);
 }
 
-void invertRowBlocks(const SystemRows& rows, SymmetricBlocks& inverse) {
-    HWY_DYNAMIC_DISPATCH(InvertRowBlocks)(rows, inverse);
+void invertRowBlocks(const SystemRows& rows, SymmetricBlocks& inverse, RowRange range) {
+    HWY_DYNAMIC_DISPATCH(InvertRowBlocks)(rows, inverse, range.first, range.end);
 }
 
 }  // namespace hapticut::physics::kernels

@@ -46,10 +46,13 @@ struct SpringJacobians {
 void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
                      const double* x, const double* v, double h, bool firstLinearisation, SpringJacobians& out);
 
-/// The block-Jacobi preconditioner of `rows` (a whole number of slices): each row's block, diagonal I
+/// The block-Jacobi preconditioner of the range's rows of a system: each row's block, diagonal I
 /// plus its block to resting neighbours plus Σ_j (c0 I + u uᵀ) over its slots (padding slots add
 /// nothing), as the product reads them, summed in double in that order and inverted by its cofactors,
 /// into `inverse` in single precision. A row whose diagonal is zero (pinned, or padding) gets a zero block.
-void invertRowBlocks(const SystemRows& rows, SymmetricBlocks& inverse);
+void invertRowBlocks(const SystemRows& rows, SymmetricBlocks& inverse, RowRange range);
+inline void invertRowBlocks(const SystemRows& rows, SymmetricBlocks& inverse) {
+    invertRowBlocks(rows, inverse, {0, rows.rows});
+}
 
 }  // namespace hapticut::physics::kernels

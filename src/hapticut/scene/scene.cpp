@@ -71,6 +71,7 @@ void applyOverrides(const SceneOverrides& o, SceneFile& s) {
     if (o.solverTolerance) s.solver.tolerance = *o.solverTolerance;
     if (o.solverForceTolerance_N) s.solver.forceTolerance_N = *o.solverForceTolerance_N;
     if (o.solverMaxIterations) s.solver.maxIterations = *o.solverMaxIterations;
+    if (o.solverThreads) s.solver.threads = *o.solverThreads;
     if (o.rate_hz) s.rate_hz = *o.rate_hz;
     if (o.couplingStiffness_N_per_m) s.couplingStiffness_N_per_m = *o.couplingStiffness_N_per_m;
     if (o.friction) s.staticFriction = (*o.friction)[0], s.dynamicFriction = (*o.friction)[1];

@@ -24,6 +24,7 @@ struct SceneOverrides {
     std::optional<double> solverTolerance;
     std::optional<double> solverForceTolerance_N;
     std::optional<int> solverMaxIterations;
+    std::optional<unsigned> solverThreads;
     std::optional<double> rate_hz;
     std::optional<double> couplingStiffness_N_per_m;
     std::optional<std::array<double, 2>> friction;  // static, dynamic
