@@ -43,7 +43,7 @@ struct BenchOptions {
     std::string model;  // a model file measured instead of the hearts (the integrators and the kernels)
     UnitOptions units;
     std::vector<std::string> integrators = {"euler", "midpoint", "rk4", "symplectic", "implicit"};
-    std::vector<unsigned> threads = {1, 0};  // the implicit solve's, each measured; 0: one per core
+    std::vector<unsigned> threads = {1, WorkerPool::hardwareThreads()};  // the implicit solve's, each measured
     double seconds = 0.5;
     std::string json;
     bool haptics = false;
@@ -255,7 +255,7 @@ int bench(const BenchOptions& o) {
             if (scheme == physics::Scheme::BackwardEuler) {
                 threadCounts.clear();
                 for (unsigned t : o.threads) {
-                    const unsigned resolved = t == 0 ? WorkerPool::hardwareThreads() : t;
+                    const unsigned resolved = physics::solverThreads(t);
                     if (std::find(threadCounts.begin(), threadCounts.end(), resolved) == threadCounts.end())
                         threadCounts.push_back(resolved);
                 }
@@ -385,8 +385,9 @@ Command addBenchCommand(CLI::App& app) {
         ->delimiter(',')
         ->capture_default_str();
     cmd->add_option("--threads", o->threads,
-                    "Threads of the implicit solve, each measured (comma separated; 0: one per core, here " +
-                        std::to_string(WorkerPool::hardwareThreads()) + ")")
+                    "Threads of the implicit solve, each measured (comma separated; 0: the run's default, every core "
+                    "but two, here " +
+                        std::to_string(physics::automaticSolverThreads()) + ")")
         ->delimiter(',')
         ->capture_default_str()
         ->check(CLI::Range(0u, physics::kMaxSolverThreads));

@@ -545,8 +545,10 @@ Command addRunCommand(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(1, physics::kMaxSolverIterations));
     cmd->add_option("--solver-threads", o->solverThreads,
-                    "Threads that share the implicit solve, its own included (0: one per core); the results are the "
-                    "same with any number")
+                    "Threads that share the implicit solve, its own included; 0: every core but two (one for the "
+                    "haptic loop, one for the rest), here " +
+                        std::to_string(physics::automaticSolverThreads()) +
+                        "; the results are the same with any number")
         ->capture_default_str()
         ->check(CLI::Range(0u, physics::kMaxSolverThreads));
     cmd->add_option("--dt", o->dt_s, "Time step in seconds")->capture_default_str()->check(CLI::Range(1e-7, 1.0));

@@ -10,7 +10,6 @@
 #include <thread>
 #include <vector>
 
-
 namespace hapticut {
 namespace {
 
@@ -25,7 +24,8 @@ TEST(WorkerPool, RunsEveryChunkOnceInEveryLoop) {
             const std::size_t chunks = static_cast<std::size_t>(loop % 257);
             pool.forEach(chunks, [&](std::size_t chunk) { runs[chunk].fetch_add(1, std::memory_order_relaxed); });
             for (std::size_t c = 0; c < runs.size(); ++c) {
-                ASSERT_EQ(runs[c].load(), c < chunks ? 1 : 0) << threads << " threads, loop " << loop << ", chunk " << c;
+                ASSERT_EQ(runs[c].load(), c < chunks ? 1 : 0)
+                    << threads << " threads, loop " << loop << ", chunk " << c;
                 runs[c].store(0);
             }
             if (loop % 500 == 499) std::this_thread::sleep_for(std::chrono::microseconds(200));
@@ -48,7 +48,8 @@ TEST(WorkerPool, PartialSumsCombinedInChunkOrderGiveTheSameBitsWithAnyNumberOfTh
         constexpr std::size_t kChunk = 1000;
         std::vector<double> partial(values.size() / kChunk);
         pool.forEach(partial.size(), [&](std::size_t chunk) {
-            partial[chunk] = std::accumulate(values.begin() + chunk * kChunk, values.begin() + (chunk + 1) * kChunk, 0.0);
+            partial[chunk] =
+                std::accumulate(values.begin() + chunk * kChunk, values.begin() + (chunk + 1) * kChunk, 0.0);
         });
         return std::accumulate(partial.begin(), partial.end(), 0.0);
     };

@@ -1,8 +1,14 @@
 // The worker pool's helpers: claiming chunks, spinning briefly between loops, sleeping on a futex.
 #include "hapticut/common/worker_pool.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
+
+#include "hapticut/common/thread_priority.h"
 
 namespace hapticut {
 
@@ -19,6 +25,8 @@ void relax() {
 // How long a helper spins for the next loop before it sleeps: a solve's passes follow each other within
 // microseconds, while the gap between two steps is a millisecond or more.
 constexpr auto kSpinBeforeSleep = std::chrono::microseconds(50);
+
+constexpr int kHelperNiceness = 10;  // added to the creating thread's nice value
 
 constexpr std::uint64_t kUnclaimedMask = 0xffff'ffffu;
 
@@ -70,6 +78,10 @@ void WorkerPool::work(std::uint32_t loop, unsigned worker) {
 }
 
 void WorkerPool::helperLoop(unsigned worker) {
+    {
+        const long self = syscall(SYS_gettid);
+        setpriority(PRIO_PROCESS, static_cast<id_t>(self), threadNiceness(self) + kHelperNiceness);
+    }
     std::uint32_t seen = 0;
     for (;;) {
         auto spinUntil = std::chrono::steady_clock::now() + kSpinBeforeSleep;

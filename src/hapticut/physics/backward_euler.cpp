@@ -9,6 +9,14 @@
 
 namespace hapticut::physics {
 
+unsigned automaticSolverThreads() {
+    return std::max(1u, WorkerPool::hardwareThreads() - std::min(2u, WorkerPool::hardwareThreads()));
+}
+
+unsigned solverThreads(unsigned threads) {
+    return std::min(threads == 0 ? automaticSolverThreads() : threads, kMaxSolverThreads);
+}
+
 void BackwardEuler::reserve(std::size_t nodes, std::size_t springs) {
     system_.reserve(nodes, springs);
     for (auto* v : {&deltaV_, &startVelocity_, &motion_}) reserveTouched(*v, nodes);
@@ -26,7 +34,7 @@ void BackwardEuler::setSettings(SolverSettings settings) {
     settings.maxIterations = std::clamp(settings.maxIterations, 1, kMaxSolverIterations);
     settings.maxNewtonIterations = std::clamp(settings.maxNewtonIterations, 1, 100);
     settings.forceTolerance_N = std::max(settings.forceTolerance_N, 0.0);
-    pool_.resize(std::min(settings.threads == 0 ? WorkerPool::hardwareThreads() : settings.threads, kMaxSolverThreads));
+    pool_.resize(solverThreads(settings.threads));
     settings_ = settings;
 }
 

@@ -1,8 +1,6 @@
 // A haptic run's report as JSON.
 #include "hapticut/scene/run_report.h"
 
-#include "hapticut/common/worker_pool.h"
-
 #include <algorithm>
 #include <cmath>
 
@@ -25,7 +23,7 @@ nlohmann::ordered_json solverJson(physics::Scheme scheme, const physics::SolverS
             {"tolerance", settings.tolerance},
             {"force_tolerance_N", settings.forceTolerance_N},
             {"max_iterations", settings.maxIterations},
-            {"threads", settings.threads == 0 ? WorkerPool::hardwareThreads() : settings.threads},
+            {"threads", physics::solverThreads(settings.threads)},
             {"solves", stats.solves},
             {"iterations",
              {{"mean", iterations.mean}, {"p50", iterations.p50}, {"p99", iterations.p99}, {"max", iterations.max}}},
