@@ -341,13 +341,14 @@ TEST_F(Cli, SetLaysSceneKeysOverTheScenes) {
     ASSERT_EQ(run("run --trajectory " + press + " --report " + path("soft.json")).exitCode, 0);
     const CliResult r = run("run --trajectory " + press +
                             " --set material.positioning_stiffness_N_per_m3=1.76e7 --set device.stiffness_N_per_m=200"
-                            " --set simulation.integrator=implicit --report " +
+                            " --set simulation.integrator=implicit --solver-threads 3 --report " +
                             path("stiff.json"));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto soft = nlohmann::json::parse(slurp(path("soft.json")));
     const auto stiff = nlohmann::json::parse(slurp(path("stiff.json")));
     EXPECT_EQ(stiff["coupling_stiffness_N_per_m"], 200);
     EXPECT_EQ(stiff["integrator_requested"], "implicit");
+    EXPECT_EQ(stiff["solver"]["threads"], 3) << "the report says how many threads shared the solve";
     EXPECT_LT(stiff["max_displacement_m"].get<double>(), 0.6 * soft["max_displacement_m"].get<double>());
     const CliResult unknown = run("run --trajectory " + press + " --set material.mass_kg=1 --set material.mass=2");
     EXPECT_EQ(unknown.exitCode, 1);

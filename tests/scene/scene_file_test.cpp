@@ -22,6 +22,7 @@ TEST(SceneFile, TheCommentedExampleIsTheBuiltInDefault) {
     EXPECT_EQ(s->rate_hz, d.rate_hz);
     EXPECT_EQ(s->solver.tolerance, physics::SolverSettings{}.tolerance);
     EXPECT_EQ(s->solver.forceTolerance_N, physics::SolverSettings{}.forceTolerance_N);
+    EXPECT_EQ(s->solver.threads, physics::SolverSettings{}.threads);
     EXPECT_EQ(s->couplingStiffness_N_per_m, d.couplingStiffness_N_per_m);
     EXPECT_EQ(s->material.positioningStiffness_N_per_m3, physics::Material{}.positioningStiffness_N_per_m3);
     EXPECT_EQ(s->material.structuralStiffness_N, physics::Material{}.structuralStiffness_N);
@@ -51,6 +52,9 @@ TEST(SceneFile, AnOverlaySetsKeysOverTheFilesAndNamesItsOwnMistakes) {
     EXPECT_EQ(s->bulkModulus_Pa, 1e5) << "the file's other keys of that table stay";
     EXPECT_EQ(s->rate_hz, 500);
     EXPECT_EQ(s->couplingStiffness_N_per_m, 200);
+    const auto threads = parseScene(file, "x.toml", "/data", "simulation.solver_threads = 3\n");
+    ASSERT_TRUE(threads.has_value()) << threads.error().toString();
+    EXPECT_EQ(threads->solver.threads, 3u);
     test::expectError(parseScene(file, "x.toml", "/data", "material.mass_kg = 1.5\nmaterial.mass_kilos = 2\n"), 2,
                       "material.mass_kilos");
     const auto outOfRange = parseScene(file, "x.toml", "/data", "simulation.rate_hz = 1e9\n");
@@ -94,6 +98,8 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
                 "'verlet' is not allowed; allowed: auto, euler, implicit, midpoint, rk4, symplectic");
     expectError("[simulation]\nsolver_max_iterations = 0\n", 2,
                 "simulation.solver_max_iterations: 0 is out of range; allowed: 1 to 10000");
+    expectError("[simulation]\nsolver_threads = 300\n", 2,
+                "simulation.solver_threads: 300 is out of range; allowed: 0 to 256");
     expectError("[simulation]\nsolver_force_tolerance_N = -1e-6\n", 2,
                 "simulation.solver_force_tolerance_N: -1e-06 is out of range; allowed: 0 to 1");
     expectError("[simulation]\nactive_region = 1\n", 2, "simulation.active_region: expected true or false");
