@@ -225,44 +225,6 @@ TEST(BackwardEuler, OnlyTheActiveRegionMatchesTheFullSolve) {
     EXPECT_EQ(localStepper.awakeCount(), 0u) << "asleep again 0.3 s after the tool left";
 }
 
-// The solve's passes and the assembly shared out on threads (worker_pool.h) sum in chunks fixed by the
-// size of the system, not by the threads: the whole organ and the active region, pressed by the tool and
-// a point load that needs Newton's corrections, step to the same bits on one thread as on two or three.
-TEST(BackwardEuler, StepsToTheSameBitsOnAnyNumberOfThreads) {
-    const mesh::SurfaceMesh mesh = heartMesh(9714);  // 4,860 unknowns: three chunks of rows
-    const MassSpringModel start = buildModel(mesh, Material{});
-    for (bool activeRegion : {false, true}) {
-        auto run = [&](unsigned threads) {
-            MassSpringModel model = start;
-            Stepper stepper(Scheme::BackwardEuler);
-            stepper.setActiveRegion(activeRegion);
-            stepper.setSolverSettings({.threads = threads});
-            int corrected = 0;
-            for (int step = 0; step < 300; ++step) {
-                test::pressFrontWithTool(model, mesh, step);
-                // A point load at 5 ms steps needs Newton's corrections (the test below).
-                model.nodes.externalForce[4330] = step < 60 ? Vec3(0, 0, -1) : Vec3::Zero();
-                if (step < 60) stepper.wake(4330);
-                const StepResult r = stepper.step(model, 5e-3);
-                EXPECT_TRUE(r.finite);
-                corrected += r.solve.newtonIterations > 1;
-            }
-            EXPECT_GT(corrected, 0) << "no step needed a Newton correction";
-            return model;
-        };
-        const MassSpringModel one = run(1);
-        EXPECT_GT(maxDisplacement(one), 1e-3);
-        for (unsigned threads : {2u, 3u}) {
-            const MassSpringModel many = run(threads);
-            for (std::size_t i = 0; i < one.nodes.size(); ++i) {
-                ASSERT_EQ(many.nodes.position[i], one.nodes.position[i])
-                    << threads << " threads, node " << i << (activeRegion ? ", active region" : "");
-                ASSERT_EQ(many.nodes.velocity[i], one.nodes.velocity[i]) << threads << " threads, node " << i;
-            }
-        }
-    }
-}
-
 // 1 N on one node of a fine mesh at 5 ms steps: springs at their rest length have no transverse
 // stiffness in one linearisation, so a single Newton step throws the node far past where it settles.
 // Newton's corrections keep the largest displacement near the settled one, as RK4 does at small steps.
