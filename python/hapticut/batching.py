@@ -77,8 +77,13 @@ def _execute(run, out):
     (work / "params.json").write_text(json.dumps(
         {"index": run["index"], "id": run["id"], "params": run["params"], "session": run["session"], "base": b},
         indent=1) + "\n")
+    # The workers take a core each, so a run's implicit solve takes one thread rather than the pool a lone
+    # run takes (every core but two), unless the sweep sets it; the results are the same either way.
+    overlay = run["overlay"]
+    if "simulation.solver_threads" not in overlay:
+        overlay = "simulation.solver_threads = 1\n" + overlay
     try:
-        report, log = _hapticut._run(b["scene"] or "", run["overlay"], b["model"], b["triangles"], run["session"],
+        report, log = _hapticut._run(b["scene"] or "", overlay, b["model"], b["triangles"], run["session"],
                                      b["tool"], b["steps"], b["integrator"], b["rate_hz"])
         (work / "report.json").write_text(report + "\n")
         (work / "force_log.csv").write_text(log)

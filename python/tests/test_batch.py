@@ -3,6 +3,7 @@ the same run gives in this process, a second batch of the same spec does nothing
 recorded while the rest complete, and a worker killed mid-batch loses no run."""
 
 import csv
+import json
 import os
 import signal
 import subprocess
@@ -70,6 +71,21 @@ def test_every_combination_runs_once_with_the_numbers_it_gives_here(first_batch,
             assert float(r[key]) == float(here.report[key]), key
         log = np.genfromtxt(out / "runs" / r["id"] / "force_log.csv", delimiter=",", names=True)
         np.testing.assert_array_equal(log["fz"], here.force_log["fz"])
+
+
+def test_each_run_solves_on_one_thread_unless_the_sweep_says_otherwise(tmp_path, assets):
+    # The workers take a core each; a lone run's default pool (every core but two) in each would crowd them.
+    # (On a machine of four cores or fewer that default is one thread too; the swept 2 must still win.)
+    spec = write_spec(tmp_path, assets, sweep={"simulation.solver_threads": [2]}, steps=100)
+    spec.write_text(spec.read_text().replace("[sweep]", 'integrator = "implicit"\n[sweep]'))
+    one = write_spec(tmp_path, assets, sweep={"material.mass_kg": [0.3]}, steps=100, name="one.toml")
+    one.write_text(one.read_text().replace("[sweep]", 'integrator = "implicit"\n[sweep]'))
+    for path, threads in ((spec, 2), (one, 1)):
+        out = tmp_path / f"out-{threads}"
+        result = hapticut.batch(path, workers=1, out=out, progress=False)
+        assert (result.ran, result.failed) == (1, 0)
+        report = json.loads(next((out / "runs").iterdir()).joinpath("report.json").read_text())
+        assert report["solver"]["threads"] == threads
 
 
 def test_a_second_batch_of_the_same_spec_does_nothing(first_batch):
