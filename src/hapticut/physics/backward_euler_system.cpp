@@ -61,7 +61,6 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     rhs_.resize(rows_);
     if (scratch_.size() != threads.threads()) scratch_.resize(threads.threads());  // once per thread count
     for (std::uint32_t i : region.touched) unknownOf_[i] = kResting;
-    for (std::uint32_t k = 0; k < count; ++k) unknownOf_[region.nodes[k]] = k;
     const Vec3 g = model.gravity_m_per_s2;
     auto rowsOf = [&](std::size_t chunk) {
         return kernels::RowRange{chunk * kernels::kChunkRows, std::min(rows_, (chunk + 1) * kernels::kChunkRows)};
@@ -70,6 +69,7 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
         const kernels::RowRange range = rowsOf(chunk);
         for (std::size_t k = range.first; k < std::min(range.end, count); ++k) {
             const std::uint32_t i = region.nodes[k];
+            unknownOf_[i] = static_cast<std::uint32_t>(k);
             const double ka = n.anchorStiffness[i], da = n.anchorDamping[i];
             const Vec3 f = n.externalForce[i] - ka * (x[i] - n.restPosition[i]) - da * v[i] +
                            (n.inverseMass[i] > 0 ? Vec3(n.mass[i] * g) : Vec3::Zero());
