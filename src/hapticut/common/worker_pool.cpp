@@ -57,7 +57,7 @@ void WorkerPool::run(std::size_t chunks, Call call, void* context) {
     if (sleepers_.load() > 0) loop_.notify_all();
     work(loop, 0);
     // Only chunks a helper has begun are left; wait for them.
-    for (int spins = 0; done_.load(std::memory_order_acquire) != chunks; ++spins)
+    for (unsigned spins = 0; done_.load(std::memory_order_acquire) != chunks; ++spins)  // wraps harmlessly
         if (spins < 4096)
             relax();
         else
@@ -86,7 +86,7 @@ void WorkerPool::helperLoop(unsigned worker) {
     for (;;) {
         auto spinUntil = std::chrono::steady_clock::now() + kSpinBeforeSleep;
         std::uint32_t loop = loop_.load(std::memory_order_acquire);
-        for (int spins = 0; loop == seen && !stop_.load(std::memory_order_relaxed); ++spins) {
+        for (unsigned spins = 0; loop == seen && !stop_.load(std::memory_order_relaxed); ++spins) {
             relax();
             if (spins % 64 == 63 && std::chrono::steady_clock::now() > spinUntil) {
                 sleepers_.fetch_add(1);
