@@ -40,9 +40,9 @@ void BackwardEuler::setSettings(SolverSettings settings) {
 
 template <class Task>
 void BackwardEuler::forEachChunk(std::size_t size, Task&& task) {
-    const std::size_t chunks = (size + kernels::kChunkRows - 1) / kernels::kChunkRows;
-    pool_.forEach(chunks, [&](std::size_t chunk) {
-        task(chunk * kernels::kChunkRows, std::min(size, (chunk + 1) * kernels::kChunkRows));
+    pool_.forEach(kernels::chunksOf(size), [&](std::size_t chunk) {
+        const kernels::RowRange range = kernels::chunkRows(chunk, size);
+        task(range.first, range.end);
     });
 }
 
@@ -126,7 +126,7 @@ SolveReport BackwardEuler::solve(double& stepNorm2) {
     const std::size_t rows = system_.rows();
     const kernels::Field& b = system_.rhs();
     const kernels::SymmetricBlocks& inverse = system_.inverseBlocks();
-    partial_.resize((rows + kernels::kChunkRows - 1) / kernels::kChunkRows);
+    partial_.resize(kernels::chunksOf(rows));
     SolveReport report;
     // x·b, or b·b with x = b: the chunks' parts added in chunk order.
     auto dot = [&](const kernels::Field& x) {

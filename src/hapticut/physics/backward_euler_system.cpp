@@ -62,11 +62,8 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     if (scratch_.size() != threads.threads()) scratch_.resize(threads.threads());  // once per thread count
     for (std::uint32_t i : region.touched) unknownOf_[i] = kResting;
     const Vec3 g = model.gravity_m_per_s2;
-    auto rowsOf = [&](std::size_t chunk) {
-        return kernels::RowRange{chunk * kernels::kChunkRows, std::min(rows_, (chunk + 1) * kernels::kChunkRows)};
-    };
     threads.forEach(rowChunks(), [&](std::size_t chunk) {
-        const kernels::RowRange range = rowsOf(chunk);
+        const kernels::RowRange range = kernels::chunkRows(chunk, rows_);
         for (std::size_t k = range.first; k < std::min(range.end, count); ++k) {
             const std::uint32_t i = region.nodes[k];
             unknownOf_[i] = static_cast<std::uint32_t>(k);
@@ -119,7 +116,7 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     springsOf(2 * chunks - 1, 0);
     constexpr std::size_t kSlice = kernels::kSliceRows;
     threads.forEach(rowChunks(), [&](std::size_t chunk) {
-        const kernels::RowRange range = rowsOf(chunk);
+        const kernels::RowRange range = kernels::chunkRows(chunk, rows_);
         for (std::size_t k = range.first; k < std::min(range.end, count); ++k) {
             if (n.inverseMass[region.nodes[k]] == 0) {
                 // A pinned node's row is left out: no terms, no right-hand side, no preconditioner, so its

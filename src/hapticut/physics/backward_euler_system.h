@@ -82,9 +82,7 @@ private:
     void assembleSprings(const MassSpringModel& model, double h, bool firstLinearisation, std::size_t first,
                          std::size_t end, kernels::SpringJacobians& chunk);
     /// The chunks of kernels::kChunkRows rows, the last padded; one (empty) when there are no rows.
-    std::size_t rowChunks() const {
-        return std::max<std::size_t>(1, (rows_ + kernels::kChunkRows - 1) / kernels::kChunkRows);
-    }
+    std::size_t rowChunks() const { return std::max<std::size_t>(1, kernels::chunksOf(rows_)); }
 
     std::vector<std::uint32_t> unknownOf_;  // by node: its unknown, or kResting; valid on the region's touched nodes
     std::size_t count_ = 0, rows_ = 0;

@@ -3,6 +3,7 @@
 // the machine has it and SSE4 where it has nothing better.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -55,6 +56,12 @@ inline constexpr std::size_t kChunkRows = 2048;
 struct RowRange {
     std::size_t first = 0, end = 0;
 };
+
+/// The chunks of kChunkRows that make up `rows` rows (the last one short), and chunk `chunk`'s rows.
+inline std::size_t chunksOf(std::size_t rows) { return (rows + kChunkRows - 1) / kChunkRows; }
+inline RowRange chunkRows(std::size_t chunk, std::size_t rows) {
+    return {chunk * kChunkRows, std::min(rows, (chunk + 1) * kChunkRows)};
+}
 
 /// Rows of out = A y; returns their part of yᵀ A y.
 double multiply(const SystemRows& a, const Field& y, Field& out, RowRange range);
