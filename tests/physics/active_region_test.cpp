@@ -60,5 +60,30 @@ TEST(ActiveRegion, WakesOnRequestForAnExternalForce) {
     EXPECT_GT((model.nodes.position[42] - model.nodes.restPosition[42]).norm(), 1e-3);
 }
 
+// The snap rule (R4) puts a node that is almost at rest back at rest. A node that its springs pull harder
+// than its anchor holds within the snap distance is left where the step took it: put back, it could never
+// leave rest where the springs' pull gives way as it moves (its place of balance is within the snap
+// distance), and it stayed awake, pulled, and put back every step, with the solve working out its motion
+// only to have it undone.
+TEST(ActiveRegion, NoAwakeNodeIsHeldAtRestByTheSnapRule) {
+    mesh::procedural::HeartOptions options;
+    options.triangles = 9714;
+    const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart(options);
+    MassSpringModel model = buildModel(mesh, Material{});
+    Stepper stepper(Scheme::BackwardEuler);
+    stepper.setActiveRegion(true);
+    (void)stepper.step(model, 1e-3);  // prepared, and every node asleep at rest
+    model.nodes.externalForce[42] = Vec3(0, 0, 0.2);
+    stepper.wake(42);
+    int iterations = -1;
+    for (int i = 0; i < 2000; ++i) iterations = stepper.step(model, 1e-3).solve.iterations;
+    std::size_t heldAtRest = 0;
+    for (std::uint32_t i : stepper.movedNodes()) heldAtRest += model.nodes.position[i] == model.nodes.restPosition[i];
+    // Without the exception 2 nodes were held at rest here, and the solve took 2 iterations a step for them.
+    EXPECT_GT(stepper.awakeCount(), 10u) << "the load moves a patch";
+    EXPECT_EQ(heldAtRest, 0u) << "of " << stepper.awakeCount() << " awake nodes";
+    EXPECT_EQ(iterations, 0) << "settled: nothing left to solve";
+}
+
 }  // namespace
 }  // namespace hapticut::physics

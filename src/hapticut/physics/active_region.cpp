@@ -114,8 +114,7 @@ void ActiveRegion::updateSleep(const MassSpringModel& model, std::span<const Vec
     std::size_t kept = 0;
     for (std::uint32_t i : activeNodes_) {
         const bool atRest = n.position[i] == n.restPosition[i] && n.velocity[i] == Vec3::Zero();
-        const bool pulled = force[i].norm() * n.mass[i] > n.anchorStiffness[i] * model.snapDistance_m;
-        if (atRest && !pulled && !wakeNext_[i]) {
+        if (atRest && !pulledOffRest(model, i, force[i]) && !wakeNext_[i]) {
             awake_[i] = 0;
             dirty_ = true;
         } else {

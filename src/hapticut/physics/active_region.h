@@ -37,6 +37,13 @@ public:
     /// awake nodes at rest with a negligible force fall asleep.
     void updateSleep(const MassSpringModel& model, std::span<const Vec3> force);
 
+    /// Whether a node at rest with this acceleration (the force on it over its mass) is pulled harder
+    /// than its anchor holds within the snap distance: such a node wakes, stays awake, and is not put
+    /// back at rest (Stepper::step).
+    static bool pulledOffRest(const MassSpringModel& model, std::uint32_t i, const Vec3& acceleration) {
+        return acceleration.norm() * model.nodes.mass[i] > model.nodes.anchorStiffness[i] * model.snapDistance_m;
+    }
+
     /// The awake nodes: the ones integrated.
     std::span<const std::uint32_t> nodes() const { return activeNodes_; }
     /// The awake nodes and their resting neighbours: every node an active spring reads.

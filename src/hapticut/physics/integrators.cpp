@@ -34,6 +34,7 @@ void Stepper::reserveFor(std::size_t n, std::size_t ns) {
     reserveTouched(allNodes_, nodes);
     reserveTouched(allSprings_, springs);
     reserveTouched(moved_, nodes);
+    reserveTouched(snapped_, nodes);
     reserveTouched(visitedIn_, nodes);
     implicit_.reserve(nodes, springs);
     region_.reserve(nodes, springs);
@@ -158,24 +159,41 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
         limitStrain(model, springs, strainLimit_, movable);
     }
 
+    snapped_.clear();
     for (std::uint32_t i : nodes) {
         if (!n.position[i].allFinite() || !n.velocity[i].allFinite()) result.finite = false;
-        // R4: a node that is almost at rest is put back exactly at rest.
+        // R4: a node that is almost at rest is put back exactly at rest. dx_ and dv_, free once the
+        // substeps are done, keep where the step took it.
         if ((n.position[i] - n.restPosition[i]).squaredNorm() < model.snapDistance_m * model.snapDistance_m &&
             n.velocity[i].squaredNorm() < model.snapSpeed_m_per_s * model.snapSpeed_m_per_s) {
+            dx_[i] = n.position[i], dv_[i] = n.velocity[i];
+            snapped_.push_back(i);  // reserved for every node: never allocates
             n.position[i] = n.restPosition[i];
             n.velocity[i] = Vec3::Zero();
-            implicit_.forget(i);
         }
     }
     if (!result.finite) {
         // Roll back rather than let NaN spread through the model and into a device.
         for (std::uint32_t i : nodes) n.position[i] = x0_[i], n.velocity[i] = Vec3::Zero(), implicit_.forget(i);
+        snapped_.clear();
     }
     if (activeRegion_) {
         moved_.assign(nodes.begin(), nodes.end());     // reserved for every node: never allocates
         accelerations(model, n.position, n.velocity);  // forces at the end state decide who sleeps and wakes
+        // A node its springs pull off rest harder than its anchor holds within the snap distance is
+        // left where the step took it. Put back, it could never leave rest where the pull gives way as
+        // it moves (its place of balance is within the snap distance): it stayed awake, pulled, and put
+        // back every step, and the solve worked its motion out only to have it undone. A 20 ms step of
+        // a held press on the 1,000,000 heart took 28 iterations, 14 with this.
+        for (std::uint32_t i : snapped_) {
+            if (ActiveRegion::pulledOffRest(model, i, a_[i]))
+                n.position[i] = dx_[i], n.velocity[i] = dv_[i];
+            else
+                implicit_.forget(i);
+        }
         region_.updateSleep(model, a_);
+    } else {
+        for (std::uint32_t i : snapped_) implicit_.forget(i);
     }
     return result;
 }
