@@ -235,11 +235,12 @@ TEST(MultiRate, InRealTimeThePhysicsRunsOnItsOwnThreadAndKeepsUp) {
     EXPECT_GT(physics::maxDisplacement(organ.model()), 1e-4) << "the tissue moved on the haptic side's copy";
 }
 
-// In real time a physics frame comes in a part a step, at most kFrameNodesPerStep nodes: taken whole, a
-// frame of a large region cost the step that took it up to 4.5 ms on the 1,000,000-triangle heart. With
-// the whole 9,714 heart awake every frame moves 4,860 nodes, so each comes in over three steps (the
-// physics waits for its frames back meanwhile), and every one of them comes in.
-TEST(MultiRate, InRealTimeALargeFrameComesInAPartAStep) {
+// In real time a physics frame comes in a part at a time: taken whole, a frame of a large region cost the
+// step that took it up to 4.5 ms on the 1,000,000-triangle heart, mostly the tree's refit. A step takes
+// further parts while the ones it took moved few faces out of their boxes, so quiet frames come in
+// faster. With the whole 9,714 heart awake every frame moves 4,860 nodes: in the press, frames that move
+// the surface come in a part a step, quiet ones in more, and no step takes more than kFrameNodesPerStep.
+TEST(MultiRate, InRealTimeALargeFrameComesInParts) {
     const HeartAndPath h(9714, HeartAndPath::Kind::Press);
     cutting::CutModel organ = h.organ();
     ReplayDevice device(h.path);
@@ -247,17 +248,19 @@ TEST(MultiRate, InRealTimeALargeFrameComesInAPartAStep) {
     config.activeRegion = false;
     HapticLoop loop(organ, device, config);
     std::size_t largest = 0;
-    long full = 0;
+    long onePart = 0, severalParts = 0;
     RealTimeScheduler clock(loop);
     ASSERT_FALSE(clock.start(1000, [&](const StepOutput&) {
         const std::size_t taken = loop.movedNodes().size();
         largest = std::max(largest, taken);
-        full += taken == kFrameNodesPerStep;
+        onePart += taken == kFramePartNodes;
+        severalParts += taken > kFramePartNodes;
     }));
     while (clock.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     clock.stop();
     EXPECT_LE(largest, kFrameNodesPerStep);
-    EXPECT_GT(full, 0) << "frames came in a part a step";
+    EXPECT_GT(onePart, 0) << "frames that moved the surface came in a part a step";
+    EXPECT_GT(severalParts, 0) << "quiet frames came in faster";
     EXPECT_GT(loop.stats().physicsSteps, 0) << "and frames came in whole";
 }
 

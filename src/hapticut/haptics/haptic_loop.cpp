@@ -636,10 +636,12 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
     // In real time a frame comes in a part at a time, its first nodes (the region grows from the tools,
     // so those are the touched ones) first: a frame of a large region taken whole cost the step that
     // took it 0.7-4.5 ms on the 1,000,000-triangle heart (its tree's refit most), an overrun every
-    // frame. The nodes not yet in keep the previous frame's state, which shares their faces, so the
-    // surface stays closed while it catches up over a few steps; the physics fills its other frame
-    // meanwhile and waits for this one back. In simulated time it all comes in at once.
-    std::size_t budget = realtime_ ? kFrameNodesPerStep : std::numeric_limits<std::size_t>::max();
+    // frame. A step takes further parts while they move few faces out of their boxes (kFramePartNodes).
+    // The nodes not yet in keep the previous frame's state, which shares their faces, so the surface
+    // stays closed while it catches up over a few steps; the physics fills its other frame meanwhile and
+    // waits for this one back. In simulated time it all comes in at once.
+    const bool inParts = realtime_;
+    std::size_t taken = 0;
     bool any = false, whole = false;
     movedFaces_.clear();
     auto finish = [&](bool allIn) {
@@ -651,7 +653,7 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
         return allIn;
     };
     physics::Nodes& n = model_.nodes;
-    while (budget > 0) {
+    for (;;) {
         const PhysicsFrame* f = worker_->takeFrame();
         if (!f) return finish(true);
         if (frameCursor_ == 0) {
@@ -661,7 +663,8 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
                 for (HandFrame& hand : frame) hand.force_N = Vec3::Zero();
             }
         }
-        const std::size_t from = frameCursor_, to = from + std::min(budget, f->nodes.size() - from);
+        const std::size_t room = inParts ? std::min(kFramePartNodes, kFrameNodesPerStep - taken) : f->nodes.size();
+        const std::size_t from = frameCursor_, to = from + std::min(room, f->nodes.size() - from);
         const std::span<const std::uint32_t> part(f->nodes.data() + from, to - from);
         for (std::size_t k = from; k < to; ++k) {
             n.position[f->nodes[k]] = f->positions[k];
@@ -672,17 +675,19 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
             frameNodes_.insert(frameNodes_.end(), part.begin(), part.end());
         whole = whole || !gatherFacesRound(part);
         any = true;
-        budget -= part.size();
+        taken += part.size();
         frameCursor_ = to;
-        if (to < f->nodes.size()) return finish(false);
-        frameCursor_ = 0;
-        if (f->implicit) stats_.solver.record(f->solve);
-        lastSolve_ = f->solve;
-        ++stats_.physicsSteps;
-        stats_.physicsTime_s += f->dt_s;
-        worker_->releaseFrame();
+        if (to == f->nodes.size()) {
+            frameCursor_ = 0;
+            if (f->implicit) stats_.solver.record(f->solve);
+            lastSolve_ = f->solve;
+            ++stats_.physicsSteps;
+            stats_.physicsTime_s += f->dt_s;
+            worker_->releaseFrame();
+        }
+        if (inParts && (taken == kFrameNodesPerStep || whole || movedFaces_.size() >= kFrameFacesPerStep))
+            return finish(frameCursor_ == 0 && worker_->takeFrame() == nullptr);
     }
-    return finish(worker_->takeFrame() == nullptr);  // the budget ran out at a frame's end
 }
 
 void HapticLoop::syncWorker() noexcept {
