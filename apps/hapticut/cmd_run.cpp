@@ -538,7 +538,7 @@ Command addRunCommand(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(1e-14, 1.0));
     cmd->add_option("--solver-force-tolerance", o->solverForceTolerance_N,
-                    "Or below this residual as a force (N): tissue near rest needs no finer solve (0: off)")
+                    "Or once no node's residual force exceeds this (N): tissue near rest needs no finer solve (0: off)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--solver-iterations", o->solverMaxIterations, "The implicit solve's iteration cap")

@@ -178,6 +178,11 @@ TEST(SolverKernels, EveryInstructionSetComputesTheSameProductAndPasses) {
         kernels::directionPass({0, h.system.rows()}, 0.25, z, p);
         EXPECT_GT(start.r2, 0);
         EXPECT_GT(update.r2, 0);
+        // The largest row residual, which the solve's force tolerance reads, is r's own on every target.
+        double largest2 = 0;
+        for (std::size_t k = 0; k < h.system.rows(); ++k) largest2 = std::max(largest2, at(r, k).squaredNorm());
+        EXPECT_NEAR(update.rowMax2, largest2, 1e-12 * largest2) << target;
+        EXPECT_LT(update.rowMax2, update.r2) << target;
         // Each row sums in the same order on every target; only fused multiply-adds round differently.
         if (reference.x.empty()) {
             reference = product;

@@ -51,7 +51,8 @@ namespace {
 /// The chunks' sums, added in chunk order whichever thread computed each.
 kernels::Sums total(std::span<const kernels::Sums> partial) {
     kernels::Sums sums;
-    for (const kernels::Sums& part : partial) sums.r2 += part.r2, sums.rz += part.rz;
+    for (const kernels::Sums& part : partial)
+        sums.r2 += part.r2, sums.rz += part.rz, sums.rowMax2 = std::max(sums.rowMax2, part.rowMax2);
     return sums;
 }
 
@@ -146,8 +147,9 @@ SolveReport BackwardEuler::solve(double& stepNorm2) {
         bNorm2 = stepNorm2;
     else
         stepNorm2 = bNorm2;
-    const double forceFloor = settings_.forceTolerance_N * h_;
-    const double stop2 = std::max(settings_.tolerance * settings_.tolerance * bNorm2, forceFloor * forceFloor);
+    const double stop2 = settings_.tolerance * settings_.tolerance * bNorm2;
+    const double forceFloor = settings_.forceTolerance_N * h_;  // on every row's residual
+    auto done = [&](const kernels::Sums& sums) { return sums.r2 <= stop2 || sums.rowMax2 <= forceFloor * forceFloor; };
 
     // Each iteration is one product and two passes over the unknowns, with the dot products fused in.
     // The warm start g is scaled along its line to the point nearest the solution in the A-norm,
@@ -167,8 +169,8 @@ SolveReport BackwardEuler::solve(double& stepNorm2) {
             kernels::startPass({first, end}, b, product_, inverse, residual_, preconditioned_, direction_);
     });
     kernels::Sums sums = total(partial_);
-    double r2 = sums.r2, rz = sums.rz;
-    while (r2 > stop2 && report.iterations < settings_.maxIterations) {
+    double rz = sums.rz;
+    while (!done(sums) && report.iterations < settings_.maxIterations) {
         const double pq = multiply(direction_, product_);
         if (!(pq > 0) || !std::isfinite(pq)) break;  // a breakdown: keep what was reached
         const double alpha = rz / pq;
@@ -177,17 +179,16 @@ SolveReport BackwardEuler::solve(double& stepNorm2) {
                                                            solution_, residual_, preconditioned_);
         });
         sums = total(partial_);
-        r2 = sums.r2;
         ++report.iterations;
-        if (r2 <= stop2) break;
+        if (done(sums)) break;
         const double beta = sums.rz / rz;
         forEachChunk(rows, [&](std::size_t first, std::size_t end) {
             kernels::directionPass({first, end}, beta, preconditioned_, direction_);
         });
         rz = sums.rz;
     }
-    report.relativeResidual = std::sqrt(r2 / bNorm2);
-    report.converged = r2 <= stop2;
+    report.relativeResidual = std::sqrt(sums.r2 / bNorm2);
+    report.converged = done(sums);
     return report;
 }
 

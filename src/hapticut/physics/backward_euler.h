@@ -32,9 +32,11 @@ unsigned solverThreads(unsigned threads);
 /// one: it only has to bring the step as close as the first solve did.
 struct SolverSettings {
     double tolerance = 1e-4;
-    /// Or at a residual below this force (N, the residual divided by the step): tissue near rest has a
-    /// right-hand side so small that `tolerance` of it asks for nanonewtons, which no hand feels and
-    /// which took as many iterations as a press.
+    /// Or once no node's residual force (its residual divided by the step, N) exceeds this: tissue near
+    /// rest has a right-hand side so small that `tolerance` of it asks for nanonewtons, which no hand
+    /// feels and which took as many iterations as a press. Node by node, because the whole residual's
+    /// norm grows with the region: a press held on the 1,000,000 heart, 60,000 nodes awake, took 12
+    /// iterations a step to bring that norm under 1 µN, and fell behind real time; 4 with this.
     double forceTolerance_N = 1e-6;
     int maxIterations = 40;
     /// Newton iterations per step, the first included. Another is taken while the last one moved some

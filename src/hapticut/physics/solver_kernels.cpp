@@ -72,7 +72,7 @@ double Multiply(const SystemRows& a, const Field& y, Field& out, std::size_t fir
 Sums StartPass(std::size_t first, std::size_t end, const Field& b, const Field& product, const SymmetricBlocks& inverse,
                Field& r, Field& z, Field& p) {
     const D d;
-    V r2 = hn::Zero(d), rz = hn::Zero(d);
+    V r2 = hn::Zero(d), rz = hn::Zero(d), rowMax2 = hn::Zero(d);
     for (std::size_t i = first; i < end; i += hn::Lanes(d)) {
         const V rx = hn::Sub(hn::LoadU(d, b.x.data() + i), hn::LoadU(d, product.x.data() + i));
         const V ry = hn::Sub(hn::LoadU(d, b.y.data() + i), hn::LoadU(d, product.y.data() + i));
@@ -84,15 +84,17 @@ Sums StartPass(std::size_t first, std::size_t end, const Field& b, const Field& 
         hn::StoreU(zx, d, p.x.data() + i), hn::StoreU(zy, d, p.y.data() + i), hn::StoreU(zz, d, p.z.data() + i);
         r2 = hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::MulAdd(rzv, rzv, r2)));
         rz = hn::MulAdd(rx, zx, hn::MulAdd(ry, zy, hn::MulAdd(rzv, zz, rz)));
+        rowMax2 = hn::Max(rowMax2, hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::Mul(rzv, rzv))));
     }
-    return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz))};
+    return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz)),
+            hn::GetLane(hn::MaxOfLanes(d, rowMax2))};
 }
 
 Sums UpdatePass(std::size_t first, std::size_t end, double alpha, const Field& p, const Field& q,
                 const SymmetricBlocks& inverse, Field& x, Field& r, Field& z) {
     const D d;
     const V a = hn::Set(d, alpha), minusA = hn::Set(d, -alpha);
-    V r2 = hn::Zero(d), rz = hn::Zero(d);
+    V r2 = hn::Zero(d), rz = hn::Zero(d), rowMax2 = hn::Zero(d);
     for (std::size_t i = first; i < end; i += hn::Lanes(d)) {
         hn::StoreU(hn::MulAdd(a, hn::LoadU(d, p.x.data() + i), hn::LoadU(d, x.x.data() + i)), d, x.x.data() + i);
         hn::StoreU(hn::MulAdd(a, hn::LoadU(d, p.y.data() + i), hn::LoadU(d, x.y.data() + i)), d, x.y.data() + i);
@@ -106,8 +108,10 @@ Sums UpdatePass(std::size_t first, std::size_t end, double alpha, const Field& p
         hn::StoreU(zx, d, z.x.data() + i), hn::StoreU(zy, d, z.y.data() + i), hn::StoreU(zz, d, z.z.data() + i);
         r2 = hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::MulAdd(rzv, rzv, r2)));
         rz = hn::MulAdd(rx, zx, hn::MulAdd(ry, zy, hn::MulAdd(rzv, zz, rz)));
+        rowMax2 = hn::Max(rowMax2, hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::Mul(rzv, rzv))));
     }
-    return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz))};
+    return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz)),
+            hn::GetLane(hn::MaxOfLanes(d, rowMax2))};
 }
 
 void DirectionPass(std::size_t first, std::size_t end, double beta, const Field& z, Field& p) {

@@ -67,9 +67,9 @@ inline RowRange chunkRows(std::size_t chunk, std::size_t rows) {
 double multiply(const SystemRows& a, const Field& y, Field& out, RowRange range);
 inline double multiply(const SystemRows& a, const Field& y, Field& out) { return multiply(a, y, out, {0, a.rows}); }
 
-/// The sums a conjugate-gradient pass returns: |r|² and r·z.
+/// The sums a conjugate-gradient pass returns: |r|² and r·z, and the largest |r_i|² of a row.
 struct Sums {
-    double r2 = 0, rz = 0;
+    double r2 = 0, rz = 0, rowMax2 = 0;
 };
 
 /// The first pass: r = b - Ax (`product` holds Ax), z = P⁻¹ r, p = z; the sums over the range's rows.
