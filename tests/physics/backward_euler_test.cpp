@@ -276,6 +276,37 @@ TEST(BackwardEuler, ReportsIterationsAndResidualAndStopsAtTheCap) {
     EXPECT_LE(b.relativeResidual, 1e-6);
 }
 
+// Keeping pace with the wall clock, a step takes a further Newton iteration only while it still fits in
+// its share of the time the step simulates: none at all when the share is tiny, every one the settings
+// allow when it is vast. The point load above at 5 ms steps, which wants corrections.
+TEST(BackwardEuler, KeepingPaceCutsNewtonsCorrectionsShortOnlyWhenTheyDoNotFit) {
+    const mesh::SurfaceMesh mesh = heartMesh(9714);
+    struct Counts {
+        int corrected = 0, cutShort = 0;
+    };
+    auto run = [&](double share) {
+        MassSpringModel model = buildModel(mesh, Material{});
+        Stepper stepper(Scheme::BackwardEuler);
+        stepper.keepPace(share);
+        model.nodes.externalForce[4330] = Vec3(0, 0, -1);
+        Counts counts;
+        for (int step = 0; step < 20; ++step) {
+            const SolveReport r = stepper.step(model, 5e-3).solve;
+            counts.corrected += r.newtonIterations > 1;
+            counts.cutShort += r.newtonCutShort;
+            EXPECT_FALSE(r.newtonCutShort && r.newtonIterations > 1) << "cut short before its first correction";
+        }
+        return counts;
+    };
+    const Counts off = run(0), vast = run(1e9), tiny = run(1e-9);
+    EXPECT_GT(off.corrected, 0);
+    EXPECT_EQ(off.cutShort, 0);
+    EXPECT_EQ(vast.corrected, off.corrected);
+    EXPECT_EQ(vast.cutShort, 0);
+    EXPECT_EQ(tiny.corrected, 0);
+    EXPECT_GT(tiny.cutShort, 0);
+}
+
 // The last step's change of velocity is the next solve's start, scaled along its line to the point
 // nearest the solution: where the tissue changes course (a release, a reset, ringing), the raw start was
 // farther from the answer than zero, by up to five times on a scalpel stroke.

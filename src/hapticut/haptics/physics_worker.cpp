@@ -74,6 +74,9 @@ void PhysicsWorker::edit(const ModelEdit& edit) {
 
 void PhysicsWorker::start() {
     if (threaded()) return;
+    // On its own thread the physics keeps pace with the wall clock: a step's Newton iterations stop once
+    // another would take it past the time it simulates.
+    stepper_.keepPace(1.0);
     stop_ = false;
     thread_ = std::thread([this] { threadMain(); });
 }

@@ -2,6 +2,7 @@
 #include "hapticut/physics/backward_euler.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <span>
 
@@ -69,6 +70,7 @@ double BackwardEuler::multiply(const kernels::Field& y, kernels::Field& out) {
 }
 
 SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion region) {
+    const auto start = std::chrono::steady_clock::now();
     Nodes& n = model.nodes;
     const std::size_t count = region.nodes.size();
     h_ = h;
@@ -102,9 +104,19 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
     };
     apply(true);
     // Newton's corrections, solved with the matrix at the latest iterate x = x0 + h v, while the last
-    // iteration moved the springs too far for its linearisation to hold.
+    // iteration moved the springs too far for its linearisation to hold, and, when keeping pace, while
+    // one more iteration like the ones so far still fits in the step's share of the wall clock.
+    auto fitsOneMore = [&] {
+        if (paceShare_ <= 0) return true;
+        const double spent_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return spent_s * (report.newtonIterations + 1) / report.newtonIterations <= paceShare_ * h;
+    };
     while (report.newtonIterations < settings_.maxNewtonIterations &&
            system_.largestRelativeMotion(model.springs, region, motion_, &pool_) > kLinearMotion) {
+        if (!fitsOneMore()) {
+            report.newtonCutShort = true;
+            break;
+        }
         system_.assemble(model, h, region, startVelocity_, &pool_);
         forEachChunk(rows, [&](std::size_t first, std::size_t end) {
             for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(&(*a)[first], &(*a)[end], 0.0);

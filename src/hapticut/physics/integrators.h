@@ -48,6 +48,8 @@ public:
     double toolStiffness_N_per_m() const { return toolStiffness_; }
     /// When the implicit scheme's linear solve stops.
     void setSolverSettings(SolverSettings settings) { implicit_.setSettings(settings); }
+    /// The implicit scheme's Newton iterations on the wall clock (BackwardEuler::keepPace).
+    void keepPace(double share) { implicit_.keepPace(share); }
     const SolverSettings& solverSettings() const { return implicit_.settings(); }
     /// Provot's strain limit (strain_limit.h) after every step: springs stretched more than this share
     /// of their rest length are pulled back to it; 0: off.

@@ -30,6 +30,7 @@ nlohmann::ordered_json solverJson(physics::Scheme scheme, const physics::SolverS
             {"unconverged_solves", stats.unconverged},
             {"max_newton_iterations", settings.maxNewtonIterations},
             {"steps_with_newton_corrections", stats.corrected},
+            {"steps_with_newton_cut_short", stats.cutShort},
             {"most_newton_iterations", stats.maxNewtonIterations},
             {"max_relative_residual", stats.maxRelativeResidual}};
 }
