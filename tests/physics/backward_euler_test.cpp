@@ -294,7 +294,6 @@ TEST(BackwardEuler, KeepingPaceCutsNewtonsCorrectionsShortOnlyWhenTheyDoNotFit) 
             const SolveReport r = stepper.step(model, 5e-3).solve;
             counts.corrected += r.newtonIterations > 1;
             counts.cutShort += r.newtonCutShort;
-            EXPECT_FALSE(r.newtonCutShort && r.newtonIterations > 1) << "cut short before its first correction";
         }
         return counts;
     };

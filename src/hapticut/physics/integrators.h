@@ -99,7 +99,7 @@ private:
     std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
     std::vector<std::uint32_t> allNodes_, allSprings_;
     std::vector<std::uint32_t> moved_;      // the active region's nodes in the last step
-    std::vector<std::uint32_t> snapped_;    // the nodes the last step put back at rest
+    std::vector<std::uint32_t> snapped_;    // the nodes the snap rule put back at rest in the last step
     std::vector<std::uint32_t> visitedIn_;  // per node: the topologyChanged call that last visited it
     std::uint32_t visit_ = 0;
     BackwardEuler implicit_;
