@@ -110,11 +110,11 @@ void ActiveRegion::updateSleep(const MassSpringModel& model, std::span<const Vec
     // distance wake for the next step (a one-step delay, far below what the tissue does in 1 ms).
     const Nodes& n = model.nodes;
     for (std::uint32_t i : touchedNodes_)
-        if (!awake_[i] && force[i].norm() > n.anchorStiffness[i] * model.snapDistance_m) wakeNext_[i] = 1;
+        if (!awake_[i] && pulledOffRest(model, i, force[i].norm())) wakeNext_[i] = 1;
     std::size_t kept = 0;
     for (std::uint32_t i : activeNodes_) {
         const bool atRest = n.position[i] == n.restPosition[i] && n.velocity[i] == Vec3::Zero();
-        if (atRest && !pulledOffRest(model, i, force[i]) && !wakeNext_[i]) {
+        if (atRest && !pulledOffRest(model, i, force[i].norm() * n.mass[i]) && !wakeNext_[i]) {
             awake_[i] = 0;
             dirty_ = true;
         } else {

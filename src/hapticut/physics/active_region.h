@@ -37,11 +37,10 @@ public:
     /// awake nodes at rest with a negligible force fall asleep.
     void updateSleep(const MassSpringModel& model, std::span<const Vec3> force);
 
-    /// Whether a node at rest with this acceleration (the force on it over its mass) is pulled harder
-    /// than its anchor holds within the snap distance: such a node wakes, stays awake, and is not put
-    /// back at rest (Stepper::step).
-    static bool pulledOffRest(const MassSpringModel& model, std::uint32_t i, const Vec3& acceleration) {
-        return acceleration.norm() * model.nodes.mass[i] > model.nodes.anchorStiffness[i] * model.snapDistance_m;
+    /// Whether node i, at rest under this force (N), is pulled harder than its anchor holds within the
+    /// snap distance: such a node wakes, stays awake, and is not put back at rest (Stepper::step).
+    static bool pulledOffRest(const MassSpringModel& model, std::uint32_t i, double force_N) {
+        return force_N > model.nodes.anchorStiffness[i] * model.snapDistance_m;
     }
 
     /// The awake nodes: the ones integrated.
