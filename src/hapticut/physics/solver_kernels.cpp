@@ -29,6 +29,20 @@ HWY_INLINE void symmetricTimes(D d, const SymmetricBlocks& m, std::size_t at, V 
     oz = hn::MulAdd(xz, rx, hn::MulAdd(yz, ry, hn::Mul(zz, rz)));
 }
 
+/// A pass's running sums, lane by lane, over rows with residual r and preconditioned residual z: |r|²,
+/// r·z and the largest |r_i|² of a row.
+HWY_INLINE void addToSums(V rx, V ry, V rzv, V zx, V zy, V zz, V& r2, V& rz, V& rowMax2) {
+    r2 = hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::MulAdd(rzv, rzv, r2)));
+    rz = hn::MulAdd(rx, zx, hn::MulAdd(ry, zy, hn::MulAdd(rzv, zz, rz)));
+    rowMax2 = hn::Max(rowMax2, hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::Mul(rzv, rzv))));
+}
+
+/// The running sums' lanes combined.
+HWY_INLINE Sums totalOf(D d, V r2, V rz, V rowMax2) {
+    return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz)),
+            hn::GetLane(hn::MaxOfLanes(d, rowMax2))};
+}
+
 double Multiply(const SystemRows& a, const Field& y, Field& out, std::size_t first, std::size_t end) {
     const D d;
     const hn::Rebind<std::int32_t, D> di32;
@@ -82,12 +96,9 @@ Sums StartPass(std::size_t first, std::size_t end, const Field& b, const Field& 
         hn::StoreU(rx, d, r.x.data() + i), hn::StoreU(ry, d, r.y.data() + i), hn::StoreU(rzv, d, r.z.data() + i);
         hn::StoreU(zx, d, z.x.data() + i), hn::StoreU(zy, d, z.y.data() + i), hn::StoreU(zz, d, z.z.data() + i);
         hn::StoreU(zx, d, p.x.data() + i), hn::StoreU(zy, d, p.y.data() + i), hn::StoreU(zz, d, p.z.data() + i);
-        r2 = hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::MulAdd(rzv, rzv, r2)));
-        rz = hn::MulAdd(rx, zx, hn::MulAdd(ry, zy, hn::MulAdd(rzv, zz, rz)));
-        rowMax2 = hn::Max(rowMax2, hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::Mul(rzv, rzv))));
+        addToSums(rx, ry, rzv, zx, zy, zz, r2, rz, rowMax2);
     }
-    return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz)),
-            hn::GetLane(hn::MaxOfLanes(d, rowMax2))};
+    return totalOf(d, r2, rz, rowMax2);
 }
 
 Sums UpdatePass(std::size_t first, std::size_t end, double alpha, const Field& p, const Field& q,
@@ -106,12 +117,9 @@ Sums UpdatePass(std::size_t first, std::size_t end, double alpha, const Field& p
         symmetricTimes(d, inverse, i, rx, ry, rzv, zx, zy, zz);
         hn::StoreU(rx, d, r.x.data() + i), hn::StoreU(ry, d, r.y.data() + i), hn::StoreU(rzv, d, r.z.data() + i);
         hn::StoreU(zx, d, z.x.data() + i), hn::StoreU(zy, d, z.y.data() + i), hn::StoreU(zz, d, z.z.data() + i);
-        r2 = hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::MulAdd(rzv, rzv, r2)));
-        rz = hn::MulAdd(rx, zx, hn::MulAdd(ry, zy, hn::MulAdd(rzv, zz, rz)));
-        rowMax2 = hn::Max(rowMax2, hn::MulAdd(rx, rx, hn::MulAdd(ry, ry, hn::Mul(rzv, rzv))));
+        addToSums(rx, ry, rzv, zx, zy, zz, r2, rz, rowMax2);
     }
-    return {hn::GetLane(hn::SumOfLanes(d, r2)), hn::GetLane(hn::SumOfLanes(d, rz)),
-            hn::GetLane(hn::MaxOfLanes(d, rowMax2))};
+    return totalOf(d, r2, rz, rowMax2);
 }
 
 void DirectionPass(std::size_t first, std::size_t end, double beta, const Field& z, Field& p) {
