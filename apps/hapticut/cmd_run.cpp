@@ -306,6 +306,12 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     std::cout << (r.multiRate ? "multi-rate" : "single-rate") << " physics: " << r.physicsRate_hz << " steps/s, "
               << r.physicsRealtimeFactor << " simulated s per wall s\n";
     if (config.realtime)
+        std::cout << "haptic thread: " << r.hapticScheduling
+                  << (r.hapticScheduling.rfind("normal: ", 0) == 0
+                          ? " (grant it with `sudo setcap cap_sys_nice+ep` on the hapticut binary, or an rtprio limit)"
+                          : "")
+                  << "\n";
+    if (config.realtime)
         std::cout << "period error " << r.periodError_us.p50 << " us p50, " << r.periodError_us.p99 << " us p99, "
                   << r.periodError_us.max << " us max; overruns " << r.overruns << " (" << r.missedPeriods
                   << (r.missedPeriods == 1 ? " period" : " periods") << " missed, " << r.stalls << " stall"

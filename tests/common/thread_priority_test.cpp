@@ -2,11 +2,13 @@
 #include <gtest/gtest.h>
 
 #include <pthread.h>
+#include <sched.h>
 #include <sys/syscall.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <thread>
 
 #include "hapticut/common/thread_priority.h"
@@ -33,6 +35,37 @@ TEST(ThreadPriority, OtherThreadsYieldAndTheCallerKeepsItsPriority) {
     EXPECT_TRUE(deprioritiseOtherThreads(before + 7).empty()) << "a thread already that nice is not touched again";
     done = true;
     worker.join();
+}
+
+// Granted, the thread runs under SCHED_FIFO at the priority asked for; refused, it keeps the normal
+// scheduler and says why. scheduleNormally takes it back.
+TEST(ThreadPriority, RealtimeSchedulingIsGrantedOrRefusedWithAReason) {
+    std::thread([] {
+        const RealtimeScheduling got = scheduleRealtime(40);
+        sched_param param{};
+        int policy = -1;
+        pthread_getschedparam(pthread_self(), &policy, &param);
+        if (got.granted) {
+            EXPECT_EQ(policy, SCHED_FIFO);
+            EXPECT_EQ(param.sched_priority, 40);
+            EXPECT_EQ(got.error, 0);
+        } else {
+            EXPECT_EQ(policy, SCHED_OTHER);
+            EXPECT_EQ(got.error, EPERM) << "only a missing privilege refuses a valid priority";
+        }
+        scheduleNormally();
+        pthread_getschedparam(pthread_self(), &policy, &param);
+        EXPECT_EQ(policy, SCHED_OTHER);
+    }).join();
+}
+
+TEST(ThreadPriority, APriorityOutsideSchedFifosRangeIsRefused) {
+    std::thread([] {
+        const RealtimeScheduling got = scheduleRealtime(1000);
+        EXPECT_FALSE(got.granted);
+        EXPECT_EQ(got.error, EINVAL);
+        EXPECT_EQ(sched_getscheduler(0), SCHED_OTHER);
+    }).join();
 }
 
 }  // namespace

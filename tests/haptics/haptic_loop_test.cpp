@@ -2,9 +2,13 @@
 // force along the outward normal growing with depth up to the clamp; the proxy never inside the
 // deforming surface; the tissue gets exactly -F; ramp-in; watchdog; a real-time thread.
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <sched.h>
 
+#include <atomic>
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "hapticut/collision/point_inside.h"
 #include "hapticut/geometry/triangle_queries.h"
@@ -196,6 +200,66 @@ TEST(HapticLoop, PeriodErrorStaysHonestWhenEveryStepIsLate) {
     EXPECT_EQ(late.count, 8u);
     EXPECT_GT(late.p50, 25'000) << "each step after the first started about 29 ms late";
     EXPECT_GT(late.max, 25'000);
+}
+
+// The stepping thread asks for real-time scheduling and runs as scheduling() says: under SCHED_FIFO at
+// the configured priority where the process may (root, CAP_SYS_NICE, an rtprio limit), else normally
+// with the refusal's reason; with priority 0 it asks for nothing.
+TEST(HapticLoop, TheSteppingThreadIsScheduledAsItsReportSays) {
+    HeartScene h;
+    VirtualDevice device;
+    device.setPosition(frontPoint(h) + Vec3(0, 0, 0.01));
+    for (const int priority : {40, 0}) {
+        LoopConfig config;
+        config.hapticThreadPriority = priority;
+        HapticLoop loop(h.organ, device, config);
+        std::atomic<int> policy{-1}, fifoPriority{-1};
+        RealTimeScheduler clock(loop);
+        ASSERT_FALSE(clock.start(20, [&](const StepOutput&) {
+            sched_param param{};
+            int p = -1;
+            pthread_getschedparam(pthread_self(), &p, &param);
+            policy = p, fifoPriority = param.sched_priority;
+        }));
+        while (clock.running()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        clock.stop();
+        const std::string scheduling = clock.scheduling();
+        if (priority == 0) {
+            EXPECT_EQ(scheduling, "normal");
+            EXPECT_EQ(policy, SCHED_OTHER);
+        } else if (scheduling == "SCHED_FIFO 40") {
+            EXPECT_EQ(policy, SCHED_FIFO);
+            EXPECT_EQ(fifoPriority, 40);
+        } else {
+            EXPECT_EQ(scheduling.rfind("normal: SCHED_FIFO 40 refused (", 0), 0u) << scheduling;
+            EXPECT_EQ(policy, SCHED_OTHER);
+        }
+    }
+}
+
+// A loop under SCHED_FIFO whose every step comes too late (its observer holds it up 1.5 ms a period)
+// would never sleep and starve the machine's other threads: it goes back to the normal scheduler.
+TEST(HapticLoop, ASteppingThreadThatIsAlwaysLateLeavesRealtimeScheduling) {
+    HeartScene h;
+    VirtualDevice device;
+    device.setPosition(frontPoint(h) + Vec3(0, 0, 0.01));
+    HapticLoop loop(h.organ, device);
+    std::atomic<int> firstPolicy{-1}, lastPolicy{-1};
+    RealTimeScheduler clock(loop);
+    ASSERT_FALSE(clock.start(kLateStepsBeforeNormalScheduling + 20, [&](const StepOutput& s) {
+        sched_param param{};
+        int p = -1;
+        pthread_getschedparam(pthread_self(), &p, &param);
+        if (s.t_s == 0) firstPolicy = p;
+        lastPolicy = p;
+        std::this_thread::sleep_for(std::chrono::microseconds(1500));
+    }));
+    while (clock.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    clock.stop();
+    if (firstPolicy != SCHED_FIFO) GTEST_SKIP() << "this process may not schedule threads in real time";
+    EXPECT_EQ(clock.scheduling(), "normal after " + std::to_string(kLateStepsBeforeNormalScheduling) +
+                                      " late steps in a row under SCHED_FIFO 40");
+    EXPECT_EQ(lastPolicy, SCHED_OTHER);
 }
 
 // A stall of the loop's own thread (here its observer held up once for 60 ms, as a process stopped

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "hapticut/mesh/procedural/tools.h"
+#include "hapticut/scene/scene.h"
 #include "hapticut/scene/scene_file.h"
 #include "test_support.h"
 
@@ -20,6 +21,7 @@ TEST(SceneFile, TheCommentedExampleIsTheBuiltInDefault) {
     EXPECT_EQ(s->triangles, d.triangles);
     EXPECT_EQ(s->scheme, d.scheme);
     EXPECT_EQ(s->rate_hz, d.rate_hz);
+    EXPECT_EQ(s->hapticThreadPriority, haptics::LoopConfig{}.hapticThreadPriority);
     EXPECT_EQ(s->solver.tolerance, physics::SolverSettings{}.tolerance);
     EXPECT_EQ(s->solver.forceTolerance_N, physics::SolverSettings{}.forceTolerance_N);
     EXPECT_EQ(s->solver.threads, physics::SolverSettings{}.threads);
@@ -55,6 +57,11 @@ TEST(SceneFile, AnOverlaySetsKeysOverTheFilesAndNamesItsOwnMistakes) {
     const auto threads = parseScene(file, "x.toml", "/data", "simulation.solver_threads = 3\n");
     ASSERT_TRUE(threads.has_value()) << threads.error().toString();
     EXPECT_EQ(threads->solver.threads, 3u);
+    const auto normal = parseScene(file, "x.toml", "/data", "simulation.haptic_thread_priority = 0\n");
+    ASSERT_TRUE(normal.has_value()) << normal.error().toString();
+    Scene scene;
+    scene.settings = *normal;
+    EXPECT_EQ(scene.loopConfig().hapticThreadPriority, 0) << "the loop gets it";
     test::expectError(parseScene(file, "x.toml", "/data", "material.mass_kg = 1.5\nmaterial.mass_kilos = 2\n"), 2,
                       "material.mass_kilos");
     const auto outOfRange = parseScene(file, "x.toml", "/data", "simulation.rate_hz = 1e9\n");
@@ -102,6 +109,8 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
                 "simulation.solver_threads: 300 is out of range; allowed: 0 to 256");
     expectError("[simulation]\nsolver_force_tolerance_N = -1e-6\n", 2,
                 "simulation.solver_force_tolerance_N: -1e-06 is out of range; allowed: 0 to 1");
+    expectError("[simulation]\nhaptic_thread_priority = 100\n", 2,
+                "simulation.haptic_thread_priority: 100 is out of range; allowed: 0 to 99");
     expectError("[simulation]\nactive_region = 1\n", 2, "simulation.active_region: expected true or false");
     expectError("[model]\ntranslate_m = [1, 2]\n", 2, "model.translate_m: expected three numbers");
     expectError("[model]\ntranslate_m = [1, \"a\", 2]\n", 2, "expected three finite numbers");

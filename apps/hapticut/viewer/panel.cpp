@@ -69,6 +69,7 @@ void materialSlider(scene::Simulation& session, const char* label, scene::Materi
 
 void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const Rates& rates) {
     ImGui::Text("render %.0f fps   haptic %.0f Hz", rates.renderFps, rates.hapticRate_hz);
+    ImGui::Text("haptic thread: %s", session.hapticScheduling().c_str());
     ImGui::Text("step %.1f us (max %.1f us)", s.stepTime_us, s.maxStepTime_us);
     if (s.multiRate) ImGui::Text("physics %.0f Hz on its own thread (multi-rate)", s.physicsRate_hz);
     if (s.scheme == physics::Scheme::BackwardEuler)

@@ -436,7 +436,7 @@ int Viewer::run() {
     const double fps = static_cast<double>(frames) / std::max(wall_s, 1e-9);
     std::cout << "rendered " << frames << " frames in " << wall_s << " s: " << fps << " fps ("
               << window_->rendererDescription() << "); haptic loop " << last.step << " steps, " << last.overruns
-              << " overruns\n";
+              << " overruns; haptic thread " << session_.hapticScheduling() << "\n";
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();
@@ -465,6 +465,7 @@ int Viewer::run() {
         j["walls_closed"] = last.cut.wallsClosed;
         j["renderer"] = window_->rendererDescription();
         j["renderer_threads_yielding"] = yieldingThreads;
+        j["haptic_thread_scheduling"] = session_.hapticScheduling();
         j["provenance"] = app::provenance();
         if (const auto error = writeTextFileAtomically(options_.report, j.dump(2) + "\n")) {
             std::cerr << error->toString() << "\n";

@@ -1,6 +1,9 @@
-// Nice values of the other threads of the process, read and set through /proc and setpriority.
+// Nice values of the other threads of the process (through /proc and setpriority), and real-time
+// scheduling of the calling thread (pthread_setschedparam).
 #include "hapticut/common/thread_priority.h"
 
+#include <pthread.h>
+#include <sched.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -35,6 +38,18 @@ std::vector<std::string> deprioritiseOtherThreads(int niceness) {
         names.push_back(name);
     }
     return names;
+}
+
+RealtimeScheduling scheduleRealtime(int priority) {
+    sched_param param{};
+    param.sched_priority = priority;
+    const int error = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+    return {error == 0, priority, error};
+}
+
+void scheduleNormally() {
+    sched_param param{};
+    pthread_setschedparam(pthread_self(), SCHED_OTHER, &param);
 }
 
 }  // namespace hapticut

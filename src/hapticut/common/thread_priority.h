@@ -1,4 +1,5 @@
-// Keeping the haptic loop ahead of other work in the process when the machine has few cores.
+// Keeping the haptic loop ahead of other work when the machine has few cores: other threads yield to it,
+// and its own thread asks for real-time scheduling.
 #pragma once
 
 #include <string>
@@ -16,5 +17,20 @@ std::vector<std::string> deprioritiseOtherThreads(int niceness);
 
 /// The nice value of a thread of this process, by its kernel id; 0 where it cannot be read.
 int threadNiceness(long tid);
+
+/// What a thread got when it asked for real-time scheduling.
+struct RealtimeScheduling {
+    bool granted = false;
+    int priority = 0;  // the SCHED_FIFO priority asked for
+    int error = 0;     // why not, when refused: an errno value
+};
+
+/// Puts the calling thread under SCHED_FIFO at `priority` (1-99), so that it runs the moment it wakes
+/// and no normal thread takes its core from it. Needs CAP_SYS_NICE or an rtprio limit of at least
+/// `priority` (limits.conf); refused otherwise, and the thread keeps its scheduling.
+RealtimeScheduling scheduleRealtime(int priority);
+
+/// Puts the calling thread back under the normal time-sharing scheduler.
+void scheduleNormally();
 
 }  // namespace hapticut

@@ -54,8 +54,12 @@ struct LoopConfig {
     /// moved on from where the last force was computed.
     double stallPeriods = 3;
     double stallRampTime_s = 0.1;  // the force sent fades back in over this long after a stall
-    int snapshotEvery = 8;         // publish positions for the renderer every N steps (125 Hz)
-    bool activeRegion = true;      // integrate only the tissue near the tool (Stepper::setActiveRegion)
+    /// The SCHED_FIFO priority the haptic thread asks for on the wall clock (RealTimeScheduler), so that
+    /// no normal thread (the physics, the renderer, the rest of the machine) delays its steps; 0: the
+    /// normal scheduler. Below the 50 of a real-time kernel's interrupt threads, which serve the devices.
+    int hapticThreadPriority = 40;
+    int snapshotEvery = 8;     // publish positions for the renderer every N steps (125 Hz)
+    bool activeRegion = true;  // integrate only the tissue near the tool (Stepper::setActiveRegion)
     /// The tool cuts while its force is above this (R14): the scalpel's threshold; the probe's is infinite.
     /// The single-device constructor's tool; a Hand carries its own, which SetCutThreshold changes.
     double cutThreshold_N = std::numeric_limits<double>::infinity();
@@ -220,6 +224,7 @@ public:
     long topologyVersion() const { return topologyVersion_; }
     double time_s() const { return static_cast<double>(stepIndex_) / config_.rate_hz; }
     double rate_hz() const { return config_.rate_hz; }
+    int hapticThreadPriority() const { return config_.hapticThreadPriority; }
     /// The scheme the tissue is integrated with: config.scheme, with Auto resolved for this organ.
     physics::Scheme scheme() const;
     /// The nodes the latest step moved (the active region's; every node without one).

@@ -2,6 +2,9 @@
 #include "hapticut/haptics/loop_scheduler.h"
 
 #include <algorithm>
+#include <system_error>
+
+#include "hapticut/common/thread_priority.h"
 
 namespace hapticut::haptics {
 
@@ -63,6 +66,7 @@ Status RealTimeScheduler::startServos(std::vector<ServoClock*> servos, long max_
         }
     }
     servos_ = std::move(servos);
+    scheduling_ = Scheduling::DeviceServo;
     return std::nullopt;
 }
 
@@ -79,7 +83,35 @@ void RealTimeScheduler::stop() {
     loop_.setRealtime(false);  // a multi-rate loop's physics thread ends with it
 }
 
+std::string RealTimeScheduler::scheduling() const {
+    const std::string fifo = "SCHED_FIFO " + std::to_string(loop_.hapticThreadPriority());
+    switch (scheduling_.load(std::memory_order_acquire)) {
+        case Scheduling::Realtime: return fifo;
+        case Scheduling::Refused:
+            return "normal: " + fifo + " refused (" +
+                   std::error_code(schedulingError_.load(std::memory_order_relaxed), std::generic_category())
+                       .message() +
+                   ")";
+        case Scheduling::DroppedWhenLate:
+            return "normal after " + std::to_string(kLateStepsBeforeNormalScheduling) + " late steps in a row under " +
+                   fifo;
+        case Scheduling::DeviceServo: return "the device's servo thread";
+        case Scheduling::Normal: break;
+    }
+    return "normal";
+}
+
+void RealTimeScheduler::scheduleSteppingThread() {
+    scheduling_ = Scheduling::Normal;
+    const int priority = loop_.hapticThreadPriority();
+    if (priority <= 0) return;
+    const RealtimeScheduling got = scheduleRealtime(priority);
+    schedulingError_.store(got.error, std::memory_order_relaxed);
+    scheduling_.store(got.granted ? Scheduling::Realtime : Scheduling::Refused, std::memory_order_release);
+}
+
 void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
+    scheduleSteppingThread();
     const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1 / loop_.rate_hz()));
     // Sleep until shortly before each deadline, then spin: sleeping alone wakes up late, by more than
     // 150 us in 1% of wake-ups on a virtual machine. The spin costs CPU on the haptic thread only.
@@ -87,7 +119,15 @@ void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
     const auto begin = Clock::now();
     auto deadline = begin;
     Clock::duration dropped{0};  // how late the next step already is when missed deadlines were dropped
+    int lateInARow = 0;          // steps whose deadline had passed before the thread could wait for it
     for (long i = 0; (max_steps < 0 || i < max_steps) && !stopRequested_.load(std::memory_order_relaxed); ++i) {
+        if (Clock::now() < deadline) {
+            lateInARow = 0;
+        } else if (++lateInARow == kLateStepsBeforeNormalScheduling &&
+                   scheduling_.load(std::memory_order_relaxed) == Scheduling::Realtime) {
+            scheduleNormally();
+            scheduling_.store(Scheduling::DroppedWhenLate, std::memory_order_release);
+        }
         if (deadline - Clock::now() > spinMargin) std::this_thread::sleep_until(deadline - spinMargin);
         while (Clock::now() < deadline) {}
         loop_.recordLateness(std::chrono::duration<double, std::micro>(Clock::now() - deadline + dropped).count());

@@ -22,6 +22,11 @@ using StepObserver = std::function<void(const StepOutput&)>;
 void runSimulated(HapticLoop& loop, long steps, const StepObserver& observer = {},
                   const std::function<bool()>& keepGoing = {});
 
+/// A stepping thread under SCHED_FIFO that has found every deadline already passed this many times in a
+/// row goes back to the normal scheduler: a real-time thread that never sleeps would starve the physics
+/// and the renderer on a machine with few cores, and a loop that cannot hold its period gains nothing.
+inline constexpr int kLateStepsBeforeNormalScheduling = 100;
+
 /// Steps a loop at its rate on the wall clock until stop() or a step count.
 class RealTimeScheduler {
 public:
@@ -41,14 +46,24 @@ public:
     /// Stops stepping and leaves the devices at zero force.
     void stop();
     bool running() const { return running_.load(std::memory_order_acquire); }
+    /// How the stepping thread is scheduled, for reports and the viewer: "SCHED_FIFO 40", "normal",
+    /// "normal: SCHED_FIFO 40 refused (Operation not permitted)", "normal after 100 late steps in a row
+    /// under SCHED_FIFO 40", or "the device's servo thread". Safe to call while the loop runs.
+    std::string scheduling() const;
 
 private:
     using Clock = std::chrono::steady_clock;
     Status startServos(std::vector<ServoClock*> servos, long max_steps, StepObserver observer);
     void threadMain(long max_steps, StepObserver observer);
 
+    /// Asks for LoopConfig::hapticThreadPriority on the calling (stepping) thread and records what it got.
+    void scheduleSteppingThread();
+
+    enum class Scheduling { Normal, Realtime, Refused, DroppedWhenLate, DeviceServo };
     HapticLoop& loop_;
     std::atomic<bool> running_{false}, stopRequested_{false};
+    std::atomic<Scheduling> scheduling_{Scheduling::Normal};
+    std::atomic<int> schedulingError_{0};  // errno of a refusal
     std::thread thread_;
     std::vector<ServoClock*> servos_;  // set while devices' servos run: the first drives the loop
     // The servo-driven loop's own bookkeeping (what threadMain keeps on its stack).

@@ -138,6 +138,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
             }
         }
         clock.stop();
+        r.hapticScheduling = clock.scheduling();
         r.stoppedEarly = config.stopRequested && config.stopRequested();
         if (noticed)
             r.stopLatency_s = config.stopRequestedAgo_s

@@ -59,6 +59,7 @@ struct HapticRunResult {
     long overruns = 0, contactSteps = 0, nonFiniteEvents = 0;
     long contactNodesMax = 0, footprintCutSteps = 0;  // LoopStats': how far the tools' loads spread
     long missedPeriods = 0, stalls = 0;               // LoopStats'
+    std::string hapticScheduling;  // on the wall clock, how the stepping thread ran (RealTimeScheduler::scheduling)
     bool watchdogTripped = false;
     double maxForce_N = 0;
     double maxProxyPenetration_m = 0;   // by the ray-parity test on the current surface, in every step it is closed

@@ -87,6 +87,8 @@ nlohmann::ordered_json hapticRunReport(const ModelSource& source, const cutting:
     j["haptic_rate_hz"] =
         request.realtime ? nlohmann::ordered_json(result.hapticRate_hz) : nlohmann::ordered_json(nullptr);
     j["steps_per_wall_s"] = result.hapticRate_hz;
+    j["haptic_thread_scheduling"] =
+        request.realtime ? nlohmann::ordered_json(result.hapticScheduling) : nlohmann::ordered_json(nullptr);
     j["multi_rate"] = result.multiRate;
     j["multi_rate_from_s"] =
         result.multiRate ? nlohmann::ordered_json(result.multiRateFrom_s) : nlohmann::ordered_json(nullptr);

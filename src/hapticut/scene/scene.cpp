@@ -23,6 +23,7 @@ haptics::LoopConfig Scene::loopConfig() const {
     config.solver = settings.solver;
     config.physicsRate = settings.physicsRate;
     config.rate_hz = settings.rate_hz;
+    config.hapticThreadPriority = settings.hapticThreadPriority;
     config.couplingStiffness_N_per_m = settings.couplingStiffness_N_per_m;
     config.couplingDamping_Ns_per_m = settings.couplingDamping_Ns_per_m;
     config.activeRegion = settings.activeRegion;

@@ -473,7 +473,8 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
         if (const toml::table* m = subTable(root, "simulation")) {
             allowOnly(*m, "simulation",
                       {"integrator", "rate_hz", "active_region", "solver_tolerance", "solver_force_tolerance_N",
-                       "solver_max_iterations", "solver_newton_iterations", "solver_threads", "physics_rate"});
+                       "solver_max_iterations", "solver_newton_iterations", "solver_threads", "physics_rate",
+                       "haptic_thread_priority"});
             const std::string rate = text(*m, "simulation", "physics_rate", "auto", {"auto", "single", "multi"});
             using PR = haptics::LoopConfig::PhysicsRate;
             s.physicsRate = rate == "single" ? PR::Single : rate == "multi" ? PR::Multi : PR::Auto;
@@ -490,6 +491,8 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
                 wholeNumber(*m, "simulation", "solver_threads", s.solver.threads, 0, physics::kMaxSolverThreads));
             s.rate_hz = number(*m, "simulation", "rate_hz", s.rate_hz, 100, 10'000);
             s.activeRegion = boolean(*m, "simulation", "active_region", s.activeRegion);
+            s.hapticThreadPriority = static_cast<int>(
+                wholeNumber(*m, "simulation", "haptic_thread_priority", s.hapticThreadPriority, 0, 99));
         }
         if (const toml::table* e = subTable(root, "exercise")) s.exercise = parseExercise(*e, s);
         if (const toml::table* r = subTable(root, "rendering")) {

@@ -110,6 +110,7 @@ struct SceneFile {
     double rate_hz = 1000;
     bool activeRegion = true;
     haptics::LoopConfig::PhysicsRate physicsRate = haptics::LoopConfig::PhysicsRate::Auto;
+    int hapticThreadPriority = haptics::LoopConfig{}.hapticThreadPriority;  // SCHED_FIFO; 0: normal
     // [rendering]
     std::string stereo = "off";  // off, quad, anaglyph, side-by-side
     bool wireframe = false;

@@ -93,6 +93,8 @@ void Simulation::startLoop() {
         loopError_ = error->message;
 }
 
+std::string Simulation::hapticScheduling() const { return clock_ ? clock_->scheduling() : "not running"; }
+
 void Simulation::observeStep(const haptics::StepOutput& step) noexcept {
     if (haptics::StepLogWriter* recorder = recording_.load(std::memory_order_acquire)) {
         const int clock = recordingClock_.exchange(kKeepClock, std::memory_order_acq_rel);

@@ -65,6 +65,8 @@ public:
     void useMouse();
     /// Whether the mouse drives the active hand (no replay, no hardware there).
     bool mouseDrives() const;
+    /// How the haptic loop's thread is scheduled (RealTimeScheduler::scheduling), while it runs.
+    std::string hapticScheduling() const;
 
     /// Loads another model into the same scene.
     Status loadModel(const std::string& model);
