@@ -174,6 +174,32 @@ TEST(ContactFootprint, SlidingTheTipShiftsItsLoadSmoothly) {
     EXPECT_LT(worst, 0.05);
 }
 
+// A footprint built a few faces at a time, as the haptic loop builds a large one over several steps,
+// is the footprint built at once, to the bit; a new begin abandons a build under way.
+TEST(ContactFootprint, BuiltInStepsItIsTheFootprintBuiltAtOnce) {
+    const Sheet sheet(120, 0.3);  // 0.5 mm cells, jittered: a 7 mm tip covers about 1,200 faces
+    ContactFootprint footprint;
+    physics::PointSpring atOnce, inSteps;
+    const FootprintSpread whole = sheet.press(footprint, 0.0013, -0.0021, 0.007, atOnce);
+    const auto [face, bary] = sheet.locate(0.0013, -0.0021);
+    const auto [elsewhere, elsewhereBary] = sheet.locate(-0.01, 0.004);
+    footprint.begin(sheet.view(), elsewhere, elsewhereBary, 0.007);
+    EXPECT_FALSE(footprint.advance(sheet.view(), sheet.around, 50));
+    footprint.begin(sheet.view(), face, bary, 0.007);
+    int calls = 1;
+    while (!footprint.advance(sheet.view(), sheet.around, 50)) ++calls;
+    const FootprintSpread stepped = footprint.finish(sheet.view(), sheet.around, sheet.anchor_N_per_m, inSteps);
+    EXPECT_GT(calls, 20) << "many calls of 50 faces";
+    ASSERT_EQ(inSteps.count, atOnce.count);
+    for (std::uint32_t k = 0; k < atOnce.count; ++k) {
+        ASSERT_EQ(inSteps.nodes[k], atOnce.nodes[k]);
+        ASSERT_EQ(inSteps.weights[k], atOnce.weights[k]);
+    }
+    EXPECT_EQ(stepped.subgridCompliance_m_per_N, whole.subgridCompliance_m_per_N);
+    EXPECT_EQ(stepped.complete, whole.complete);
+    EXPECT_TRUE(inSteps.spread);
+}
+
 /// The hold force of the shipped press (6 mm below the surface) on a heart of `triangles`.
 double pressForce_N(int triangles, double tipRadius_m) {
     const mesh::SurfaceMesh heart = mesh::procedural::makeHeart({.triangles = triangles});

@@ -33,6 +33,8 @@ void ContactFootprint::fitTo(std::size_t nodes, std::size_t faces) {
     }
     if (faces > faceStamp_.size()) faceStamp_.resize(roomToGrow(faces), 0);
     queue_.reserve(kMaxQueuedFaces);
+    nodes_.resize(physics::kMaxContactNodes);
+    loads_.resize(physics::kMaxContactNodes);
 }
 
 Vec3 ContactFootprint::integrateFace(const collision::SurfaceView& s, std::uint32_t face, const Vec3& centre_m,
@@ -91,68 +93,91 @@ Vec3 ContactFootprint::integrateFace(const collision::SurfaceView& s, std::uint3
 FootprintSpread ContactFootprint::spread(const collision::SurfaceView& s, const mesh::VertexFaces& around,
                                          std::span<const double> anchorStiffness_N_per_m, std::uint32_t face,
                                          const Vec3& bary, double radius_m, physics::PointSpring& tool) noexcept {
-    const Vec3 centre_m = pointOnFace(s, face, bary);
+    begin(s, face, bary, radius_m);
+    advance(s, around, kMaxQueuedFaces);
+    return finish(s, around, anchorStiffness_N_per_m, tool);
+}
+
+void ContactFootprint::begin(const collision::SurfaceView& s, std::uint32_t face, const Vec3& bary,
+                             double radius_m) noexcept {
     if (++stamp_ == 0) {  // the stamps wrapped: start them afresh
         std::fill(faceStamp_.begin(), faceStamp_.end(), 0);
         std::fill(nodeStamp_.begin(), nodeStamp_.end(), 0);
         stamp_ = 1;
     }
-    tool.count = 0;
-    FootprintSpread result;
+    face_ = face, bary_ = bary, radius_m_ = radius_m;
+    centre_m_ = pointOnFace(s, face, bary);
+    total_ = 0, next_ = 0, count_ = 0, complete_ = true;
     queue_.clear();
     queue_.push_back(face);
     faceStamp_[face] = stamp_;
-    double total = 0;
-    for (std::size_t next = 0; next < queue_.size(); ++next) {
-        const std::uint32_t f = queue_[next];
-        const Vec3 load = integrateFace(s, f, centre_m, radius_m);
+}
+
+bool ContactFootprint::advance(const collision::SurfaceView& s, const mesh::VertexFaces& around,
+                               std::size_t maxFaces) noexcept {
+    // The queue never holds more than kMaxQueuedFaces: so many faces finish any build.
+    for (const std::size_t stop = next_ + std::min(maxFaces, kMaxQueuedFaces); next_ < queue_.size() && next_ < stop;
+         ++next_) {
+        const std::uint32_t f = queue_[next_];
+        const Vec3 load = integrateFace(s, f, centre_m_, radius_m_);
         if (load == Vec3::Zero()) continue;  // beyond the tip: its neighbours are reached through nearer faces
         const mesh::Face& corners = s.faces[f];
         std::uint32_t fresh = 0;
         for (std::uint32_t v : corners) fresh += nodeStamp_[v] != stamp_;
-        if (tool.count + fresh > physics::kMaxContactNodes) {
-            result.complete = false;
+        if (count_ + fresh > physics::kMaxContactNodes) {
+            complete_ = false;
             continue;
         }
-        const std::uint32_t firstNew = tool.count;
+        const std::uint32_t firstNew = count_;
         for (int k = 0; k < 3; ++k) {
             const std::uint32_t v = corners[k];
             if (nodeStamp_[v] != stamp_) {
                 nodeStamp_[v] = stamp_;
-                nodeSlot_[v] = tool.count;
-                tool.nodes[tool.count] = v;
-                tool.weights[tool.count] = 0;
-                ++tool.count;
+                nodeSlot_[v] = count_;
+                nodes_[count_] = v;
+                loads_[count_] = 0;
+                ++count_;
             }
-            tool.weights[nodeSlot_[v]] += load[k];
-            total += load[k];
+            loads_[nodeSlot_[v]] += load[k];
+            total_ += load[k];
         }
         // The faces round each node newly under the tip, once per node: the footprint grows outwards.
-        for (std::uint32_t k = firstNew; k < tool.count; ++k)
-            for (std::uint32_t g : around.of(tool.nodes[k]))
+        for (std::uint32_t k = firstNew; k < count_; ++k)
+            for (std::uint32_t g : around.of(nodes_[k]))
                 if (faceStamp_[g] != stamp_ && queue_.size() < kMaxQueuedFaces) {
                     faceStamp_[g] = stamp_;
                     queue_.push_back(g);
                 }
     }
-    if (!(total > 0)) {  // nothing under the tip (a degenerate face): the thesis's point contact
-        tool.touchTriangle(s.faces[face], bary);
+    return next_ == queue_.size();
+}
+
+FootprintSpread ContactFootprint::finish(const collision::SurfaceView& s, const mesh::VertexFaces& around,
+                                         std::span<const double> anchorStiffness_N_per_m,
+                                         physics::PointSpring& tool) noexcept {
+    FootprintSpread result;
+    result.complete = complete_;
+    if (!(total_ > 0)) {  // nothing under the tip (a degenerate face): the thesis's point contact
+        tool.touchTriangle(s.faces[face_], bary_);
         return result;
     }
-    for (std::uint32_t k = 0; k < tool.count; ++k) tool.weights[k] /= total;
+    tool.count = count_;
+    for (std::uint32_t k = 0; k < count_; ++k) {
+        tool.nodes[k] = nodes_[k];
+        tool.weights[k] = loads_[k] / total_;
+    }
     tool.spread = true;
-    tool.bary = bary;
-    result.subgridCompliance_m_per_N = subgridCompliance(s, around, anchorStiffness_N_per_m, face, bary, total, tool);
+    tool.bary = bary_;
+    result.subgridCompliance_m_per_N = subgridCompliance(s, around, anchorStiffness_N_per_m, total_);
     return result;
 }
 
 double ContactFootprint::subgridCompliance(const collision::SurfaceView& s, const mesh::VertexFaces& around,
-                                           std::span<const double> anchorStiffness_N_per_m, std::uint32_t face,
-                                           const Vec3& bary, double area_m2,
-                                           const physics::PointSpring& tool) const noexcept {
+                                           std::span<const double> anchorStiffness_N_per_m,
+                                           double area_m2) const noexcept {
     // The anchors' stiffness per m² where the tip is: the touched triangle's corners' anchors over
     // their shares of the surface (a third of each face round them).
-    const mesh::Face& corners = s.faces[face];
+    const mesh::Face& corners = s.faces[face_];
     double anchors_N_per_m = 0, nodeArea_m2 = 0, resolved_m_per_N = 0;
     for (int k = 0; k < 3; ++k) {
         const std::uint32_t v = corners[k];
@@ -165,7 +190,7 @@ double ContactFootprint::subgridCompliance(const collision::SurfaceView& s, cons
                 (s.positions[f[1]] - s.positions[f[0]]).cross(s.positions[f[2]] - s.positions[f[0]]).norm() / 6;
         }
         // The dent the mesh shows at the tip's centre: its corners' own sinking, interpolated.
-        resolved_m_per_N += bary[k] * tool.weights[nodeSlot_[v]] / anchor;
+        if (nodeStamp_[v] == stamp_) resolved_m_per_N += bary_[k] * (loads_[nodeSlot_[v]] / area_m2) / anchor;
     }
     if (!(nodeArea_m2 > 0)) return 0;
     const double foundation_N_per_m3 = anchors_N_per_m / nodeArea_m2;

@@ -35,10 +35,22 @@ public:
     void fitTo(std::size_t nodes, std::size_t faces);
     /// Fills `tool` with the nodes under a tip of radius_m touching `face` at `bary`, found by walking
     /// the faces round each vertex from the touched face outwards; `anchorStiffness_N_per_m` is the
-    /// nodes' positioning springs, for the subgrid compliance. Allocation-free once fitted.
+    /// nodes' positioning springs, for the subgrid compliance. Allocation-free once fitted. The same as
+    /// begin, advance with no limit and finish.
     FootprintSpread spread(const collision::SurfaceView& surface, const mesh::VertexFaces& around,
                            std::span<const double> anchorStiffness_N_per_m, std::uint32_t face, const Vec3& bary,
                            double radius_m, physics::PointSpring& tool) noexcept;
+
+    /// A build in steps, so that a footprint of thousands of nodes costs a haptic step no more than the
+    /// faces it is given: begin where the tip touches, advance a number of faces at a time until it says
+    /// the footprint is whole, then finish into the tool. A new begin abandons a build under way.
+    void begin(const collision::SurfaceView& surface, std::uint32_t face, const Vec3& bary, double radius_m) noexcept;
+    /// Integrates up to `maxFaces` more faces; true once every face under the tip is in.
+    bool advance(const collision::SurfaceView& surface, const mesh::VertexFaces& around, std::size_t maxFaces) noexcept;
+    /// Gives `tool` the footprint built (the touched triangle, as in the thesis, when nothing lay under
+    /// the tip) and its subgrid compliance.
+    FootprintSpread finish(const collision::SurfaceView& surface, const mesh::VertexFaces& around,
+                           std::span<const double> anchorStiffness_N_per_m, physics::PointSpring& tool) noexcept;
 
 private:
     /// ∫ q N_k dA over one face for its corners k, by splitting it into pieces under r/3 across.
@@ -46,13 +58,22 @@ private:
                        double radius_m) const noexcept;
     /// See FootprintSpread; `area_m2` is ∫q/q(0) dA, the footprint's area at full pressure.
     double subgridCompliance(const collision::SurfaceView& surface, const mesh::VertexFaces& around,
-                             std::span<const double> anchorStiffness_N_per_m, std::uint32_t face, const Vec3& bary,
-                             double area_m2, const physics::PointSpring& tool) const noexcept;
+                             std::span<const double> anchorStiffness_N_per_m, double area_m2) const noexcept;
 
     // Stamps instead of flags, so nothing needs clearing between calls.
     std::vector<std::uint32_t> faceStamp_, nodeStamp_, nodeSlot_;
     std::uint32_t stamp_ = 0;
     std::vector<std::uint32_t> queue_;  // faces to look at, reserved once
+    // The build under way: where the tip touches, how far the walk has gone, and the nodes and their
+    // loads so far (kept here, not in a tool, so that the tool loads its last footprint meanwhile).
+    std::uint32_t face_ = 0;
+    Vec3 bary_ = Vec3::Zero(), centre_m_ = Vec3::Zero();
+    double radius_m_ = 0, total_ = 0;
+    std::size_t next_ = 0;
+    bool complete_ = true;
+    std::uint32_t count_ = 0;
+    std::vector<std::uint32_t> nodes_;
+    std::vector<double> loads_;
 };
 
 /// The pressure profile of a tip at s = distance / radius: (1 - s²)² inside, 0 outside; smooth at the

@@ -491,6 +491,7 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         HandState& hand = hands_[h];
         HandFrame& f = frame[h];
         f.touching = touching(frame, h);
+        if (!f.touching && footprintBuilder_ == static_cast<int>(h)) footprintBuilder_ = -1;  // its build is moot
         if (!f.touching && worker_ && wasActive && !stats_.watchdogTripped && f.deviceOk && !letGo(frame, h) &&
             static_cast<double>(stepIndex_ - hand.lastContactStep) < config_.maxPhysicsStep_s * config_.rate_hz) {
             // Multi-rate: contact lost on a surface up to a physics step old. The physics keeps the tool
@@ -504,7 +505,7 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         if (!f.touching || stats_.watchdogTripped) continue;
         hand.lastContactStep = stepIndex_;
         const Contact& contact = hand.proxy.contact();
-        const double subgrid_m_per_N = loadTissue(hand, tool, wasActive);
+        const double subgrid_m_per_N = loadTissue(h, tool, wasActive);
         stats_.contactNodesMax = std::max(stats_.contactNodesMax, static_cast<long>(tool.count));
         // Anchor so that at this instant the spring reads k (proxy - device): the proxy sits a small
         // offset off the contact point, and the point the spring holds (the footprint's load-weighted
@@ -542,7 +543,8 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         }
 }
 
-double HapticLoop::loadTissue(HandState& hand, physics::PointSpring& tool, bool wasActive) noexcept {
+double HapticLoop::loadTissue(std::size_t h, physics::PointSpring& tool, bool wasActive) noexcept {
+    HandState& hand = hands_[h];
     const Contact& contact = hand.proxy.contact();
     const double radius_m = hand.setup.tipRadius_m;
     if (!(radius_m > 0)) {
@@ -552,21 +554,40 @@ double HapticLoop::loadTissue(HandState& hand, physics::PointSpring& tool, bool 
     // Built again only once the contact has slid a twentieth of the tip over the tissue (measured on
     // the rest surface, so a press that deforms it does not count), after a new touch, a cut or a new
     // tip. Between, the nodes keep their shares. The hand feels no rebuild: the coupling is anchored
-    // afresh every step. On the million-triangle heart a build walks some 7,000 faces.
+    // afresh every step.
     const Vec3 at_m = pointOnFace({model_.nodes.restPosition, faces_}, contact.face, contact.bary);
-    const bool current = wasActive && tool.spread && hand.footprintTopology == topologyVersion_ &&
-                         hand.footprintRadius_m == radius_m &&
-                         (at_m - hand.footprintAt_m).norm() <= kFootprintSlide * radius_m;
-    if (!current) {
-        const FootprintSpread spread = footprint_.spread(surface(), organ_.vertexFaces(), model_.nodes.anchorStiffness,
-                                                         contact.face, contact.bary, radius_m, tool);
-        if (!spread.complete) ++stats_.footprintCutSteps;
-        hand.subgrid_m_per_N = spread.subgridCompliance_m_per_N;
-        hand.footprintAt_m = at_m;
-        hand.footprintTopology = topologyVersion_;
-        hand.footprintRadius_m = radius_m;
+    const bool kept =
+        wasActive && tool.spread && hand.footprintTopology == topologyVersion_ && hand.footprintRadius_m == radius_m;
+    const int self = static_cast<int>(h);
+    if (kept && (at_m - hand.footprintAt_m).norm() <= kFootprintSlide * radius_m) {
+        if (footprintBuilder_ == self) footprintBuilder_ = -1;  // slid back: the footprint it has still fits
+        return hand.subgrid_m_per_N;
     }
-    return tool.spread ? hand.subgrid_m_per_N : 0.0;
+    const collision::SurfaceView view = surface();
+    const bool ours =
+        footprintBuilder_ == self && footprintBuildTopology_ == topologyVersion_ && footprintBuildRadius_m_ == radius_m;
+    if (footprintBuilder_ < 0 || footprintBuilder_ == self) {  // the builder is free, or ours
+        if (!ours) {
+            footprint_.begin(view, contact.face, contact.bary, radius_m);
+            footprintBuilder_ = self, footprintBuildTopology_ = topologyVersion_, footprintBuildRadius_m_ = radius_m;
+            footprintBuildAt_m_ = at_m;
+        }
+        if (footprint_.advance(view, organ_.vertexFaces(), kFootprintFacesPerStep)) {
+            const FootprintSpread spread =
+                footprint_.finish(view, organ_.vertexFaces(), model_.nodes.anchorStiffness, tool);
+            footprintBuilder_ = -1;
+            if (!spread.complete) ++stats_.footprintCutSteps;
+            hand.subgrid_m_per_N = spread.subgridCompliance_m_per_N;
+            hand.footprintAt_m = footprintBuildAt_m_;
+            hand.footprintTopology = topologyVersion_;
+            hand.footprintRadius_m = radius_m;
+            return tool.spread ? hand.subgrid_m_per_N : 0.0;
+        }
+    }
+    // Until its new footprint is whole, the tool loads the one it had, or the touched triangle.
+    if (kept) return hand.subgrid_m_per_N;
+    tool.touchTriangle(faces_[contact.face], contact.bary);
+    return 0;
 }
 
 Vec3 HapticLoop::forceAhead(const physics::PointSpring& tool, double ahead_s) const {

@@ -84,6 +84,11 @@ struct LoopConfig {
 /// How far, as a share of its tip's radius, a contact slides over the tissue before its footprint is
 /// built again: a slide of d moves about 2 d / r of the load, 10% here.
 inline constexpr double kFootprintSlide = 0.05;
+/// A footprint is built over as many steps as it needs, this many faces a step (ContactFootprint::advance),
+/// while the tool loads the footprint it had. A 7 mm tip on the 100,000-triangle heart walks about 1,300
+/// faces, so it is built in the step that asks; on the 1,000,000 heart it walks 8,000-16,000, which took
+/// a step 0.3-0.7 ms (more on a cold cache than in `bench`) whole, an overrun together with a frame.
+inline constexpr std::size_t kFootprintFacesPerStep = 2048;
 /// The collision tree's margin as a share of the organ's mean edge (Bvh::setMargin): wide enough that the
 /// nodes a step moves by microns stay in their boxes, narrow enough that queries meet few more boxes.
 /// Measured on the 100,000 and 1,000,000 hearts: 0.1 and 0.3 edges left as many overruns in a real-time
@@ -329,7 +334,9 @@ private:
     bool finishMultiRateSwitch() noexcept;
     /// The nodes hand `hand`'s tool loads this step, into `tool`: its tip's footprint (built again only
     /// as the contact slides) or the thesis's triangle. Returns the footprint's subgrid compliance, m/N.
-    double loadTissue(HandState& hand, physics::PointSpring& tool, bool wasActive) noexcept;
+    /// While a new footprint is being built, the tool loads the last one if it still lies on this surface
+    /// and tip, else the touched triangle. One build is under way at a time (footprintBuilder_).
+    double loadTissue(std::size_t h, physics::PointSpring& tool, bool wasActive) noexcept;
     /// Multi-rate: the tool's force with its held point carried `ahead_s` on at its nodes' velocities.
     Vec3 forceAhead(const physics::PointSpring& tool, double ahead_s) const;
     /// An edit to the model: now in a single-rate loop, and in a multi-rate one once the physics is held.
@@ -389,6 +396,11 @@ private:
     long slowWindowStart_ = 0;
     collision::Bvh bvh_;
     ContactFootprint footprint_;
+    // The hand whose footprint footprint_ is building (-1: none), and for which surface and tip it began.
+    int footprintBuilder_ = -1;
+    long footprintBuildTopology_ = -1;
+    double footprintBuildRadius_m_ = 0;
+    Vec3 footprintBuildAt_m_ = Vec3::Zero();  // on the rest surface
     cutting::ProgressiveCutter cutter_;
     long topologyVersion_ = 0;
     double rampStart_s_ = 0;  // forces fade in from here: the start, or a watchdog reset
