@@ -92,9 +92,9 @@ std::string RealTimeScheduler::scheduling() const {
                    std::error_code(schedulingError_.load(std::memory_order_relaxed), std::generic_category())
                        .message() +
                    ")";
-        case Scheduling::DroppedWhenLate:
-            return "normal after " + std::to_string(kLateStepsBeforeNormalScheduling) + " late steps in a row under " +
-                   fifo;
+        case Scheduling::LeftWhenBusy:
+            return "normal: " + fifo + " left when more than half of " + std::to_string(kSchedulingWindowSteps) +
+                   " steps had no time to sleep";
         case Scheduling::DeviceServo: return "the device's servo thread";
         case Scheduling::Normal: break;
     }
@@ -119,14 +119,16 @@ void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
     const auto begin = Clock::now();
     auto deadline = begin;
     Clock::duration dropped{0};  // how late the next step already is when missed deadlines were dropped
-    int lateInARow = 0;          // steps whose deadline had passed before the thread could wait for it
+    int busySteps = 0;           // in this window of kSchedulingWindowSteps: steps with no time left to sleep
     for (long i = 0; (max_steps < 0 || i < max_steps) && !stopRequested_.load(std::memory_order_relaxed); ++i) {
-        if (Clock::now() < deadline) {
-            lateInARow = 0;
-        } else if (++lateInARow == kLateStepsBeforeNormalScheduling &&
-                   scheduling_.load(std::memory_order_relaxed) == Scheduling::Realtime) {
-            scheduleNormally();
-            scheduling_.store(Scheduling::DroppedWhenLate, std::memory_order_release);
+        busySteps += deadline - Clock::now() <= spinMargin;
+        if ((i + 1) % kSchedulingWindowSteps == 0) {
+            if (2 * busySteps > kSchedulingWindowSteps &&
+                scheduling_.load(std::memory_order_relaxed) == Scheduling::Realtime) {
+                scheduleNormally();
+                scheduling_.store(Scheduling::LeftWhenBusy, std::memory_order_release);
+            }
+            busySteps = 0;
         }
         if (deadline - Clock::now() > spinMargin) std::this_thread::sleep_until(deadline - spinMargin);
         while (Clock::now() < deadline) {}

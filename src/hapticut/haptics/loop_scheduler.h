@@ -22,10 +22,12 @@ using StepObserver = std::function<void(const StepOutput&)>;
 void runSimulated(HapticLoop& loop, long steps, const StepObserver& observer = {},
                   const std::function<bool()>& keepGoing = {});
 
-/// A stepping thread under SCHED_FIFO that has found every deadline already passed this many times in a
-/// row goes back to the normal scheduler: a real-time thread that never sleeps would starve the physics
-/// and the renderer on a machine with few cores, and a loop that cannot hold its period gains nothing.
-inline constexpr int kLateStepsBeforeNormalScheduling = 100;
+/// A stepping thread under SCHED_FIFO that, in a window of this many steps, found no time to sleep
+/// before more than half of its deadlines goes back to the normal scheduler. A real-time thread that
+/// never sleeps takes its core from everything else until the kernel's real-time throttling pauses it
+/// (50 ms in every second by default): a stall the hand feels, and a starved physics or renderer on a
+/// machine with few cores. A thread busy half the time uses at most three quarters of its core.
+inline constexpr int kSchedulingWindowSteps = 100;
 
 /// Steps a loop at its rate on the wall clock until stop() or a step count.
 class RealTimeScheduler {
@@ -47,8 +49,9 @@ public:
     void stop();
     bool running() const { return running_.load(std::memory_order_acquire); }
     /// How the stepping thread is scheduled, for reports and the viewer: "SCHED_FIFO 40", "normal",
-    /// "normal: SCHED_FIFO 40 refused (Operation not permitted)", "normal after 100 late steps in a row
-    /// under SCHED_FIFO 40", or "the device's servo thread". Safe to call while the loop runs.
+    /// "normal: SCHED_FIFO 40 refused (Operation not permitted)", "normal: SCHED_FIFO 40 left when more
+    /// than half of 100 steps had no time to sleep", or "the device's servo thread". Safe to call while
+    /// the loop runs.
     std::string scheduling() const;
 
 private:
@@ -59,7 +62,7 @@ private:
     /// Asks for LoopConfig::hapticThreadPriority on the calling (stepping) thread and records what it got.
     void scheduleSteppingThread();
 
-    enum class Scheduling { Normal, Realtime, Refused, DroppedWhenLate, DeviceServo };
+    enum class Scheduling { Normal, Realtime, Refused, LeftWhenBusy, DeviceServo };
     HapticLoop& loop_;
     std::atomic<bool> running_{false}, stopRequested_{false};
     std::atomic<Scheduling> scheduling_{Scheduling::Normal};
