@@ -1,8 +1,10 @@
 // A tool tip's footprint: its load is the consistent load of a smooth pressure disk, it sinks into
 // anchors as the continuum does (converging at second order) on meshes finer than the tip, a mesh coarser than the tip
-// makes up the dent it cannot show, it slides smoothly, and the same press feels the same on coarse and fine hearts.
+// makes up the dent it cannot show, it slides smoothly, and the same press feels the same on coarse and fine hearts;
+// a footprint too large for one step is built over several.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -10,6 +12,9 @@
 
 #include "hapticut/collision/bvh.h"
 #include "hapticut/haptics/contact_footprint.h"
+#include "hapticut/haptics/haptic_loop.h"
+#include "hapticut/haptics/loop_scheduler.h"
+#include "hapticut/haptics/replay_device.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"
 #include "hapticut/mesh/procedural/tools.h"
@@ -229,6 +234,54 @@ TEST(ToolTip, TheSamePressFeelsTheSameOnCoarseAndFineHearts) {
     EXPECT_GT(*lo, 0.8) << "a firm press";
     // With the thesis's point contact the finer heart feels a third as stiff.
     EXPECT_GT(pressForce_N(1619, 0) / pressForce_N(9714, 0), 2.0);
+}
+
+// A tip whose footprint walks more faces than a step may (kFootprintFacesPerStep: a 2 cm tip on the
+// 100,000-triangle heart) gets it over several steps. Meanwhile a new touch loads the touched triangle,
+// and a sliding tool keeps loading its last footprint: it never falls back to a point while it slides.
+TEST(ToolTip, ALargeFootprintIsBuiltOverStepsWhileTheToolLoadsTheOneItHad) {
+    const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({.triangles = 100'000});
+    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
+    const physics::PointSpring& tool = organ.model().tools[0];
+    Vec3 front = mesh.positions[0];
+    for (const Vec3& p : mesh.positions)
+        if (std::abs(p.x()) < 0.01 && std::abs(p.y()) < 0.01 && p.z() > front.z()) front = p;
+    Trajectory stroke;  // in from 2 mm off, then 2 cm across the front, pressed 4 mm
+    auto add = [&](double t_s, double x, double z) {
+        TrajectoryPoint p;
+        p.t_s = t_s;
+        p.sample.position_m = Vec3(front.x() + x, front.y(), front.z() + z);
+        stroke.points.push_back(p);
+    };
+    add(0.0, -0.01, 0.002);
+    add(0.1, -0.01, -0.004);
+    add(0.5, 0.01, -0.004);
+    ReplayDevice device(stroke);
+    LoopConfig config;
+    config.tipRadius_m = 0.02;
+    HapticLoop loop(organ, device, config);
+    std::vector<std::uint32_t> firstNodes;  // the loaded nodes at each step in contact: the first few
+    long touchedAt = -1, triangleSteps = 0, rebuilds = 0, lostFootprint = 0, biggest = 0;
+    runSimulated(loop, 500, [&](const StepOutput& s) {
+        if (!s.hand().contact) return;
+        const long step = std::lround(s.t_s * 1000);
+        if (touchedAt < 0) touchedAt = step;
+        if (!tool.spread) {
+            ++triangleSteps;
+            if (biggest > 0) ++lostFootprint;
+            return;
+        }
+        biggest = std::max<long>(biggest, tool.count);
+        const std::vector<std::uint32_t> now(tool.nodes.begin(), tool.nodes.begin() + 8);
+        if (!firstNodes.empty() && now != firstNodes) ++rebuilds;
+        firstNodes = now;
+    });
+    ASSERT_GE(touchedAt, 0) << "the stroke touches";
+    EXPECT_GT(biggest, 1500) << "the tip loads thousands of nodes";
+    EXPECT_GE(triangleSteps, 1) << "the first touch loads the touched triangle while the footprint is built";
+    EXPECT_LE(triangleSteps, 8) << "and the footprint comes within a few steps";
+    EXPECT_EQ(lostFootprint, 0) << "a sliding tool keeps its footprint until the next one is whole";
+    EXPECT_GT(rebuilds, 10) << "the footprint is built again as the tool slides";
 }
 
 }  // namespace
