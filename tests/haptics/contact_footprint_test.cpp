@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
+#include "hapticut/haptics/trajectory.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"
 #include "hapticut/mesh/procedural/tools.h"
@@ -24,6 +26,8 @@
 
 namespace hapticut::haptics {
 namespace {
+
+namespace fs = std::filesystem;
 
 constexpr double kFoundation_N_per_m3 = 8.8e6;  // the default material's anchors per m²
 
@@ -282,6 +286,46 @@ TEST(ToolTip, ALargeFootprintIsBuiltOverStepsWhileTheToolLoadsTheOneItHad) {
     EXPECT_LE(triangleSteps, 8) << "and the footprint comes within a few steps";
     EXPECT_EQ(lostFootprint, 0) << "a sliding tool keeps its footprint until the next one is whole";
     EXPECT_GT(rebuilds, 10) << "the footprint is built again as the tool slides";
+}
+
+// A scalpel cuts every few steps. Its footprint outlives each cut as a load (cuts only add nodes) until
+// the next one is whole: a build restarted at every cut never finished on a fine organ, the blade
+// pressed on its touched triangle alone, and on the 1,000,000 heart nodes flew metres away.
+TEST(ToolTip, WhileTheBladeCutsItsLoadStaysSpreadAndFollowsIt) {
+    const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({.triangles = 100'000});
+    cutting::CutModel organ(mesh, physics::buildModel(mesh, physics::Material{}));
+    const physics::PointSpring& tool = organ.model().tools[0];
+    auto stroke = readTrajectory(fs::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories/cut-front.csv");
+    ASSERT_TRUE(stroke) << stroke.error().toString();
+    ReplayDevice device(*stroke);
+    LoopConfig config;
+    config.tipRadius_m = 0.02;  // a footprint of more faces than a step builds
+    config.cutThreshold_N = mesh::procedural::kScalpelThreshold_N;
+    HapticLoop loop(organ, device, config);
+    long cutEvents = 0, pointLoadsWhileCutting = 0, footprintsWhileCutting = 0;
+    std::vector<std::uint32_t> last;
+    long changes = 0;
+    double farthest_m = 0;
+    runSimulated(loop, 1900, [&](const StepOutput& s) {
+        cutEvents += s.cut;
+        for (std::size_t i = 0; i < organ.model().nodes.size(); i += 97)
+            farthest_m = std::max(
+                farthest_m, (organ.model().nodes.position[i] - organ.model().nodes.restPosition[i]).norm());
+        if (cutEvents == 0 || !s.hand().contact) return;
+        if (!tool.spread) {
+            ++pointLoadsWhileCutting;
+            return;
+        }
+        ++footprintsWhileCutting;
+        const std::vector<std::uint32_t> now(tool.nodes.begin(), tool.nodes.begin() + 8);
+        changes += now != last;
+        last = now;
+    });
+    ASSERT_GT(cutEvents, 10) << "the blade cuts";
+    EXPECT_GT(footprintsWhileCutting, 300);
+    EXPECT_EQ(pointLoadsWhileCutting, 0) << "the blade never presses on its touched triangle alone";
+    EXPECT_GT(changes, 10) << "its footprint is built again as it cuts on";
+    EXPECT_LT(farthest_m, 0.02) << "no node is flung from the organ";
 }
 
 }  // namespace

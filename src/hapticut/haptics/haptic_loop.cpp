@@ -554,18 +554,22 @@ double HapticLoop::loadTissue(std::size_t h, physics::PointSpring& tool, bool wa
     // Built again only once the contact has slid a twentieth of the tip over the tissue (measured on
     // the rest surface, so a press that deforms it does not count), after a new touch, a cut or a new
     // tip. Between, the nodes keep their shares. The hand feels no rebuild: the coupling is anchored
-    // afresh every step.
+    // afresh every step. A footprint outlives a cut as a load: cuts only add nodes, so its nodes are
+    // still the organ's. A scalpel cuts every few steps, and a build restarted at each cut never came
+    // to an end on the 1,000,000 heart: the blade pressed on its touched triangle alone and flung
+    // nodes metres away.
     const Vec3 at_m = pointOnFace({model_.nodes.restPosition, faces_}, contact.face, contact.bary);
-    const bool kept =
-        wasActive && tool.spread && hand.footprintTopology == topologyVersion_ && hand.footprintRadius_m == radius_m;
+    const bool kept = wasActive && tool.spread && hand.footprintRadius_m == radius_m;
     const int self = static_cast<int>(h);
-    if (kept && (at_m - hand.footprintAt_m).norm() <= kFootprintSlide * radius_m) {
+    if (kept && hand.footprintTopology == topologyVersion_ &&
+        (at_m - hand.footprintAt_m).norm() <= kFootprintSlide * radius_m) {
         if (footprintBuilder_ == self) footprintBuilder_ = -1;  // slid back: the footprint it has still fits
         return hand.subgrid_m_per_N;
     }
     const collision::SurfaceView view = surface();
-    const bool ours =
-        footprintBuilder_ == self && footprintBuildTopology_ == topologyVersion_ && footprintBuildRadius_m_ == radius_m;
+    // A build goes on through a cut, over the faces as they are now; the footprint it makes counts as
+    // of the topology it began on, so one more follows it.
+    const bool ours = footprintBuilder_ == self && footprintBuildRadius_m_ == radius_m;
     if (footprintBuilder_ < 0 || footprintBuilder_ == self) {  // the builder is free, or ours
         if (!ours) {
             footprint_.begin(view, contact.face, contact.bary, radius_m);
@@ -579,7 +583,7 @@ double HapticLoop::loadTissue(std::size_t h, physics::PointSpring& tool, bool wa
             if (!spread.complete) ++stats_.footprintCutSteps;
             hand.subgrid_m_per_N = spread.subgridCompliance_m_per_N;
             hand.footprintAt_m = footprintBuildAt_m_;
-            hand.footprintTopology = topologyVersion_;
+            hand.footprintTopology = footprintBuildTopology_;
             hand.footprintRadius_m = radius_m;
             return tool.spread ? hand.subgrid_m_per_N : 0.0;
         }

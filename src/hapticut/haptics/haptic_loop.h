@@ -334,8 +334,8 @@ private:
     bool finishMultiRateSwitch() noexcept;
     /// The nodes hand `hand`'s tool loads this step, into `tool`: its tip's footprint (built again only
     /// as the contact slides) or the thesis's triangle. Returns the footprint's subgrid compliance, m/N.
-    /// While a new footprint is being built, the tool loads the last one if it still lies on this surface
-    /// and tip, else the touched triangle. One build is under way at a time (footprintBuilder_).
+    /// While a new footprint is being built, the tool loads the last one for the same tip (through cuts
+    /// too), else the touched triangle. One build is under way at a time (footprintBuilder_).
     double loadTissue(std::size_t h, physics::PointSpring& tool, bool wasActive) noexcept;
     /// Multi-rate: the tool's force with its held point carried `ahead_s` on at its nodes' velocities.
     Vec3 forceAhead(const physics::PointSpring& tool, double ahead_s) const;
