@@ -309,8 +309,8 @@ TEST(ToolTip, WhileTheBladeCutsItsLoadStaysSpreadAndFollowsIt) {
     runSimulated(loop, 1900, [&](const StepOutput& s) {
         cutEvents += s.cut;
         for (std::size_t i = 0; i < organ.model().nodes.size(); i += 97)
-            farthest_m = std::max(
-                farthest_m, (organ.model().nodes.position[i] - organ.model().nodes.restPosition[i]).norm());
+            farthest_m =
+                std::max(farthest_m, (organ.model().nodes.position[i] - organ.model().nodes.restPosition[i]).norm());
         if (cutEvents == 0 || !s.hand().contact) return;
         if (!tool.spread) {
             ++pointLoadsWhileCutting;
