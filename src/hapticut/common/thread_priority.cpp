@@ -44,7 +44,7 @@ RealtimeScheduling scheduleRealtime(int priority) {
     sched_param param{};
     param.sched_priority = priority;
     const int error = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
-    return {error == 0, priority, error};
+    return {error == 0, error};
 }
 
 void scheduleNormally() {

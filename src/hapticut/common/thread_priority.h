@@ -21,8 +21,7 @@ int threadNiceness(long tid);
 /// What a thread got when it asked for real-time scheduling.
 struct RealtimeScheduling {
     bool granted = false;
-    int priority = 0;  // the SCHED_FIFO priority asked for
-    int error = 0;     // why not, when refused: an errno value
+    int error = 0;  // why not, when refused: an errno value
 };
 
 /// Puts the calling thread under SCHED_FIFO at `priority` (1-99), so that it runs the moment it wakes

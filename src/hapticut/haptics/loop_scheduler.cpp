@@ -121,7 +121,8 @@ void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
     Clock::duration dropped{0};  // how late the next step already is when missed deadlines were dropped
     int busySteps = 0;           // in this window of kSchedulingWindowSteps: steps with no time left to sleep
     for (long i = 0; (max_steps < 0 || i < max_steps) && !stopRequested_.load(std::memory_order_relaxed); ++i) {
-        busySteps += deadline - Clock::now() <= spinMargin;
+        const auto left = deadline - Clock::now();  // until this step's deadline
+        busySteps += left <= spinMargin;
         if ((i + 1) % kSchedulingWindowSteps == 0) {
             if (2 * busySteps > kSchedulingWindowSteps &&
                 scheduling_.load(std::memory_order_relaxed) == Scheduling::Realtime) {
@@ -130,7 +131,7 @@ void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
             }
             busySteps = 0;
         }
-        if (deadline - Clock::now() > spinMargin) std::this_thread::sleep_until(deadline - spinMargin);
+        if (left > spinMargin) std::this_thread::sleep_until(deadline - spinMargin);
         while (Clock::now() < deadline) {}
         loop_.recordLateness(std::chrono::duration<double, std::micro>(Clock::now() - deadline + dropped).count());
         dropped = Clock::duration{0};
