@@ -22,6 +22,7 @@ TEST(SceneFile, TheCommentedExampleIsTheBuiltInDefault) {
     EXPECT_EQ(s->scheme, d.scheme);
     EXPECT_EQ(s->rate_hz, d.rate_hz);
     EXPECT_EQ(s->hapticThreadPriority, haptics::LoopConfig{}.hapticThreadPriority);
+    EXPECT_DOUBLE_EQ(s->maxPhysicsStep_s, haptics::LoopConfig{}.maxPhysicsStep_s);
     EXPECT_EQ(s->solver.tolerance, physics::SolverSettings{}.tolerance);
     EXPECT_EQ(s->solver.forceTolerance_N, physics::SolverSettings{}.forceTolerance_N);
     EXPECT_EQ(s->solver.threads, physics::SolverSettings{}.threads);
@@ -62,6 +63,10 @@ TEST(SceneFile, AnOverlaySetsKeysOverTheFilesAndNamesItsOwnMistakes) {
     Scene scene;
     scene.settings = *normal;
     EXPECT_EQ(scene.loopConfig().hapticThreadPriority, 0) << "the loop gets it";
+    const auto shortSteps = parseScene(file, "x.toml", "/data", "simulation.max_physics_step_ms = 20\n");
+    ASSERT_TRUE(shortSteps.has_value()) << shortSteps.error().toString();
+    scene.settings = *shortSteps;
+    EXPECT_DOUBLE_EQ(scene.loopConfig().maxPhysicsStep_s, 0.02) << "the loop gets it, in seconds";
     test::expectError(parseScene(file, "x.toml", "/data", "material.mass_kg = 1.5\nmaterial.mass_kilos = 2\n"), 2,
                       "material.mass_kilos");
     const auto outOfRange = parseScene(file, "x.toml", "/data", "simulation.rate_hz = 1e9\n");
@@ -111,6 +116,8 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
                 "simulation.solver_force_tolerance_N: -1e-06 is out of range; allowed: 0 to 1");
     expectError("[simulation]\nhaptic_thread_priority = 100\n", 2,
                 "simulation.haptic_thread_priority: 100 is out of range; allowed: 0 to 99");
+    expectError("[simulation]\nmax_physics_step_ms = 0.5\n", 2,
+                "simulation.max_physics_step_ms: 0.5 is out of range; allowed: 1 to 1000");
     expectError("[simulation]\nactive_region = 1\n", 2, "simulation.active_region: expected true or false");
     expectError("[model]\ntranslate_m = [1, 2]\n", 2, "model.translate_m: expected three numbers");
     expectError("[model]\ntranslate_m = [1, \"a\", 2]\n", 2, "expected three finite numbers");

@@ -208,6 +208,7 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.multiRateSwitchSteps = st.multiRateSwitchSteps;
     r.physicsRate_hz = st.wallTime_s > 0 ? static_cast<double>(st.physicsSteps) / st.wallTime_s : 0;
     r.physicsRealtimeFactor = st.wallTime_s > 0 ? st.physicsTime_s / st.wallTime_s : 0;
+    r.maxPhysicsStep_s = config.loop.maxPhysicsStep_s;
     return r;
 }
 

@@ -78,6 +78,7 @@ struct HapticRunResult {
     long multiRateSwitchSteps = 0;     // Auto's switch: haptic steps taken while the physics' copy was made
     double physicsRate_hz = 0;         // physics steps per wall-clock second
     double physicsRealtimeFactor = 0;  // simulated physics seconds per wall-clock second
+    double maxPhysicsStep_s = 0;       // multi-rate: the longest a physics step may simulate (LoopConfig)
     // Cutting: what the scalpel did, how long cut events took, and whether the organ stayed sound.
     cutting::CutStats cut;
     long cutEvents = 0;

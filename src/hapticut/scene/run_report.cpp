@@ -96,6 +96,9 @@ nlohmann::ordered_json hapticRunReport(const ModelSource& source, const cutting:
     j["multi_rate_switch_steps"] = result.multiRateSwitchSteps;
     j["physics_rate_hz"] = result.physicsRate_hz;
     j["physics_realtime_factor"] = result.physicsRealtimeFactor;
+    // Slower steps than this simulate only this long: the tissue falls behind, and the factor above says so.
+    j["max_physics_step_s"] =
+        result.multiRate ? nlohmann::ordered_json(result.maxPhysicsStep_s) : nlohmann::ordered_json(nullptr);
     j["step_us"] = toJson(result.stepTime_us);
     j["period_error_us"] = request.realtime ? toJson(result.periodError_us) : nlohmann::ordered_json(nullptr);
     j["overruns"] = result.overruns;

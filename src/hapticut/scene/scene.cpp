@@ -24,6 +24,7 @@ haptics::LoopConfig Scene::loopConfig() const {
     config.physicsRate = settings.physicsRate;
     config.rate_hz = settings.rate_hz;
     config.hapticThreadPriority = settings.hapticThreadPriority;
+    config.maxPhysicsStep_s = settings.maxPhysicsStep_s;
     config.couplingStiffness_N_per_m = settings.couplingStiffness_N_per_m;
     config.couplingDamping_Ns_per_m = settings.couplingDamping_Ns_per_m;
     config.activeRegion = settings.activeRegion;

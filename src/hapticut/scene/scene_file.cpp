@@ -474,7 +474,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
             allowOnly(*m, "simulation",
                       {"integrator", "rate_hz", "active_region", "solver_tolerance", "solver_force_tolerance_N",
                        "solver_max_iterations", "solver_newton_iterations", "solver_threads", "physics_rate",
-                       "haptic_thread_priority"});
+                       "haptic_thread_priority", "max_physics_step_ms"});
             const std::string rate = text(*m, "simulation", "physics_rate", "auto", {"auto", "single", "multi"});
             using PR = haptics::LoopConfig::PhysicsRate;
             s.physicsRate = rate == "single" ? PR::Single : rate == "multi" ? PR::Multi : PR::Auto;
@@ -493,6 +493,8 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
             s.activeRegion = boolean(*m, "simulation", "active_region", s.activeRegion);
             s.hapticThreadPriority = static_cast<int>(
                 wholeNumber(*m, "simulation", "haptic_thread_priority", s.hapticThreadPriority, 0, 99));
+            s.maxPhysicsStep_s =
+                number(*m, "simulation", "max_physics_step_ms", 1e3 * s.maxPhysicsStep_s, 1, 1000) / 1e3;
         }
         if (const toml::table* e = subTable(root, "exercise")) s.exercise = parseExercise(*e, s);
         if (const toml::table* r = subTable(root, "rendering")) {

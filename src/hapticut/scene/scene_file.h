@@ -111,6 +111,7 @@ struct SceneFile {
     bool activeRegion = true;
     haptics::LoopConfig::PhysicsRate physicsRate = haptics::LoopConfig::PhysicsRate::Auto;
     int hapticThreadPriority = haptics::LoopConfig{}.hapticThreadPriority;  // SCHED_FIFO; 0: normal
+    double maxPhysicsStep_s = haptics::LoopConfig{}.maxPhysicsStep_s;       // multi-rate: a step's longest
     // [rendering]
     std::string stereo = "off";  // off, quad, anaglyph, side-by-side
     bool wireframe = false;
