@@ -218,6 +218,10 @@ TEST(PhysicsWorkerHolds, TheHeldTimeIsSimulatedByTheNextStep) {
 // before, each simulated 20 ms and the tissue fell behind (to 0.96 of real time in the 1,000,000 heart's
 // press and 0.75 under its scalpel).
 TEST(PhysicsWorkerHolds, StepsOfTensOfMillisecondsKeepRealTimeUnderTheDefaultLongestStep) {
+#ifdef HAPTICUT_SANITIZED
+    // There the 1,619 heart's own steps take tens of milliseconds, and a step with a hold outlasts any cap.
+    GTEST_SKIP() << "a sanitizer's build steps too slowly for holds to stand in for steps";
+#endif
     const double share = simulatedShareThroughHolds(LoopConfig{}.maxPhysicsStep_s, std::chrono::milliseconds(35));
     EXPECT_GT(share, 0.85) << "8 holds of 35 ms";
     EXPECT_LT(share, 1.05);
