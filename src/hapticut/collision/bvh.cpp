@@ -104,8 +104,8 @@ void Bvh::build(const SurfaceView& s) {
     nodes_.clear();
     nodes_.reserve(2 * (n / kLeafSize + 1));
     // Room for the faces cuts add before the next rebuild, so adding them rarely allocates.
-    leafOf_.reserve(roomToGrow(n));
-    addedNext_.reserve(roomToGrow(n));
+    reserveTouched(leafOf_, roomToGrow(n));
+    reserveTouched(addedNext_, roomToGrow(n));
     leafOf_.assign(n, kNone);
     addedNext_.assign(n, kNone);
     if (n > 0) buildNode(s, 0, n, centroids, 0);

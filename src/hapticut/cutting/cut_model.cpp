@@ -53,7 +53,7 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model, physi
     const std::size_t nodes = roomToGrow(mesh_.positions.size()), springs = roomToGrow(s.size()),
                       faces = roomToGrow(mesh_.faces.size());
     reserveTouched(mesh_.positions, nodes);
-    facesAround_.around.reserve(nodes);
+    reserveTouched(facesAround_.around, nodes);
     physics::Nodes& n = model_.nodes;
     for (auto* v : {&n.position, &n.velocity, &n.restPosition, &n.externalForce}) reserveTouched(*v, nodes);
     for (auto* v : {&n.mass, &n.inverseMass, &n.anchorStiffness, &n.anchorDamping}) reserveTouched(*v, nodes);

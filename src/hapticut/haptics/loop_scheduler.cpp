@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <system_error>
 
+#include "hapticut/common/thread_heap.h"
 #include "hapticut/common/thread_priority.h"
 
 namespace hapticut::haptics {
@@ -111,6 +112,7 @@ void RealTimeScheduler::scheduleSteppingThread() {
 }
 
 void RealTimeScheduler::threadMain(long max_steps, StepObserver observer) {
+    prefaultThreadHeap(kSteppingThreadHeap_bytes);
     scheduleSteppingThread();
     const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1 / loop_.rate_hz()));
     // Sleep until shortly before each deadline, then spin: sleeping alone wakes up late, by more than

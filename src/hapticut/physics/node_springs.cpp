@@ -8,7 +8,7 @@
 namespace hapticut::physics {
 
 void NodeSprings::reserve(std::size_t nodes, std::size_t springs) {
-    ofNode_.reserve(nodes);
+    reserveTouched(ofNode_, nodes);
     reserveTouched(ends_, springs);
 }
 
