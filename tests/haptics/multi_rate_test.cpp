@@ -172,12 +172,6 @@ TEST(MultiRate, EditsReachThePhysicsCopy) {
     EXPECT_EQ(physics::maxDisplacement(organ.model()), 0.0) << "reset";
 }
 
-// On the wall clock the physics has its own thread: the haptic loop keeps its period while the physics
-// steps as long as its steps take, and the simulated physics time keeps up with the wall clock.
-// A hold (a cut or an edit reaching the physics' copy) lasts the step in progress and a haptic period
-// or two; the step after it simulates the held time too, so the tissue keeps up with the wall clock
-// through a stroke of cuts. Steps that began after a hold at its end lost 0.3 s of every second while a
-// scalpel cut the 100,000-triangle heart.
 /// Runs a worker on the 1,619 heart through 8 holds of `hold` each (a cut or an edit reaching the
 /// physics' copy; the haptic side edits both copies meanwhile), and returns its simulated time per wall second.
 double simulatedShareThroughHolds(double maxStep_s, std::chrono::milliseconds hold) {
@@ -206,6 +200,12 @@ double simulatedShareThroughHolds(double maxStep_s, std::chrono::milliseconds ho
     return worker.simulatedTime_s() / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// On the wall clock the physics has its own thread: the haptic loop keeps its period while the physics
+// steps as long as its steps take, and the simulated physics time keeps up with the wall clock.
+// A hold (a cut or an edit reaching the physics' copy) lasts the step in progress and a haptic period
+// or two; the step after it simulates the held time too, so the tissue keeps up with the wall clock
+// through a stroke of cuts. Steps that began after a hold at its end lost 0.3 s of every second while a
+// scalpel cut the 100,000-triangle heart.
 TEST(PhysicsWorkerHolds, TheHeldTimeIsSimulatedByTheNextStep) {
     const double share = simulatedShareThroughHolds(0.05, std::chrono::milliseconds(15));
 #ifdef HAPTICUT_SANITIZED
