@@ -44,6 +44,7 @@ struct BenchOptions {
     UnitOptions units;
     std::vector<std::string> integrators = {"euler", "midpoint", "rk4", "symplectic", "implicit"};
     std::vector<unsigned> threads = {1, WorkerPool::hardwareThreads()};  // the implicit solve's, each measured
+    std::vector<std::string> preconditioners = {"auto"};                 // the implicit solve's, each measured
     double seconds = 0.5;
     std::string json;
     bool haptics = false;
@@ -239,8 +240,9 @@ int bench(const BenchOptions& o) {
     const std::vector<int> sizes = userModel ? std::vector<int>{0} : o.triangles;
     auto organ = [&](int triangles) { return userModel ? *userModel : scene::benchHeart(triangles); };
     nlohmann::ordered_json results = nlohmann::ordered_json::array();
-    std::printf("%10s %8s %9s %-11s %7s %11s %11s %13s %9s %15s %8s\n", "triangles", "nodes", "springs", "integrator",
-                "threads", "us/step", "p99 us", "ns/spring-ev", "substeps", "us/sim-ms@1ms", "CG its");
+    std::printf("%10s %8s %9s %-11s %7s %-13s %11s %11s %13s %9s %15s %8s\n", "triangles", "nodes", "springs",
+                "integrator", "threads", "precond", "us/step", "p99 us", "ns/spring-ev", "substeps", "us/sim-ms@1ms",
+                "CG its");
     std::mt19937 rng(42);
     for (int triangles : sizes) {
         const auto g0 = Clock::now();
@@ -260,51 +262,74 @@ int bench(const BenchOptions& o) {
                         threadCounts.push_back(resolved);
                 }
             }
-            for (const unsigned threads : threadCounts) {
-                physics::Stepper stepper(scheme);
-                stepper.setAutoSubstep(false);  // time one raw step; substeps are reported separately
-                physics::SolverSettings settings = stepper.solverSettings();
-                settings.threads = threads;
-                stepper.setSolverSettings(settings);
-                stepper.prepare(model);
-                const double stable_s = stepper.stableStep_s();
-                const int substeps = std::max(1, static_cast<int>(std::ceil(1e-3 / stable_s)));
-                const double h = std::min(1e-3, stable_s);
-                std::vector<double> samples;
-                physics::SolverStats solver;
-                const auto end = Clock::now() + std::chrono::duration<double>(o.seconds);
-                while (Clock::now() < end || samples.size() < 20) {
-                    perturb(model, rng);
-                    for (int i = 0; i < 50; ++i) {
-                        const auto t0 = Clock::now();
-                        const physics::StepResult step = stepper.step(model, h);
-                        samples.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
-                        if (scheme == physics::Scheme::BackwardEuler) solver.record(step.solve);
-                    }
+            // Each preconditioner asked for (auto's choice is its own, step by step).
+            std::vector<physics::Preconditioner> preconditioners{physics::Preconditioner::BlockJacobi};
+            if (scheme == physics::Scheme::BackwardEuler) {
+                preconditioners.clear();
+                for (const std::string& name : o.preconditioners) {
+                    const physics::Preconditioner p = *physics::parsePreconditioner(name);
+                    if (std::find(preconditioners.begin(), preconditioners.end(), p) == preconditioners.end())
+                        preconditioners.push_back(p);
                 }
-                const Summary s = summarize(samples);
-                // A CG iteration is one product with the springs' matrix, about the cost of one force evaluation.
-                const double evaluations = scheme == physics::Scheme::BackwardEuler
-                                               ? 1 + solver.iterations.summary().mean
-                                               : forceEvaluations(scheme);
-                const double nsPerSpring = 1e3 * s.p50 / (static_cast<double>(model.springs.size()) * evaluations);
-                std::printf("%10zu %8zu %9zu %-11s %7u %11.1f %11.1f %13.2f %9d %15.1f %8.1f\n", mesh.faces.size(),
-                            model.nodes.size(), model.springs.size(), std::string(physics::schemeName(scheme)).c_str(),
-                            threads, s.p50, s.p99, nsPerSpring, substeps, s.p50 * substeps,
-                            solver.iterations.summary().mean);
-                results.push_back({{"triangles", mesh.faces.size()},
-                                   {"nodes", model.nodes.size()},
-                                   {"springs", model.springs.size()},
-                                   {"integrator", physics::schemeName(scheme)},
-                                   {"threads", threads},
-                                   {"step_us", toJson(s)},
-                                   {"ns_per_spring_evaluation", nsPerSpring},
-                                   {"stable_dt_s", stable_s},
-                                   {"substeps_at_1ms", substeps},
-                                   {"us_per_simulated_ms", s.p50 * substeps},
-                                   {"solver", solverJson(scheme, solver, stepper.solverSettings())},
-                                   {"heart_generation_s", generate_s}});
             }
+            for (const unsigned threads : threadCounts)
+                for (const physics::Preconditioner preconditioner : preconditioners) {
+                    physics::Stepper stepper(scheme);
+                    stepper.setAutoSubstep(false);  // time one raw step; substeps are reported separately
+                    physics::SolverSettings settings = stepper.solverSettings();
+                    settings.threads = threads;
+                    settings.preconditioner = preconditioner;
+                    stepper.setSolverSettings(settings);
+                    stepper.prepare(model);
+                    const double stable_s = stepper.stableStep_s();
+                    const int substeps = std::max(1, static_cast<int>(std::ceil(1e-3 / stable_s)));
+                    const double h = std::min(1e-3, stable_s);
+                    std::vector<double> samples;
+                    physics::SolverStats solver;
+                    const auto end = Clock::now() + std::chrono::duration<double>(o.seconds);
+                    while (Clock::now() < end || samples.size() < 20) {
+                        perturb(model, rng);
+                        for (int i = 0; i < 50; ++i) {
+                            const auto t0 = Clock::now();
+                            const physics::StepResult step = stepper.step(model, h);
+                            samples.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+                            if (scheme == physics::Scheme::BackwardEuler) solver.record(step.solve);
+                        }
+                    }
+                    const Summary s = summarize(samples);
+                    // A CG iteration is one product with the springs' matrix, about the cost of one force evaluation;
+                    // the multilevel cycle adds two more, each iteration and at the start.
+                    const double products = 1 + 2 * static_cast<double>(solver.multilevel) /
+                                                    static_cast<double>(std::max(1L, solver.solves));
+                    const double evaluations = scheme == physics::Scheme::BackwardEuler
+                                                   ? 1 + products * (solver.iterations.summary().mean + 1) - 1
+                                                   : forceEvaluations(scheme);
+                    const double nsPerSpring = 1e3 * s.p50 / (static_cast<double>(model.springs.size()) * evaluations);
+                    const std::string preconditionerName =
+                        scheme == physics::Scheme::BackwardEuler
+                            ? std::string(physics::preconditionerName(preconditioner))
+                            : "-";
+                    std::printf("%10zu %8zu %9zu %-11s %7u %-13s %11.1f %11.1f %13.2f %9d %15.1f %8.1f\n",
+                                mesh.faces.size(), model.nodes.size(), model.springs.size(),
+                                std::string(physics::schemeName(scheme)).c_str(), threads, preconditionerName.c_str(),
+                                s.p50, s.p99, nsPerSpring, substeps, s.p50 * substeps,
+                                solver.iterations.summary().mean);
+                    results.push_back({{"triangles", mesh.faces.size()},
+                                       {"nodes", model.nodes.size()},
+                                       {"springs", model.springs.size()},
+                                       {"integrator", physics::schemeName(scheme)},
+                                       {"threads", threads},
+                                       {"preconditioner", scheme == physics::Scheme::BackwardEuler
+                                                              ? nlohmann::ordered_json(preconditionerName)
+                                                              : nlohmann::ordered_json(nullptr)},
+                                       {"step_us", toJson(s)},
+                                       {"ns_per_spring_evaluation", nsPerSpring},
+                                       {"stable_dt_s", stable_s},
+                                       {"substeps_at_1ms", substeps},
+                                       {"us_per_simulated_ms", s.p50 * substeps},
+                                       {"solver", solverJson(scheme, solver, stepper.solverSettings())},
+                                       {"heart_generation_s", generate_s}});
+                }
         }
     }
     std::printf(
@@ -391,6 +416,12 @@ Command addBenchCommand(CLI::App& app) {
         ->delimiter(',')
         ->capture_default_str()
         ->check(CLI::Range(0u, physics::kMaxSolverThreads));
+    cmd->add_option("--preconditioners", o->preconditioners,
+                    "Preconditioners of the implicit solve, each measured (comma separated: auto, block-jacobi, "
+                    "multilevel)")
+        ->delimiter(',')
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "block-jacobi", "multilevel"}));
     cmd->add_option("--seconds", o->seconds, "Minimum timing per case (s)")
         ->capture_default_str()
         ->check(CLI::Range(0.01, 600.0));

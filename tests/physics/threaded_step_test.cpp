@@ -12,42 +12,45 @@ namespace {
 
 // The solve's passes and the assembly shared out on threads (worker_pool.h) sum in chunks fixed by the
 // size of the system, not by the threads: the whole organ and the active region, pressed by the tool and
-// a point load that needs Newton's corrections, step to the same bits on one thread as on two or three.
+// a point load that needs Newton's corrections, step to the same bits on one thread as on two or three,
+// with either preconditioner.
 TEST(BackwardEuler, StepsToTheSameBitsOnAnyNumberOfThreads) {
     mesh::procedural::HeartOptions options;
     options.triangles = 9714;  // 4,860 unknowns: three chunks of rows
     const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart(options);
     const MassSpringModel start = buildModel(mesh, Material{});
-    for (bool activeRegion : {false, true}) {
-        auto run = [&](unsigned threads) {
-            MassSpringModel model = start;
-            Stepper stepper(Scheme::BackwardEuler);
-            stepper.setActiveRegion(activeRegion);
-            stepper.setSolverSettings({.threads = threads});
-            int corrected = 0;
-            for (int step = 0; step < 300; ++step) {
-                test::pressFrontWithTool(model, mesh, step);
-                // A point load at 5 ms steps needs Newton's corrections (the test below).
-                model.nodes.externalForce[4330] = step < 60 ? Vec3(0, 0, -1) : Vec3::Zero();
-                if (step < 60) stepper.wake(4330);
-                const StepResult r = stepper.step(model, 5e-3);
-                EXPECT_TRUE(r.finite);
-                corrected += r.solve.newtonIterations > 1;
-            }
-            EXPECT_GT(corrected, 0) << "no step needed a Newton correction";
-            return model;
-        };
-        const MassSpringModel one = run(1);
-        EXPECT_GT(maxDisplacement(one), 1e-3);
-        for (unsigned threads : {2u, 3u}) {
-            const MassSpringModel many = run(threads);
-            for (std::size_t i = 0; i < one.nodes.size(); ++i) {
-                ASSERT_EQ(many.nodes.position[i], one.nodes.position[i])
-                    << threads << " threads, node " << i << (activeRegion ? ", active region" : "");
-                ASSERT_EQ(many.nodes.velocity[i], one.nodes.velocity[i]) << threads << " threads, node " << i;
+    for (Preconditioner preconditioner : {Preconditioner::BlockJacobi, Preconditioner::Multilevel})
+        for (bool activeRegion : {false, true}) {
+            auto run = [&](unsigned threads) {
+                MassSpringModel model = start;
+                Stepper stepper(Scheme::BackwardEuler);
+                stepper.setActiveRegion(activeRegion);
+                stepper.setSolverSettings({.threads = threads, .preconditioner = preconditioner});
+                int corrected = 0;
+                for (int step = 0; step < 300; ++step) {
+                    test::pressFrontWithTool(model, mesh, step);
+                    // A point load at 5 ms steps needs Newton's corrections (the test below).
+                    model.nodes.externalForce[4330] = step < 60 ? Vec3(0, 0, -1) : Vec3::Zero();
+                    if (step < 60) stepper.wake(4330);
+                    const StepResult r = stepper.step(model, 5e-3);
+                    EXPECT_TRUE(r.finite);
+                    corrected += r.solve.newtonIterations > 1;
+                }
+                EXPECT_GT(corrected, 0) << "no step needed a Newton correction";
+                return model;
+            };
+            const MassSpringModel one = run(1);
+            EXPECT_GT(maxDisplacement(one), 1e-3);
+            for (unsigned threads : {2u, 3u}) {
+                const MassSpringModel many = run(threads);
+                for (std::size_t i = 0; i < one.nodes.size(); ++i) {
+                    ASSERT_EQ(many.nodes.position[i], one.nodes.position[i])
+                        << threads << " threads, node " << i << (activeRegion ? ", active region" : "") << ", "
+                        << preconditionerName(preconditioner);
+                    ASSERT_EQ(many.nodes.velocity[i], one.nodes.velocity[i]) << threads << " threads, node " << i;
+                }
             }
         }
-    }
 }
 
 }  // namespace

@@ -67,6 +67,9 @@ TEST(SceneFile, AnOverlaySetsKeysOverTheFilesAndNamesItsOwnMistakes) {
     ASSERT_TRUE(shortSteps.has_value()) << shortSteps.error().toString();
     scene.settings = *shortSteps;
     EXPECT_DOUBLE_EQ(scene.loopConfig().maxPhysicsStep_s, 0.02) << "the loop gets it, in seconds";
+    const auto multilevel = parseScene(file, "x.toml", "/data", "simulation.solver_preconditioner = \"multilevel\"\n");
+    ASSERT_TRUE(multilevel.has_value()) << multilevel.error().toString();
+    EXPECT_EQ(multilevel->solver.preconditioner, physics::Preconditioner::Multilevel);
     test::expectError(parseScene(file, "x.toml", "/data", "material.mass_kg = 1.5\nmaterial.mass_kilos = 2\n"), 2,
                       "material.mass_kilos");
     const auto outOfRange = parseScene(file, "x.toml", "/data", "simulation.rate_hz = 1e9\n");
@@ -119,6 +122,8 @@ TEST(SceneFile, MistakesNameTheKeyTheLineAndTheAllowedValues) {
     expectError("[simulation]\nmax_physics_step_ms = 0.5\n", 2,
                 "simulation.max_physics_step_ms: 0.5 is out of range; allowed: 1 to 1000");
     expectError("[simulation]\nactive_region = 1\n", 2, "simulation.active_region: expected true or false");
+    expectError("[simulation]\nsolver_preconditioner = \"jacobi\"\n", 2,
+                "simulation.solver_preconditioner: 'jacobi' is not allowed; allowed: auto, block-jacobi, multilevel");
     expectError("[model]\ntranslate_m = [1, 2]\n", 2, "model.translate_m: expected three numbers");
     expectError("[model]\ntranslate_m = [1, \"a\", 2]\n", 2, "expected three finite numbers");
     expectError("[device]\nbackend = \"replay\"\n", 1, "device.trajectory: the replay backend needs a trajectory file");

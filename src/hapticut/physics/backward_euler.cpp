@@ -10,6 +10,21 @@
 
 namespace hapticut::physics {
 
+std::string_view preconditionerName(Preconditioner p) {
+    switch (p) {
+        case Preconditioner::Auto: return "auto";
+        case Preconditioner::BlockJacobi: return "block-jacobi";
+        case Preconditioner::Multilevel: return "multilevel";
+    }
+    return "auto";
+}
+
+std::optional<Preconditioner> parsePreconditioner(std::string_view name) {
+    for (Preconditioner p : {Preconditioner::Auto, Preconditioner::BlockJacobi, Preconditioner::Multilevel})
+        if (preconditionerName(p) == name) return p;
+    return std::nullopt;
+}
+
 unsigned automaticSolverThreads() {
     return std::max(1u, WorkerPool::hardwareThreads() - std::min(2u, WorkerPool::hardwareThreads()));
 }
@@ -24,6 +39,8 @@ void BackwardEuler::reserve(std::size_t nodes, std::size_t springs) {
     for (auto* field : {&solution_, &residual_, &preconditioned_, &direction_, &product_})
         for (auto* a : {&field->x, &field->y, &field->z}) reserveTouched(*a, nodes + kernels::kSliceRows);
     reserveTouched(partial_, nodes / kernels::kChunkRows + 2);
+    multilevel_.reserve(nodes, system_.slotCapacity());
+    multilevelLayout_ = 0;  // its levels are laid out again at the next step
 }
 
 void BackwardEuler::resize(std::size_t nodes) {
@@ -87,9 +104,13 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
             if (k < count) startVelocity_[k] = n.velocity[region.nodes[k]];
         }
     });
-    system_.assemble(model, h, region, {}, &pool_);
+    const Preconditioner chosen = settings_.preconditioner;
+    if (count < kMultilevelUnknowns) autoMultilevel_ = false;
+    useMultilevel_ = chosen == Preconditioner::Multilevel || (chosen == Preconditioner::Auto && autoMultilevel_);
+    assemble(model, h, region, {});
     double stepNorm2 = 0;  // set by the first solve, the measure of the corrections
     SolveReport report = solve(stepNorm2);
+    const int firstIterations = report.iterations;
     auto apply = [&](bool whole) {
         forEachChunk(count, [&](std::size_t first, std::size_t end) {
             for (std::size_t k = first; k < end; ++k) {
@@ -117,7 +138,7 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
             report.newtonCutShort = true;
             break;
         }
-        system_.assemble(model, h, region, startVelocity_, &pool_);
+        assemble(model, h, region, startVelocity_);
         forEachChunk(rows, [&](std::size_t first, std::size_t end) {
             for (auto* a : {&solution_.x, &solution_.y, &solution_.z}) std::fill(&(*a)[first], &(*a)[end], 0.0);
         });
@@ -128,11 +149,31 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
         ++report.newtonIterations;
         apply(false);
     }
+    if (chosen == Preconditioner::Auto) {  // auto's rule for the next step (backward_euler.h)
+        if (!useMultilevel_) {
+            autoMultilevel_ = count >= kMultilevelUnknowns && firstIterations > kJacobiIterationsForMultilevel;
+            easySolves_ = 0;
+        } else {
+            easySolves_ = firstIterations <= kEasyMultilevelIterations ? easySolves_ + 1 : 0;
+            if (easySolves_ >= kEasySolvesForJacobi) autoMultilevel_ = false;
+        }
+    }
     forEachChunk(count, [&](std::size_t first, std::size_t end) {
         for (std::size_t k = first; k < end; ++k)
             deltaV_[region.nodes[k]] = n.velocity[region.nodes[k]] - startVelocity_[k];
     });
     return report;
+}
+
+void BackwardEuler::assemble(MassSpringModel& model, double h, SolveRegion region,
+                             std::span<const Vec3> startVelocity) {
+    system_.assemble(model, h, region, startVelocity, &pool_);
+    if (!useMultilevel_) return;
+    if (multilevelLayout_ != system_.layoutsMade() || !multilevel_.laidOut()) {
+        multilevel_.layOut(system_.matrix(), system_.size());
+        multilevelLayout_ = system_.layoutsMade();
+    }
+    multilevel_.assemble(system_.matrix());
 }
 
 SolveReport BackwardEuler::solve(double& stepNorm2) {
@@ -141,6 +182,7 @@ SolveReport BackwardEuler::solve(double& stepNorm2) {
     const kernels::SymmetricBlocks& inverse = system_.inverseBlocks();
     partial_.resize(kernels::chunksOf(rows));
     SolveReport report;
+    report.multilevel = useMultilevel_;
     // x·b, or b·b with x = b: the chunks' parts added in chunk order.
     auto dot = [&](const kernels::Field& x) {
         forEachChunk(rows, [&](std::size_t first, std::size_t end) {
@@ -181,6 +223,18 @@ SolveReport BackwardEuler::solve(double& stepNorm2) {
             kernels::startPass({first, end}, b, product_, inverse, residual_, preconditioned_, direction_);
     });
     kernels::Sums sums = total(partial_);
+    // With the multilevel preconditioner z is its cycle's, not the passes' block-Jacobi one.
+    const kernels::SystemRows matrix = system_.matrix();
+    auto precondition = [&] { sums = multilevel_.apply(matrix, inverse, residual_, preconditioned_, pool_); };
+    if (useMultilevel_) {
+        precondition();
+        forEachChunk(rows, [&](std::size_t first, std::size_t end) {
+            for (auto [from, to] :
+                 {std::pair{&preconditioned_.x, &direction_.x}, std::pair{&preconditioned_.y, &direction_.y},
+                  std::pair{&preconditioned_.z, &direction_.z}})
+                std::copy(&(*from)[first], &(*from)[end], &(*to)[first]);
+        });
+    }
     double rz = sums.rz;
     while (!done(sums) && report.iterations < settings_.maxIterations) {
         const double pq = multiply(direction_, product_);
@@ -193,6 +247,7 @@ SolveReport BackwardEuler::solve(double& stepNorm2) {
         sums = total(partial_);
         ++report.iterations;
         if (done(sums)) break;
+        if (useMultilevel_) precondition();
         const double beta = sums.rz / rz;
         forEachChunk(rows, [&](std::size_t first, std::size_t end) {
             kernels::directionPass({first, end}, beta, preconditioned_, direction_);

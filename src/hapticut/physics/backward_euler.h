@@ -6,11 +6,15 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
 #include <vector>
 
 #include "hapticut/common/worker_pool.h"
 
 #include "hapticut/physics/backward_euler_system.h"
+#include "hapticut/physics/multilevel_preconditioner.h"
 
 namespace hapticut::physics {
 
@@ -25,6 +29,29 @@ inline constexpr unsigned kMaxSolverThreads = 256;
 unsigned automaticSolverThreads();
 /// `threads`, or automaticSolverThreads() for 0, at most kMaxSolverThreads.
 unsigned solverThreads(unsigned threads);
+
+/// The conjugate-gradient solve's preconditioner.
+enum class Preconditioner {
+    Auto,         // block-Jacobi while it does well, multilevel where it needs many iterations (below)
+    BlockJacobi,  // each node's 3×3 diagonal block inverted
+    Multilevel,   // aggregation multigrid (multilevel_preconditioner.h)
+};
+/// Auto's rule. An iteration with the multilevel cycle costs about three of block-Jacobi's (two more
+/// products with the matrix, and the coarse levels' work), so it pays only where block-Jacobi needs
+/// several times its iterations: in large regions of fine meshes, where the tissue's stiffness outweighs
+/// its mass by most and the region is many rings across. The fully awake 100,000 heart took 12
+/// block-Jacobi iterations a step against 4 multilevel ones, and was faster with block-Jacobi; the press
+/// on the 1,000,000 heart stopped 50 of 1,400 block-Jacobi solves at the 40-iteration cap, and none
+/// multilevel. So auto switches to multilevel when a block-Jacobi solve over a region of at least
+/// kMultilevelUnknowns nodes takes more than kJacobiIterationsForMultilevel iterations, and back when the
+/// region shrinks below that, or after kEasySolvesForJacobi solves in a row of at most
+/// kEasyMultilevelIterations iterations each (the tissue near rest, where block-Jacobi is cheap again).
+inline constexpr std::size_t kMultilevelUnknowns = 4096;
+inline constexpr int kJacobiIterationsForMultilevel = 20;
+inline constexpr int kEasyMultilevelIterations = 2;
+inline constexpr int kEasySolvesForJacobi = 50;
+std::string_view preconditionerName(Preconditioner p);
+std::optional<Preconditioner> parsePreconditioner(std::string_view name);
 
 /// When the conjugate-gradient solve stops: at a residual below `tolerance` times the step's right-hand
 /// side (both Euclidean norms, in newton-seconds), or after `maxIterations`, whichever comes first. A
@@ -46,6 +73,7 @@ struct SolverSettings {
     /// The threads that share a solve's passes, the calling one included (a pool made once: see
     /// worker_pool.h); 0: automaticSolverThreads(). Results are the same, to the bit, with any number.
     unsigned threads = 0;
+    Preconditioner preconditioner = Preconditioner::Auto;
 };
 
 /// A step whose springs' ends move apart by less than this fraction of their rest length is taken to
@@ -59,6 +87,7 @@ struct SolveReport {
     double relativeResidual = 0;  // |b - A Δv| / |b| at the end, against the step's first b; 0 when b is zero
     bool converged = true;        // false: stopped by the iteration cap (or a breakdown) above the tolerance
     bool newtonCutShort = false;  // a further Newton iteration was due, but the wall clock said no (keepPace)
+    bool multilevel = false;      // solved with the multilevel preconditioner
 };
 
 class BackwardEuler {
@@ -84,6 +113,8 @@ private:
     /// Solves the assembled system from the warm start in solution_, to `tolerance` of the step's
     /// right-hand side: `stepNorm2`, its squared norm, when positive; else this one's, kept there.
     SolveReport solve(double& stepNorm2);
+    /// Builds the system for the step's state, and the multilevel preconditioner's levels when it is used.
+    void assemble(MassSpringModel& model, double h, SolveRegion region, std::span<const Vec3> startVelocity);
     /// Calls task(first, end) for the chunks of kernels::kChunkRows rows (or unknowns) that make up
     /// 0 .. size - 1, on the pool's threads when there is one.
     template <class Task>
@@ -100,6 +131,11 @@ private:
     // last Newton iteration, and the conjugate-gradient vectors (padded rows, for the kernels).
     std::vector<Vec3> startVelocity_, motion_;
     kernels::Field solution_, residual_, preconditioned_, direction_, product_;
+    MultilevelPreconditioner multilevel_;
+    bool useMultilevel_ = false;          // for the step being solved
+    bool autoMultilevel_ = false;         // auto's choice for the next steps
+    int easySolves_ = 0;                  // multilevel solves in a row of at most kEasyMultilevelIterations
+    std::uint64_t multilevelLayout_ = 0;  // the system's layoutsMade() the levels were laid out for
     OwnedWorkerPool pool_;                // shares the passes out; none when the solve runs on one thread
     std::vector<kernels::Sums> partial_;  // by chunk: its part of a pass's sums
 };

@@ -192,6 +192,7 @@ bool BackwardEulerSystem::layoutMatches(const Springs& s, SolveRegion region) co
 }
 
 void BackwardEulerSystem::layOut(const Springs& s, SolveRegion region) {
+    ++layoutsMade_;
     constexpr std::size_t kSlice = kernels::kSliceRows;
     const std::size_t count = count_, listed = region.springs.size();
     // Capacity is reserved for every node and spring: these resizes never allocate in a step.

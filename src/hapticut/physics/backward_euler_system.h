@@ -65,6 +65,10 @@ public:
     kernels::SystemRows matrix() const { return {rows_, diagonal_.data(), &toResting_, &sliced_}; }
     const kernels::SymmetricBlocks& inverseBlocks() const { return inverseBlock_; }
     const kernels::Field& rhs() const { return rhs_; }
+    /// How many times the rows have been laid out afresh: a preconditioner built on the layout checks it.
+    std::uint64_t layoutsMade() const { return layoutsMade_; }
+    /// The coupling slots the layout can hold (padding included), for a preconditioner's room.
+    std::size_t slotCapacity() const { return sliced_.other.capacity(); }
 
 private:
     static constexpr std::uint32_t kResting = ~std::uint32_t{0};
@@ -108,6 +112,7 @@ private:
     // and the springs' ends: laying them out was a third of an assembly, so steps over the same layout
     // (region.layout) reuse them and write the slots in place.
     std::uint64_t layout_ = 0;  // the region.layout they were laid out for; 0: none
+    std::uint64_t layoutsMade_ = 0;
     std::vector<std::uint32_t> endA_, endB_, slotA_, slotB_;
     std::vector<std::uint32_t> column_;      // by unknown, while laying out: its row's next free column
     kernels::SymmetricBlocks inverseBlock_;  // the preconditioner

@@ -132,6 +132,30 @@ void DirectionPass(std::size_t first, std::size_t end, double beta, const Field&
     }
 }
 
+Sums SmoothPass(std::size_t first, std::size_t end, double omega, const Field& r, const Field* product,
+                const SymmetricBlocks& inverse, Field& z) {
+    const D d;
+    const V w = hn::Set(d, omega);
+    V r2 = hn::Zero(d), rz = hn::Zero(d), rowMax2 = hn::Zero(d);
+    for (std::size_t i = first; i < end; i += hn::Lanes(d)) {
+        const V rx = hn::LoadU(d, r.x.data() + i), ry = hn::LoadU(d, r.y.data() + i);
+        const V rzv = hn::LoadU(d, r.z.data() + i);
+        V sx = rx, sy = ry, sz = rzv, zx = hn::Zero(d), zy = hn::Zero(d), zz = hn::Zero(d);
+        if (product) {
+            sx = hn::Sub(rx, hn::LoadU(d, product->x.data() + i)),
+            sy = hn::Sub(ry, hn::LoadU(d, product->y.data() + i));
+            sz = hn::Sub(rzv, hn::LoadU(d, product->z.data() + i));
+            zx = hn::LoadU(d, z.x.data() + i), zy = hn::LoadU(d, z.y.data() + i), zz = hn::LoadU(d, z.z.data() + i);
+        }
+        V cx, cy, cz;
+        symmetricTimes(d, inverse, i, sx, sy, sz, cx, cy, cz);
+        zx = hn::MulAdd(w, cx, zx), zy = hn::MulAdd(w, cy, zy), zz = hn::MulAdd(w, cz, zz);
+        hn::StoreU(zx, d, z.x.data() + i), hn::StoreU(zy, d, z.y.data() + i), hn::StoreU(zz, d, z.z.data() + i);
+        addToSums(rx, ry, rzv, zx, zy, zz, r2, rz, rowMax2);
+    }
+    return totalOf(d, r2, rz, rowMax2);
+}
+
 }  // namespace hapticut::physics::kernels::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
@@ -146,6 +170,7 @@ HWY_EXPORT(Multiply);
 HWY_EXPORT(StartPass);
 HWY_EXPORT(UpdatePass);
 HWY_EXPORT(DirectionPass);
+HWY_EXPORT(SmoothPass);
 
 double multiply(const SystemRows& a, const Field& y, Field& out, RowRange range) {
     return HWY_DYNAMIC_DISPATCH(Multiply)(a, y, out, range.first, range.end);
@@ -163,6 +188,11 @@ Sums updatePass(RowRange range, double alpha, const Field& p, const Field& q, co
 
 void directionPass(RowRange range, double beta, const Field& z, Field& p) {
     HWY_DYNAMIC_DISPATCH(DirectionPass)(range.first, range.end, beta, z, p);
+}
+
+Sums smoothPass(RowRange range, double omega, const Field& r, const Field* product, const SymmetricBlocks& inverse,
+                Field& z) {
+    return HWY_DYNAMIC_DISPATCH(SmoothPass)(range.first, range.end, omega, r, product, inverse, z);
 }
 
 const char* targetName() {

@@ -80,6 +80,10 @@ Sums updatePass(RowRange range, double alpha, const Field& p, const Field& q, co
                 Field& r, Field& z);
 /// p = z + beta p.
 void directionPass(RowRange range, double beta, const Field& z, Field& p);
+/// Damped block-Jacobi smoothing for the multilevel preconditioner: z = omega P⁻¹ r with `product` null,
+/// else z += omega P⁻¹ (r - product) where product holds A z; the sums over r and the new z.
+Sums smoothPass(RowRange range, double omega, const Field& r, const Field* product, const SymmetricBlocks& inverse,
+                Field& z);
 
 /// The instruction set the kernels run with on this machine ("AVX3" is AVX-512, "EMU128" portable code).
 const char* targetName();

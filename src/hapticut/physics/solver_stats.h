@@ -14,6 +14,7 @@ struct SolverStats {
     long unconverged = 0;  // solves stopped by the iteration cap (or a breakdown) above the tolerance
     long corrected = 0;    // steps that needed more than one Newton iteration
     long cutShort = 0;     // steps whose Newton iterations the wall clock cut short (BackwardEuler::keepPace)
+    long multilevel = 0;   // solves preconditioned by the multilevel cycle
     int maxNewtonIterations = 0;
     double maxRelativeResidual = 0;  // of the unconverged solves: a converged one may stop at the force floor
     LatencyHistogram iterations{1, kMaxSolverIterations};  // one bin per iteration count
@@ -26,6 +27,7 @@ struct SolverStats {
         }
         if (report.newtonIterations > 1) ++corrected;
         if (report.newtonCutShort) ++cutShort;
+        if (report.multilevel) ++multilevel;
         maxNewtonIterations = std::max(maxNewtonIterations, report.newtonIterations);
         iterations.record(report.iterations);
     }

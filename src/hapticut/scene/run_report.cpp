@@ -19,7 +19,9 @@ nlohmann::ordered_json solverJson(physics::Scheme scheme, const physics::SolverS
                                   const physics::SolverSettings& settings) {
     if (scheme != physics::Scheme::BackwardEuler) return nullptr;
     const Summary iterations = stats.iterations.summary();
-    return {{"method", "conjugate gradients, block-Jacobi preconditioner, warm start"},
+    return {{"method", "conjugate gradients, warm start"},
+            {"preconditioner", physics::preconditionerName(settings.preconditioner)},
+            {"multilevel_solves", stats.multilevel},
             {"tolerance", settings.tolerance},
             {"force_tolerance_N", settings.forceTolerance_N},
             {"max_iterations", settings.maxIterations},

@@ -474,7 +474,7 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
             allowOnly(*m, "simulation",
                       {"integrator", "rate_hz", "active_region", "solver_tolerance", "solver_force_tolerance_N",
                        "solver_max_iterations", "solver_newton_iterations", "solver_threads", "physics_rate",
-                       "haptic_thread_priority", "max_physics_step_ms"});
+                       "haptic_thread_priority", "max_physics_step_ms", "solver_preconditioner"});
             const std::string rate = text(*m, "simulation", "physics_rate", "auto", {"auto", "single", "multi"});
             using PR = haptics::LoopConfig::PhysicsRate;
             s.physicsRate = rate == "single" ? PR::Single : rate == "multi" ? PR::Multi : PR::Auto;
@@ -487,6 +487,10 @@ Result<SceneFile, Error> parseScene(std::string_view source, const std::filesyst
                 *m, "simulation", "solver_max_iterations", s.solver.maxIterations, 1, physics::kMaxSolverIterations));
             s.solver.maxNewtonIterations = static_cast<int>(
                 wholeNumber(*m, "simulation", "solver_newton_iterations", s.solver.maxNewtonIterations, 1, 100));
+            s.solver.preconditioner =
+                *physics::parsePreconditioner(text(*m, "simulation", "solver_preconditioner",
+                                                   std::string(physics::preconditionerName(s.solver.preconditioner)),
+                                                   {"auto", "block-jacobi", "multilevel"}));
             s.solver.threads = static_cast<unsigned>(
                 wholeNumber(*m, "simulation", "solver_threads", s.solver.threads, 0, physics::kMaxSolverThreads));
             s.rate_hz = number(*m, "simulation", "rate_hz", s.rate_hz, 100, 10'000);
