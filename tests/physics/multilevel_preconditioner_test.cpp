@@ -67,7 +67,8 @@ TEST(MultilevelPreconditioner, IsSymmetricAndPositiveDefinite) {
     preconditioner.assemble(system.matrix());
     ASSERT_GE(preconditioner.levels(), 3u);
     OwnedWorkerPool pool;
-    const kernels::Field x = randomField(system.size(), system.rows(), 1), y = randomField(system.size(), system.rows(), 2);
+    const kernels::Field x = randomField(system.size(), system.rows(), 1),
+                         y = randomField(system.size(), system.rows(), 2);
     kernels::Field bx, by;
     bx.resize(system.rows()), by.resize(system.rows());
     const kernels::Sums sx = preconditioner.apply(system.matrix(), system.inverseBlocks(), x, bx, pool);
@@ -87,8 +88,8 @@ TEST(MultilevelPreconditioner, ShrinksASurfaceLevelByLevelToASmallCoarsestLevel)
     preconditioner.layOut(heart.system.matrix(), heart.system.size());
     ASSERT_GE(preconditioner.levels(), 4u);
     for (std::size_t level = 1; level < preconditioner.levels(); ++level) {
-        const double ratio = static_cast<double>(preconditioner.rowsOf(level - 1)) /
-                             static_cast<double>(preconditioner.rowsOf(level));
+        const double ratio =
+            static_cast<double>(preconditioner.rowsOf(level - 1)) / static_cast<double>(preconditioner.rowsOf(level));
         EXPECT_GT(ratio, 5) << "level " << level << ": " << preconditioner.rowsOf(level) << " rows";
     }
     EXPECT_LE(preconditioner.rowsOf(preconditioner.levels() - 1), MultilevelPreconditioner::kDenseRows);
@@ -100,8 +101,8 @@ MassSpringModel pressedWith(Preconditioner preconditioner, long& iterations, lon
     const mesh::SurfaceMesh mesh = heartMesh(30'000);
     MassSpringModel model = buildModel(mesh, Material{});
     Stepper stepper(Scheme::BackwardEuler);
-    stepper.setSolverSettings({.tolerance = 1e-8, .forceTolerance_N = 0, .maxIterations = 2000,
-                               .preconditioner = preconditioner});
+    stepper.setSolverSettings(
+        {.tolerance = 1e-8, .forceTolerance_N = 0, .maxIterations = 2000, .preconditioner = preconditioner});
     iterations = multilevelSolves = 0;
     for (int step = 0; step < 20; ++step) {
         test::pressFrontWithTool(model, mesh, std::min(20 * step, 200));  // pressed 3 mm in, and held
@@ -154,20 +155,34 @@ TEST(MultilevelPreconditioner, LeavesPinnedNodesWhereTheyAre) {
     for (std::uint32_t i : pinned) ASSERT_EQ(model.nodes.position[i], start.nodes.position[i]) << "node " << i;
 }
 
-// Auto keeps block-Jacobi while its solves are short, and takes the multilevel cycle after one over a
+// Auto keeps block-Jacobi while its solves are short, and tries the multilevel cycle after one over a
 // large region needs more than kJacobiIterationsForMultilevel iterations: a 50 ms step (the multi-rate
-// physics' longest) of the jostled 30,000 heart to 1e-6 does.
+// physics' longest) of the jostled 30,000 heart, one Newton iteration solved to 1e-8, does.
 TEST(MultilevelPreconditioner, AutoSwitchesToItAfterALongBlockJacobiSolve) {
     AssembledHeart heart(30'000, 50e-3);
     Stepper stepper(Scheme::BackwardEuler);
-    stepper.setSolverSettings({.tolerance = 1e-6, .maxIterations = 200, .maxNewtonIterations = 1});  // one solve
+    stepper.setSolverSettings(
+        {.tolerance = 1e-8, .forceTolerance_N = 0, .maxIterations = 200, .maxNewtonIterations = 1});
     const StepResult first = stepper.step(heart.model, 50e-3);
     EXPECT_FALSE(first.solve.multilevel);
     ASSERT_GT(first.solve.iterations, kJacobiIterationsForMultilevel);
     const StepResult second = stepper.step(heart.model, 50e-3);
     EXPECT_TRUE(second.solve.multilevel) << first.solve.iterations << " iterations, " << first.solve.newtonIterations
                                          << " Newton iterations at the first step";
-    // The small heart never needs it.
+    // It keeps the cycle where a multilevel solve costs less than the block-Jacobi one did, and goes back
+    // where it does not.
+    const bool pays = kMultilevelIterationCost * second.solve.iterations < first.solve.iterations;
+    const StepResult third = stepper.step(heart.model, 50e-3);
+    EXPECT_EQ(third.solve.multilevel, pays)
+        << second.solve.iterations << " multilevel iterations against " << first.solve.iterations;
+    // Where block-Jacobi stopped at its cap, the cycle stays whatever it costs: converged solves come first.
+    AssembledHeart capped(30'000, 50e-3);
+    Stepper cappedStepper(Scheme::BackwardEuler);
+    cappedStepper.setSolverSettings(
+        {.tolerance = 1e-8, .forceTolerance_N = 0, .maxIterations = 20, .maxNewtonIterations = 1});
+    ASSERT_FALSE(cappedStepper.step(capped.model, 50e-3).solve.converged);
+    for (int step = 0; step < 3; ++step) EXPECT_TRUE(cappedStepper.step(capped.model, 50e-3).solve.multilevel);
+    // The small heart's short solves at 1 ms steps never take it.
     AssembledHeart small(1619, 1e-3);
     Stepper smallStepper(Scheme::BackwardEuler);
     for (int step = 0; step < 20; ++step) EXPECT_FALSE(smallStepper.step(small.model, 1e-3).solve.multilevel);

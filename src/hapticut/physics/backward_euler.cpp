@@ -111,6 +111,7 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
     double stepNorm2 = 0;  // set by the first solve, the measure of the corrections
     SolveReport report = solve(stepNorm2);
     const int firstIterations = report.iterations;
+    const bool firstConverged = report.converged;
     auto apply = [&](bool whole) {
         forEachChunk(count, [&](std::size_t first, std::size_t end) {
             for (std::size_t k = first; k < end; ++k) {
@@ -149,14 +150,16 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
         ++report.newtonIterations;
         apply(false);
     }
-    if (chosen == Preconditioner::Auto) {  // auto's rule for the next step (backward_euler.h)
-        if (!useMultilevel_) {
-            autoMultilevel_ = count >= kMultilevelUnknowns && firstIterations > kJacobiIterationsForMultilevel;
-            easySolves_ = 0;
-        } else {
-            easySolves_ = firstIterations <= kEasyMultilevelIterations ? easySolves_ + 1 : 0;
-            if (easySolves_ >= kEasySolvesForJacobi) autoMultilevel_ = false;
-        }
+    // Auto's rule for the next steps (backward_euler.h); the region's size was checked above.
+    if (chosen == Preconditioner::Auto && !useMultilevel_) {
+        multilevelPause_ = std::max(0, multilevelPause_ - 1);
+        const bool hard = firstIterations > kJacobiIterationsForMultilevel && multilevelPause_ == 0;
+        autoMultilevel_ = count >= kMultilevelUnknowns && (hard || !firstConverged);
+        jacobiIterations_ = firstConverged ? firstIterations : 0;
+    } else if (chosen == Preconditioner::Auto && jacobiIterations_ > 0 &&
+               kMultilevelIterationCost * firstIterations >= jacobiIterations_) {
+        autoMultilevel_ = false;
+        multilevelPause_ = kMultilevelPause;
     }
     forEachChunk(count, [&](std::size_t first, std::size_t end) {
         for (std::size_t k = first; k < end; ++k)

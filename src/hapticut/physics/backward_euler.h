@@ -36,20 +36,24 @@ enum class Preconditioner {
     BlockJacobi,  // each node's 3×3 diagonal block inverted
     Multilevel,   // aggregation multigrid (multilevel_preconditioner.h)
 };
-/// Auto's rule. An iteration with the multilevel cycle costs about three of block-Jacobi's (two more
-/// products with the matrix, and the coarse levels' work), so it pays only where block-Jacobi needs
-/// several times its iterations: in large regions of fine meshes, where the tissue's stiffness outweighs
-/// its mass by most and the region is many rings across. The fully awake 100,000 heart took 12
-/// block-Jacobi iterations a step against 4 multilevel ones, and was faster with block-Jacobi; the press
-/// on the 1,000,000 heart stopped 50 of 1,400 block-Jacobi solves at the 40-iteration cap, and none
-/// multilevel. So auto switches to multilevel when a block-Jacobi solve over a region of at least
-/// kMultilevelUnknowns nodes takes more than kJacobiIterationsForMultilevel iterations, and back when the
-/// region shrinks below that, or after kEasySolvesForJacobi solves in a row of at most
-/// kEasyMultilevelIterations iterations each (the tissue near rest, where block-Jacobi is cheap again).
-inline constexpr std::size_t kMultilevelUnknowns = 4096;
-inline constexpr int kJacobiIterationsForMultilevel = 20;
-inline constexpr int kEasyMultilevelIterations = 2;
-inline constexpr int kEasySolvesForJacobi = 50;
+/// Auto's rule. An iteration with the multilevel cycle costs about kMultilevelIterationCost of
+/// block-Jacobi's (two more products with the matrix, and the coarse levels' work), so it pays only where
+/// block-Jacobi needs several times its iterations: on fine meshes at long steps, where the springs
+/// outweigh the nodes' mass by most and a region is many rings across, and round a cut's walls. The press
+/// on the 1,000,000 heart stopped 46 of 1,450 block-Jacobi solves at the 40-iteration cap, and 1
+/// multilevel; the fully awake 100,000 heart took 12 block-Jacobi iterations a step against 4 multilevel
+/// ones, and the fully awake 1,000,000 heart at 1 ms steps 83 against 44, and both were faster with
+/// block-Jacobi. So auto tries the multilevel cycle once a block-Jacobi solve over a region of at least
+/// kMultilevelUnknowns nodes stops at the cap or needs more than kJacobiIterationsForMultilevel
+/// iterations. It keeps it while the region stays that large, unless a multilevel solve costs as much as
+/// the block-Jacobi one did (iterations times kMultilevelIterationCost); then block-Jacobi again, not
+/// tried again for kMultilevelPause steps unless a solve stops at the cap. The threshold on the region is
+/// low because size is not what makes a solve hard: under the scalpel on the 100,000 heart, solves over a
+/// few thousand nodes stopped at the cap (104 of 1,900 with the threshold at 4,096 nodes, none at 512).
+inline constexpr std::size_t kMultilevelUnknowns = 512;
+inline constexpr int kJacobiIterationsForMultilevel = 30;
+inline constexpr int kMultilevelIterationCost = 3;
+inline constexpr int kMultilevelPause = 500;
 std::string_view preconditionerName(Preconditioner p);
 std::optional<Preconditioner> parsePreconditioner(std::string_view name);
 
@@ -134,6 +138,8 @@ private:
     MultilevelPreconditioner multilevel_;
     bool useMultilevel_ = false;          // for the step being solved
     bool autoMultilevel_ = false;         // auto's choice for the next steps
+    int jacobiIterations_ = 0;            // the block-Jacobi solve that made auto switch; 0: it stopped at the cap
+    int multilevelPause_ = 0;             // steps before auto may try the multilevel cycle again
     int easySolves_ = 0;                  // multilevel solves in a row of at most kEasyMultilevelIterations
     std::uint64_t multilevelLayout_ = 0;  // the system's layoutsMade() the levels were laid out for
     OwnedWorkerPool pool_;                // shares the passes out; none when the solve runs on one thread

@@ -32,7 +32,11 @@ SymmetricBlock inverseOf(const SymmetricBlock& m) {
     const double det = m[0] * a + m[1] * b + m[2] * c;
     if (!(det > 0) || !(m[0] > 0)) return {};
     const double s = 1 / det;
-    return {s * a, s * b, s * c, s * (m[0] * m[5] - m[2] * m[2]), s * (m[1] * m[2] - m[0] * m[4]),
+    return {s * a,
+            s * b,
+            s * c,
+            s * (m[0] * m[5] - m[2] * m[2]),
+            s * (m[1] * m[2] - m[0] * m[4]),
             s * (m[0] * m[3] - m[1] * m[1])};
 }
 
@@ -175,7 +179,8 @@ void MultilevelPreconditioner::layOut(const kernels::SystemRows& fine, std::size
         if (coarse_.empty()) {
             if (c.other.size() <= next.target.capacity()) {
                 next.target.assign(c.other.size(), kNone);
-                made = aggregate(rows, [&](std::uint32_t i, auto&& visit) { visitFineNeighbours(c, i, visit); }, next);
+                made = aggregate(
+                    rows, [&](std::uint32_t i, auto&& visit) { visitFineNeighbours(c, i, visit); }, next);
             }
         } else {
             const Level& above = coarse_.back();
@@ -261,7 +266,8 @@ void MultilevelPreconditioner::assemble(const kernels::SystemRows& fine) {
     };
     for (std::size_t a = 0; a < last.rows; ++a) {
         put(a, a, last.diagonal[a][0] > 0 ? last.diagonal[a] : SymmetricBlock{1, 0, 0, 1, 0, 1});
-        for (std::uint32_t e = last.rowStart[a]; e < last.rowStart[a + 1]; ++e) put(a, last.column[e], last.offDiagonal[e]);
+        for (std::uint32_t e = last.rowStart[a]; e < last.rowStart[a + 1]; ++e)
+            put(a, last.column[e], last.offDiagonal[e]);
     }
     factor_.compute(m);
     dense_ = factor_.info() == Eigen::Success;
@@ -278,7 +284,8 @@ void MultilevelPreconditioner::residual(const Level& level, const std::vector<Ve
 
 void MultilevelPreconditioner::smooth(Level& level, bool fromZero) {
     if (fromZero) {
-        for (std::size_t a = 0; a < level.rows; ++a) level.e[a] = kSmoothingWeight * times(level.inverse[a], level.r[a]);
+        for (std::size_t a = 0; a < level.rows; ++a)
+            level.e[a] = kSmoothingWeight * times(level.inverse[a], level.r[a]);
         return;
     }
     residual(level, level.e, level.t);

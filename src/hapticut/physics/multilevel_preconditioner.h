@@ -111,12 +111,12 @@ private:
 
     std::size_t count_ = 0;
     bool laidOut_ = false;
-    std::vector<Level> coarse_;  // levels 1 .. in use; capacity for kMaxLevels - 1, reserved
-    std::vector<Level> spare_;   // the levels' reserved room while not in use (layOut moves them in and out)
-    std::vector<std::uint8_t> excluded_;      // by fine row, while assembling: left out (a zero diagonal)
-    std::vector<std::uint32_t> stamp_, mark_; // by row, while laying out a level's entries
-    kernels::Field product_;                  // the finest level's A z
-    std::vector<kernels::Sums> partial_;      // by chunk of fine rows
+    std::vector<Level> coarse_;           // levels 1 .. in use; capacity for kMaxLevels - 1, reserved
+    std::vector<Level> spare_;            // the levels' reserved room while not in use (layOut moves them in and out)
+    std::vector<std::uint8_t> excluded_;  // by fine row, while assembling: left out (a zero diagonal)
+    std::vector<std::uint32_t> stamp_, mark_;  // by row, while laying out a level's entries
+    kernels::Field product_;                   // the finest level's A z
+    std::vector<kernels::Sums> partial_;       // by chunk of fine rows
     // The coarsest level's matrix when it is small, factorised at each assembly; in fixed room (no allocation).
     using DenseMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3 * kDenseRows, 3 * kDenseRows>;
     using DenseVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3 * kDenseRows, 1>;
