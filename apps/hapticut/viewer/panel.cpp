@@ -73,7 +73,8 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
     ImGui::Text("step %.1f us (max %.1f us)", s.stepTime_us, s.maxStepTime_us);
     if (s.multiRate) ImGui::Text("physics %.0f Hz on its own thread (multi-rate)", s.physicsRate_hz);
     if (s.scheme == physics::Scheme::BackwardEuler)
-        ImGui::Text("implicit, %d CG iterations", s.solverIterations);
+        ImGui::Text("implicit, %d CG iterations (%s)", s.solverIterations,
+                    s.solverMultilevel ? "multilevel" : "block-Jacobi");
     else
         ImGui::Text("%s, %d substep%s (stable below %.2f ms)", std::string(physics::schemeName(s.scheme)).c_str(),
                     s.substeps, s.substeps == 1 ? "" : "s", s.stableStep_s * 1e3);

@@ -943,6 +943,7 @@ void HapticLoop::publishSnapshot(const StepOutput& out) {
     s.substeps = substeps();
     s.scheme = scheme();
     s.solverIterations = lastSolve_.iterations;
+    s.solverMultilevel = lastSolve_.multilevel;
     s.multiRate = worker_ != nullptr;
     s.physicsRate_hz = worker_ && time_s() > 0 ? static_cast<double>(stats_.physicsSteps) / time_s() : config_.rate_hz;
     s.overruns = stats_.overruns;

@@ -47,6 +47,7 @@ struct Snapshot {
     int substeps = 1;
     physics::Scheme scheme = physics::Scheme::RungeKutta4;  // the one in use (Auto resolved)
     int solverIterations = 0;                               // the implicit scheme's, in the latest step
+    bool solverMultilevel = false;                          // ... preconditioned by the multilevel cycle
     bool multiRate = false;
     double physicsRate_hz = 0;  // physics steps per second: the loop's rate unless multi-rate
     long overruns = 0, stalls = 0, cutEvents = 0, contactSteps = 0;

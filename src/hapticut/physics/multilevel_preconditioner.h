@@ -100,8 +100,8 @@ private:
     bool aggregate(std::size_t rows, Neighbours&& neighbours, Level& next);
     /// Moves the levels in use back to the spares.
     void release();
-    /// The cycle at coarse level `level` (1 ..): e = B r on that level's vectors.
-    void cycle(std::size_t level);
+    /// The cycle at coarse_[index] (level index + 1): e = B r on that level's vectors.
+    void cycle(std::size_t index);
     /// out = r - A e at a coarse level.
     void residual(const Level& level, const std::vector<Vec3>& e, std::vector<Vec3>& out) const;
     /// e = e + ω D⁻¹ (r - A e) at a coarse level, or e = ω D⁻¹ r when `fromZero`.
