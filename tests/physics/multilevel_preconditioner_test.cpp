@@ -15,7 +15,7 @@
 namespace hapticut::physics {
 namespace {
 
-mesh::SurfaceMesh heartMesh(int triangles) {
+mesh::SurfaceMesh heartOf(int triangles) {
     mesh::procedural::HeartOptions options;
     options.triangles = triangles;
     return mesh::procedural::makeHeart(options);
@@ -27,7 +27,7 @@ struct AssembledHeart {
     std::vector<std::uint32_t> nodes, springs;
     BackwardEulerSystem system;
 
-    AssembledHeart(int triangles, double h) : model(buildModel(heartMesh(triangles), Material{})) {
+    AssembledHeart(int triangles, double h) : model(buildModel(heartOf(triangles), Material{})) {
         std::mt19937 rng(7);
         std::normal_distribution<double> noise(0, 2e-4);
         for (std::size_t i = 0; i < model.nodes.size(); ++i)
@@ -98,7 +98,7 @@ TEST(MultilevelPreconditioner, ShrinksASurfaceLevelByLevelToASmallCoarsestLevel)
 /// Steps the 30,000 heart pressed for 20 steps of 20 ms from rest with one preconditioner, to a tight
 /// tolerance; returns the model and the iterations.
 MassSpringModel pressedWith(Preconditioner preconditioner, long& iterations, long& multilevelSolves) {
-    const mesh::SurfaceMesh mesh = heartMesh(30'000);
+    const mesh::SurfaceMesh mesh = heartOf(30'000);
     MassSpringModel model = buildModel(mesh, Material{});
     Stepper stepper(Scheme::BackwardEuler);
     stepper.setSolverSettings(
@@ -137,7 +137,7 @@ TEST(MultilevelPreconditioner, SolvesAStiffStepInUnderHalfBlockJacobisIterations
 // A pinned node's unknown stays zero under the multilevel cycle too: its row is left out of every level,
 // so the coarse corrections of its neighbours' aggregates do not move it.
 TEST(MultilevelPreconditioner, LeavesPinnedNodesWhereTheyAre) {
-    const mesh::SurfaceMesh mesh = heartMesh(9714);
+    const mesh::SurfaceMesh mesh = heartOf(9714);
     MassSpringModel model = buildModel(mesh, Material{});
     std::vector<std::uint32_t> pinned;
     for (std::uint32_t i = 0; i < model.nodes.size(); i += 7) {
