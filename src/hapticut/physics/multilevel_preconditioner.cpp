@@ -305,6 +305,20 @@ void MultilevelPreconditioner::solveCoarsest(Level& level) {
     for (int sweep = 1; sweep < kCoarsestSweeps; ++sweep) smooth(level, false);
 }
 
+void MultilevelPreconditioner::twoCycles(std::size_t index) {
+    Level& level = coarse_[index];
+    if (index + 1 == coarse_.size() && dense_) {  // solved exactly: a second solve would find nothing left
+        solveCoarsest(level);
+        return;
+    }
+    cycle(index);
+    std::swap(level.held, level.e);
+    residual(level, level.held, level.t);
+    std::swap(level.r, level.t);
+    cycle(index);
+    for (std::size_t a = 0; a < level.rows; ++a) level.e[a] += level.held[a];
+}
+
 void MultilevelPreconditioner::cycle(std::size_t index) {
     Level& level = coarse_[index];
     if (index + 1 == coarse_.size()) {
@@ -319,13 +333,7 @@ void MultilevelPreconditioner::cycle(std::size_t index) {
         for (std::uint32_t ch = next.childStart[b]; ch < next.childStart[b + 1]; ++ch) s += level.t[next.children[ch]];
         next.r[b] = s;
     }
-    // The W-cycle: the coarse problem gets two cycles, the second on what the first left.
-    cycle(index + 1);
-    std::swap(next.held, next.e);
-    residual(next, next.held, next.t);
-    std::swap(next.r, next.t);
-    cycle(index + 1);
-    for (std::size_t b = 0; b < next.rows; ++b) next.e[b] += next.held[b];
+    twoCycles(index + 1);
     for (std::size_t a = 0; a < level.rows; ++a) level.e[a] += next.e[next.aggregateOf[a]];
     smooth(level, false);
 }
@@ -366,17 +374,7 @@ kernels::Sums MultilevelPreconditioner::apply(const kernels::SystemRows& fine, c
         }
         first.r[a] = s;
     }
-    // Level 1 gets two cycles as every coarser level does (a W-cycle throughout).
-    if (coarse_.size() == 1) {
-        solveCoarsest(first);
-    } else {
-        cycle(0);
-        std::swap(first.held, first.e);
-        residual(first, first.held, first.t);
-        std::swap(first.r, first.t);
-        cycle(0);
-        for (std::size_t a = 0; a < first.rows; ++a) first.e[a] += first.held[a];
-    }
+    twoCycles(0);  // level 1 gets two cycles as every coarser level does (a W-cycle throughout)
     forEachChunk([&](std::size_t, kernels::RowRange range) {
         for (std::size_t k = range.first; k < std::min(range.end, count_); ++k) {
             if (excluded_[k]) continue;

@@ -100,6 +100,9 @@ private:
     bool aggregate(std::size_t rows, Neighbours&& neighbours, Level& next);
     /// Moves the levels in use back to the spares.
     void release();
+    /// The W-cycle's coarse correction at coarse_[index]: two cycles, the second on the residual the first
+    /// left (one exact solve at a factorised coarsest level), into that level's e.
+    void twoCycles(std::size_t index);
     /// The cycle at coarse_[index] (level index + 1): e = B r on that level's vectors.
     void cycle(std::size_t index);
     /// out = r - A e at a coarse level.
