@@ -244,13 +244,16 @@ TEST(Interrupt, ARunOfABillionStepsHoldsConstantMemoryUntilStopped) {
     EXPECT_EQ(completeCsvRows(dir / "f.csv"), j["steps"].get<long>());
 }
 
-// The cutting soak, a fresh organ every 200 strokes, for fifteen seconds: its memory stays flat (the floors
+// The cutting soak, a fresh organ every 200 strokes, for twenty seconds: its memory stays flat (the floors
 // of two five-second windows after the first organs, each window a few organs), and
 // Ctrl-C ends it with every invariant checked and the report written.
 TEST(Interrupt, ASoakHoldsConstantMemoryUntilStopped) {
     hapticut::test::ScratchDir dir;
     Process p("soak --strokes 100000000 --report s.json", dir.path());
-    const auto [early, late] = p.residentWindowsThenInterrupt(5s, 10s, 15s);
+    // The heap reaches its working size over the first ten seconds or so: the floors of a minute's soak
+    // sampled every five seconds read 4.7, 36.7, 37.7, 37.7, 37.7, 37.7, 37.7, 37.9, 37.9 and 37.9 MB.
+    // Windows from 5 s compared that last step up (0.9-1.0 MB) against the threshold.
+    const auto [early, late] = p.residentWindowsThenInterrupt(10s, 15s, 20s);
     ASSERT_EQ(p.wait(), 128 + SIGINT) << slurp(dir / "err");
     const auto j = nlohmann::json::parse(slurp(dir / "s.json"));
     EXPECT_EQ(j["invariants_ok"], true);
@@ -263,7 +266,7 @@ TEST(Interrupt, ASoakHoldsConstantMemoryUntilStopped) {
     // leak), while memory an organ leaves behind lifts every later floor.
     EXPECT_GT(early.lowest, 0);
     EXPECT_LT(late.lowest - early.lowest, 1'000)
-        << "kB the floor rose from 5-10 s to 10-15 s, over " << j["strokes"] << " strokes (peaks " << early.highest
+        << "kB the floor rose from 10-15 s to 15-20 s, over " << j["strokes"] << " strokes (peaks " << early.highest
         << " and " << late.highest << " kB)";
 }
 

@@ -403,6 +403,51 @@ TEST(CuttingFeel, OnAHeartOfSliversEachStrokeCutsInOnePieceAndTheSecondCrossesTh
     EXPECT_TRUE(second->invariantProblems.empty()) << second->invariantProblems.front();
 }
 
+// The same crossing stroke on more hearts of slivers, whose first wound, cut along their edges, zigzags.
+// The second cut goes through it once and on down to the stroke's end (the stroke reaches 25 mm below the
+// heart's front centre; the blade comes up over the last millimetres). Before, on these six of sixteen
+// hearts it stopped 10-13 mm down, just past the wound: its far lip ran back into the way, the cut
+// crossed back over it beside where it had entered and found no way on there. On one (seed 9) it
+// stopped 2.5 mm in: the crack first ran up the slope, turned round, and the way back crossed only the
+// lips it had just opened.
+TEST(CuttingFeel, OnHeartsOfSliversAStrokeAcrossAZigzagWoundCrossesItOnceAndCutsOnToItsEnd) {
+#ifdef HAPTICUT_SANITIZED
+    const std::vector<unsigned> seeds{9, 10};  // the two ways it stopped; the code is the same for all
+#else
+    const std::vector<unsigned> seeds{4, 8, 9, 10, 11, 14};
+#endif
+    for (const unsigned seed : seeds) {
+        SCOPED_TRACE(testing::Message() << "seed " << seed);
+        mesh::SurfaceMesh heart = mesh::procedural::makeHeart({.triangles = 9714});
+        const double jitter = mesh::meanEdgeLength(heart) * 0.4;
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<double> u(-jitter, jitter);
+        for (Vec3& p : heart.positions) p += Vec3(u(rng), u(rng), u(rng));
+        mesh::computeFaceNormals(heart);
+        collision::Bvh bvh;
+        bvh.build({heart.positions, heart.faces});
+        cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
+        const scene::HapticRunConfig config = scalpelRun();
+        const auto first =
+            scene::runHaptic(organ, scene::incisionStroke(heart, bvh, -0.01, -0.015, 0.015, 0.01), config);
+        ASSERT_TRUE(first) << first.error().message;
+        ASSERT_EQ(first->cut.cuts, 1);
+        const std::size_t verticesBefore = organ.mesh().positions.size();
+        const auto second = scene::runHaptic(organ, strokeAcross(heart, bvh, 0), config);
+        ASSERT_TRUE(second) << second.error().message;
+        EXPECT_EQ(second->cut.cuts, 1);
+        EXPECT_EQ(second->cut.woundsCrossed, 1);
+        EXPECT_EQ(second->cut.joins, 0);
+        double lowest = 1;  // m: how far down the front the second cut's points reach
+        for (std::size_t v = verticesBefore; v < organ.mesh().positions.size(); ++v)
+            if (!organ.isFloor(static_cast<std::uint32_t>(v))) lowest = std::min(lowest, organ.mesh().positions[v].y());
+        EXPECT_LT(lowest, -0.018) << "the cut reaches within 7 mm of the stroke's end";
+        EXPECT_GT(second->cut.length_m, 0.025);
+        EXPECT_TRUE(second->invariantProblems.empty()) << second->invariantProblems.front();
+        EXPECT_EQ(second->penetrationMeasuredSteps, second->steps) << "the organ stays closed";
+    }
+}
+
 // A device that jumps a metre between two samples (a glitch of the driver, a tracker losing its
 // marker), while the scalpel cuts: out into the room, back deep into the organ from above, and through
 // the organ to its back in one step. The hand is never pushed harder than the device's maximum nor

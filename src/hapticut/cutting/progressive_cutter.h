@@ -70,7 +70,7 @@ public:
     static constexpr double kBladeReach_m = 0.03;
 
     /// The force dropped below the threshold or contact was lost: the next cutAt starts a new cut.
-    void endCut() { points_.clear(), lipVertices_.clear(); }
+    void endCut() { points_.clear(), lipVertices_.clear(), crossedFloor_.reset(); }
 
     bool cutting() const { return !points_.empty(); }
     /// Whether every opening so far was closed with walls: then a closed organ is still closed.
@@ -101,8 +101,9 @@ private:
     /// a split no worse than they are.
     std::optional<std::uint32_t> splitAwayFrom(std::uint32_t a, std::uint32_t b, double u, std::uint32_t avoid);
     /// Goes on to `next`: a new point, a join when it lies on a boundary, or a slide along the boundary
-    /// when the cut is only its start there.
-    void advanceTo(std::uint32_t next);
+    /// when the cut is only its start there. False, and nothing done, where `next` is no way on: the far
+    /// lip of the wound this cut has just crossed.
+    bool advanceTo(std::uint32_t next);
     /// Within the snap distance of a boundary edge opposite the last point, runs on to it and joins it.
     bool reachBoundary(const Vec3& q);
     void addPoint(std::uint32_t vertex);
@@ -122,11 +123,21 @@ private:
     std::optional<std::uint32_t> floorBeside(std::uint32_t lip) const;
     /// Cuts the near wall from `lip` down to the floor and goes on from the floor up the far wall.
     void crossWound(std::uint32_t lip, const WoundCrossing& crossing);
+    /// Whether `lip` is a lip of the stretch of wound this cut has just crossed: met again on the far
+    /// side (a wound cut along a rough mesh's edges zigzags), it is never crossed back.
+    bool justCrossed(std::uint32_t lip) const;
+    /// How far along the wound's floor from where this cut crossed it that stretch reaches.
+    static constexpr int kSameCrossingFloorHops = 6;
+    /// Whether floor vertex `to` lies within `hops` edges of floor vertex `from` along a wound's floor.
+    bool alongFloorWithin(std::uint32_t from, std::uint32_t to, int hops) const;
+    /// Up to how many points a cut that turned back toward its start goes on from its first point.
+    static constexpr std::size_t kTurnedBackCutPoints = 4;
 
     CutModel& model_;
     CutterParams params_;
     std::vector<std::uint32_t> points_;
-    std::vector<std::uint32_t> lipVertices_;  // the current cut's points and their opened copies
+    std::vector<std::uint32_t> lipVertices_;     // the current cut's points and their opened copies
+    std::optional<std::uint32_t> crossedFloor_;  // where the current cut last crossed a wound
     CutStats stats_;
     double expectedMass_kg_ = 0;  // cutting conserves the organ's mass exactly
     bool wholeAtStart_ = true;    // with asserts: every invariant held before the first cut (else an unrepaired import)
