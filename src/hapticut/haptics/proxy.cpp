@@ -141,6 +141,25 @@ Vec3 GodObjectProxy::applyFriction(const Vec3& goal, const Vec3& device_m, const
     return slip > held ? Vec3(goal + tangential * (held / slip)) : goal;
 }
 
+std::optional<std::uint32_t> GodObjectProxy::restingFace(const collision::SurfaceView& s, const Vec3& device_m,
+                                                         std::optional<std::uint32_t> slid_on) const {
+    if (!slid_on || *slid_on >= s.faces.size()) return std::nullopt;
+    const double reach = 2 * params_.offset_m / (device_m - position_).norm();  // as a fraction of the way
+    auto within = [&](std::uint32_t f) {
+        const mesh::Face& face = s.faces[f];
+        const auto hit = geometry::intersectSegmentTriangle(position_, device_m, s.positions[face[0]],
+                                                            s.positions[face[1]], s.positions[face[2]]);
+        return hit && hit->t <= reach;
+    };
+    if (within(*slid_on)) return slid_on;
+    if (!topology_) return std::nullopt;
+    const mesh::Face& touched = s.faces[*slid_on];
+    for (std::uint32_t corner : touched)
+        for (std::uint32_t f : topology_->of(corner))
+            if (f != *slid_on && within(f)) return f;
+    return std::nullopt;
+}
+
 void GodObjectProxy::findContact(const collision::SurfaceView& s, const collision::Bvh& bvh,
                                  std::optional<std::uint32_t> touched_face) {
     const double reach = 3 * params_.offset_m;
@@ -220,6 +239,12 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
             // device is now farther than the offset, the proxy has lifted off, so drop the planes and
             // head for the device again. The next hit brings it back onto the surface now rather than
             // a step later. Resting on the planes (flat or concave), it stays.
+            // Usually the proxy rests on the face it slid along or one round it: a face within twice the
+            // offset toward the device means the first face is too, and the tree need not be walked.
+            if (const auto resting = restingFace(s, device_m, lastHitFace)) {
+                lastHitFace = *resting;
+                break;
+            }
             const auto below = bvh.firstHit(s, position_, device_m);
             if (!below) break;
             if (below->t * (device_m - position_).norm() <= 2 * params_.offset_m) {

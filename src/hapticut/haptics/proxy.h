@@ -75,6 +75,10 @@ private:
     /// Whether the proxy is inside, given the surface's nearest point to it.
     bool insideNear(const collision::SurfaceView& surface, const collision::Bvh& bvh,
                     const collision::SurfacePoint& near);
+    /// A face round `slid_on` (the face itself first) that the way to the device crosses within twice
+    /// the offset: the proxy rests on the surface.
+    std::optional<std::uint32_t> restingFace(const collision::SurfaceView& surface, const Vec3& device_m,
+                                             std::optional<std::uint32_t> slid_on) const;
     Vec3 constrainedGoal(const Vec3& device_m) const;
     Vec3 applyFriction(const Vec3& goal, const Vec3& device_m, const Vec3& from) const;
     /// The contact from the faces round `touched_face` (the contact's face if not given) when one is
