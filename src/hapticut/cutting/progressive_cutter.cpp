@@ -164,15 +164,6 @@ bool ProgressiveCutter::justCrossed(std::uint32_t lip) const {
     return floor && alongFloorWithin(*crossedFloor_, *floor, kSameCrossingFloorHops);
 }
 
-bool ProgressiveCutter::beyondFanOf(std::uint32_t vertex, const Vec3& q) const {
-    const mesh::SurfaceMesh& m = model_.mesh();
-    double reach = 0;
-    for (std::uint32_t f : model_.facesAround(vertex))
-        if (!model_.isWall(f))
-            for (std::uint32_t y : m.faces[f]) reach = std::max(reach, (m.positions[y] - m.positions[vertex]).norm());
-    return (q - m.positions[vertex]).norm() > 2 * reach;
-}
-
 bool ProgressiveCutter::alongFloorWithin(std::uint32_t from, std::uint32_t to, int hops) const {
     // Breadth first over floor vertices joined by an edge, in fixed room: a floor is a curve, so each
     // ring holds a few vertices (two where the curve is simple), and a search that outgrows the room
@@ -323,11 +314,8 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
     // beside it, and the cut ends there (without joining, which would cut a loop of tissue free). The
     // blade, pressing on, starts a new cut beyond. Kept waiting, the cut never followed again while the
     // crack ran on with the blade (a stroke across the 1,000,000 heart whose crack first ran downhill
-    // and turned back beside itself: 3-5 mm cut of 53, in about one real-time run in three). So does a
-    // cut whose blade has gone on past twice its last point's reach while that point's fan, on a fold of
-    // a rough mesh, opens away from the blade, which lies across the lip the cut has just opened: kept
-    // waiting, two of 48 strokes across jittered 9,714 hearts stopped 14-17 mm down a 25 mm way.
-    if (backIntoItsOwnWound || beyondFanOf(last, q)) endCut();
+    // and turned back beside itself: 3-5 mm cut of 53, in about one real-time run in three).
+    if (backIntoItsOwnWound) endCut();
     return false;
 }
 

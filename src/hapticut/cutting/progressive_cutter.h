@@ -128,8 +128,6 @@ private:
     bool justCrossed(std::uint32_t lip) const;
     /// How far along the wound's floor from where this cut crossed it that stretch reaches.
     static constexpr int kSameCrossingFloorHops = 6;
-    /// Whether q lies farther from `vertex` than twice the farthest corner of the surface's faces round it.
-    bool beyondFanOf(std::uint32_t vertex, const Vec3& q) const;
     /// Whether floor vertex `to` lies within `hops` edges of floor vertex `from` along a wound's floor.
     bool alongFloorWithin(std::uint32_t from, std::uint32_t to, int hops) const;
     /// Up to how many points a cut that turned back toward its start goes on from its first point.
