@@ -405,11 +405,11 @@ TEST(CuttingFeel, OnAHeartOfSliversEachStrokeCutsInOnePieceAndTheSecondCrossesTh
 
 // The same crossing stroke on more hearts of slivers, whose first wound, cut along their edges, zigzags.
 // The second cut goes through it once and on down to the stroke's end (the stroke reaches 25 mm below the
-// heart's front centre; the blade comes up over the last millimetres). Before, on these six of sixteen
-// hearts it stopped 10-13 mm down, just past the wound: its far lip ran back into the way, the cut
-// crossed back over it beside where it had entered and found no way on there. On one (seed 9) it
-// stopped 2.5 mm in: the crack first ran up the slope, turned round, and the way back crossed only the
-// lips it had just opened.
+// heart's front centre; the blade comes up over the last millimetres). Before, on five of these six (of
+// sixteen hearts tried) it stopped 10-13 mm down, just past the wound: its far lip ran back into the way,
+// the cut crossed back over it beside where it had entered and found no way on there. On the sixth
+// (seed 9) it stopped 2.5 mm in: the crack first ran up the slope, turned round, and the way back
+// crossed only the lips it had just opened.
 TEST(CuttingFeel, OnHeartsOfSliversAStrokeAcrossAZigzagWoundCrossesItOnceAndCutsOnToItsEnd) {
 #ifdef HAPTICUT_SANITIZED
     const std::vector<unsigned> seeds{9, 10};  // the two ways it stopped; the code is the same for all

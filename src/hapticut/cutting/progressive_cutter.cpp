@@ -307,7 +307,8 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
     // waiting, it cut 2.5 and 3.5 mm of 30 on two jittered 9,714 hearts.
     if (!backIntoItsOwnWound && points_.size() >= 3 && points_.size() <= kTurnedBackCutPoints &&
         !model_.isFloor(points_[0]) && (q - m.positions[points_[0]]).norm() < (q - from).norm()) {
-        points_.assign(1, points_[0]);
+        const std::uint32_t first = points_[0];
+        points_.assign(1, first);
         return true;
     }
     // Nothing else leads on: the blade has come back round into this cut's own wound, across it or
