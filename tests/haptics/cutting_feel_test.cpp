@@ -370,6 +370,17 @@ TEST(CuttingFeel, AStrokePressedInAtASlantCutsAlongItsWay) {
     }
 }
 
+/// The 9,714 heart with every vertex moved at random by up to 0.4 of a mean edge along each axis.
+mesh::SurfaceMesh heartOfSlivers(unsigned seed) {
+    mesh::SurfaceMesh heart = mesh::procedural::makeHeart({.triangles = 9714});
+    const double jitter = mesh::meanEdgeLength(heart) * 0.4;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-jitter, jitter);
+    for (Vec3& p : heart.positions) p += Vec3(u(rng), u(rng), u(rng));
+    mesh::computeFaceNormals(heart);
+    return heart;
+}
+
 // The same two strokes on a heart of slivers, as a segmentation gives them: every vertex of the 9,714 heart
 // moved by up to 0.4 of a mean edge along each axis (smallest angle 0.38 degrees, shortest edge 0.21 mm
 // against a mean of 2.5). Each stroke cuts in one piece and the second goes through the first wound. On
@@ -378,12 +389,7 @@ TEST(CuttingFeel, AStrokePressedInAtASlantCutsAlongItsWay) {
 // crack's plane until the blade seemed to pull it backwards. Before, the second stroke here cut 5 mm and
 // did not cross the first wound.
 TEST(CuttingFeel, OnAHeartOfSliversEachStrokeCutsInOnePieceAndTheSecondCrossesTheFirst) {
-    mesh::SurfaceMesh heart = mesh::procedural::makeHeart({.triangles = 9714});
-    const double jitter = mesh::meanEdgeLength(heart) * 0.4;
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<double> u(-jitter, jitter);
-    for (Vec3& p : heart.positions) p += Vec3(u(rng), u(rng), u(rng));
-    mesh::computeFaceNormals(heart);
+    const mesh::SurfaceMesh heart = heartOfSlivers(7);
     collision::Bvh bvh;
     bvh.build({heart.positions, heart.faces});
     cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
@@ -418,12 +424,7 @@ TEST(CuttingFeel, OnHeartsOfSliversAStrokeAcrossAZigzagWoundCrossesItOnceAndCuts
 #endif
     for (const unsigned seed : seeds) {
         SCOPED_TRACE(testing::Message() << "seed " << seed);
-        mesh::SurfaceMesh heart = mesh::procedural::makeHeart({.triangles = 9714});
-        const double jitter = mesh::meanEdgeLength(heart) * 0.4;
-        std::mt19937 rng(seed);
-        std::uniform_real_distribution<double> u(-jitter, jitter);
-        for (Vec3& p : heart.positions) p += Vec3(u(rng), u(rng), u(rng));
-        mesh::computeFaceNormals(heart);
+        const mesh::SurfaceMesh heart = heartOfSlivers(seed);
         collision::Bvh bvh;
         bvh.build({heart.positions, heart.faces});
         cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
