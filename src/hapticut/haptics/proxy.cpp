@@ -153,11 +153,12 @@ std::optional<std::uint32_t> GodObjectProxy::restingFace(const collision::Surfac
     };
     if (within(*slid_on)) return slid_on;
     if (!topology_) return std::nullopt;
-    const mesh::Face& touched = s.faces[*slid_on];
-    for (std::uint32_t corner : touched)
-        for (std::uint32_t f : topology_->of(corner))
-            if (f != *slid_on && within(f)) return f;
-    return std::nullopt;
+    std::optional<std::uint32_t> resting;
+    facesRound(s, *slid_on, [&](std::uint32_t f) {
+        if (f != *slid_on && within(f)) resting = f;
+        return resting.has_value();
+    });
+    return resting;
 }
 
 void GodObjectProxy::findContact(const collision::SurfaceView& s, const collision::Bvh& bvh,
@@ -169,21 +170,14 @@ void GodObjectProxy::findContact(const collision::SurfaceView& s, const collisio
         // R12: the faces around the touched face's corners first; they hold every face the proxy can
         // slide onto across an edge or a vertex in one step.
         double best = reach * reach;
-        const mesh::Face& touched = s.faces[*touched_face];
-        for (std::size_t corner = 0; corner < 3; ++corner)
-            for (std::uint32_t f : topology_->of(touched[corner])) {
-                const mesh::Face& face = s.faces[f];
-                // A face round an earlier corner as well was measured there already.
-                auto holds = [&](std::size_t c) {
-                    return face[0] == touched[c] || face[1] == touched[c] || face[2] == touched[c];
-                };
-                if ((corner > 0 && holds(0)) || (corner > 1 && holds(1))) continue;
-                const auto c = geometry::closestPointOnTriangle(position_, s.positions[face[0]], s.positions[face[1]],
-                                                                s.positions[face[2]]);
-                const double d2 = (c.point - position_).squaredNorm();
-                if (d2 < best || (!near && d2 <= best))
-                    best = d2, near = collision::SurfacePoint{f, c.point, c.bary, 0};
-            }
+        facesRound(s, *touched_face, [&](std::uint32_t f) {
+            const mesh::Face& face = s.faces[f];
+            const auto c = geometry::closestPointOnTriangle(position_, s.positions[face[0]], s.positions[face[1]],
+                                                            s.positions[face[2]]);
+            const double d2 = (c.point - position_).squaredNorm();
+            if (d2 < best || (!near && d2 <= best)) best = d2, near = collision::SurfacePoint{f, c.point, c.bary, 0};
+            return false;
+        });
         if (near) ++fastPathContacts_;
     }
     if (!near) {

@@ -75,6 +75,21 @@ private:
     /// Whether the proxy is inside, given the surface's nearest point to it.
     bool insideNear(const collision::SurfaceView& surface, const collision::Bvh& bvh,
                     const collision::SurfacePoint& near);
+    /// Calls visit(f) once for each face round the corners of `face` (itself included), until it
+    /// returns true; the faces round a corner in turn, skipping those met round an earlier corner.
+    template <class Visit>
+    void facesRound(const collision::SurfaceView& surface, std::uint32_t face, Visit&& visit) const {
+        const mesh::Face& corners = surface.faces[face];
+        for (std::size_t corner = 0; corner < 3; ++corner)
+            for (std::uint32_t f : topology_->of(corners[corner])) {
+                const mesh::Face& other = surface.faces[f];
+                auto holds = [&](std::size_t c) {
+                    return other[0] == corners[c] || other[1] == corners[c] || other[2] == corners[c];
+                };
+                if ((corner > 0 && holds(0)) || (corner > 1 && holds(1))) continue;
+                if (visit(f)) return;
+            }
+    }
     /// A face round `slid_on` (the face itself first) that the way to the device crosses within twice
     /// the offset: the proxy rests on the surface.
     std::optional<std::uint32_t> restingFace(const collision::SurfaceView& surface, const Vec3& device_m,

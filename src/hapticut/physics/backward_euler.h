@@ -140,7 +140,6 @@ private:
     bool autoMultilevel_ = false;         // auto's choice for the next steps
     int jacobiIterations_ = 0;            // the block-Jacobi solve that made auto switch; 0: it stopped at the cap
     int multilevelPause_ = 0;             // steps before auto may try the multilevel cycle again
-    int easySolves_ = 0;                  // multilevel solves in a row of at most kEasyMultilevelIterations
     std::uint64_t multilevelLayout_ = 0;  // the system's layoutsMade() the levels were laid out for
     OwnedWorkerPool pool_;                // shares the passes out; none when the solve runs on one thread
     std::vector<kernels::Sums> partial_;  // by chunk: its part of a pass's sums
