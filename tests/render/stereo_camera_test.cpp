@@ -60,6 +60,20 @@ TEST(Stereo, BothEyesSeeAPointOnTheFocalPlaneAtTheSamePlaceAndANearerOneApart) {
     EXPECT_LT(ndcX(Eye::Left, further) - ndcX(Eye::Right, further), -0.005);
 }
 
+// The viewer shows the view's axis in the middle of what its panel leaves free: a point on the axis
+// lands there in each eye's image, and the frustum keeps its width.
+TEST(Stereo, AnAxisShownOffTheMiddleLandsThereInEveryEye) {
+    Lens lens = handLens();
+    lens.centreX_ndc = 0.3;
+    const Eigen::Vector4d onAxisAtFocus(0, 0, -lens.focalLength_m, 1);
+    for (const Eye eye : {Eye::Centre, Eye::Left, Eye::Right}) {
+        const Frustum f = eyeFrustum(lens, eye);
+        const Eigen::Vector4d clip = projectionMatrix(f) * eyeView(Eigen::Matrix4d::Identity(), f) * onAxisAtFocus;
+        EXPECT_NEAR(clip.x() / clip.w(), 0.3, 1e-12);
+        EXPECT_NEAR(f.right - f.left, 0.2, 1e-12);
+    }
+}
+
 TEST(Stereo, ProjectionMatchesGlFrustum) {
     Frustum f{-1, 3, -2, 2, 1, 5, 0};
     const Eigen::Matrix4d p = projectionMatrix(f);
@@ -110,15 +124,28 @@ TEST(Camera, APointProjectsBackToThePixelWhoseRayItLiesOn) {
     c.target = Vec3(0.01, -0.02, 0.03);
     c.yaw_rad = 0.7;
     c.pitch_rad = -0.3;
-    for (const auto& [x, y] : {std::pair{0.0, 0.0}, std::pair{-0.8, 0.5}, std::pair{0.99, -0.99}})
-        for (const double along : {0.05, 0.4, 3.0}) {
-            const Ray ray = rayThrough(c, x, y, 1.6);
-            const auto ndc = projectToNdc(c, ray.origin + along * ray.direction, 1.6);
-            ASSERT_TRUE(ndc);
-            EXPECT_NEAR(ndc->x(), x, 1e-9);
-            EXPECT_NEAR(ndc->y(), y, 1e-9);
-        }
+    for (const double centre : {0.0, 0.3})  // the target in the middle, and beside a panel
+        for (const auto& [x, y] : {std::pair{0.0, 0.0}, std::pair{-0.8, 0.5}, std::pair{0.99, -0.99}})
+            for (const double along : {0.05, 0.4, 3.0}) {
+                c.centreX_ndc = centre;
+                const Ray ray = rayThrough(c, x, y, 1.6);
+                const auto ndc = projectToNdc(c, ray.origin + along * ray.direction, 1.6);
+                ASSERT_TRUE(ndc);
+                EXPECT_NEAR(ndc->x(), x, 1e-9);
+                EXPECT_NEAR(ndc->y(), y, 1e-9);
+            }
     EXPECT_FALSE(projectToNdc(c, c.eye() - 0.1 * c.forward(), 1.6));
+}
+
+TEST(Camera, ATargetShownOffTheMiddleIsWhereTheRayThroughThatPointLooks) {
+    OrbitCamera c;
+    c.target = Vec3(0.01, -0.02, 0.03);
+    c.centreX_ndc = 0.3;
+    const auto target = projectToNdc(c, c.target, 1.6);
+    ASSERT_TRUE(target);
+    EXPECT_NEAR(target->x(), 0.3, 1e-12);
+    EXPECT_NEAR(target->y(), 0, 1e-12);
+    EXPECT_TRUE(rayThrough(c, 0.3, 0, 1.6).direction.isApprox(c.forward(), 1e-12));
 }
 
 TEST(Camera, FramingFitsTheSphereInTheViewAndZoomIsMultiplicative) {
@@ -131,6 +158,21 @@ TEST(Camera, FramingFitsTheSphereInTheViewAndZoomIsMultiplicative) {
     EXPECT_NEAR(c.distance_m, d * 0.81, 1e-12);
     c.orbit(0, 10);
     EXPECT_LE(c.pitch_rad, 1.5);
+}
+
+// Framed in a part of the image narrower than tall (the viewer's window beside its panel), the sphere
+// fits the width: it stands farther back, by the width's angle of view instead of the height's.
+TEST(Camera, FramingInANarrowPartOfTheImageFitsTheSphereInItsWidth) {
+    OrbitCamera tall, narrow;
+    tall.frame(Vec3::Zero(), 0.1);
+    narrow.frame(Vec3::Zero(), 0.1, 0.6);
+    const double halfWidthAngle = std::atan(std::tan(narrow.fovY_rad / 2) * 0.6);
+    EXPECT_GT(narrow.distance_m * std::sin(halfWidthAngle), 0.09);
+    EXPECT_LT(narrow.distance_m * std::sin(halfWidthAngle), 0.1);
+    EXPECT_GT(narrow.distance_m, tall.distance_m * 1.5);
+    OrbitCamera wide;
+    wide.frame(Vec3::Zero(), 0.1, 1.8);  // wider than tall: the height decides, as before
+    EXPECT_DOUBLE_EQ(wide.distance_m, tall.distance_m);
 }
 
 }  // namespace

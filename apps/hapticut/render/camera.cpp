@@ -43,14 +43,17 @@ void OrbitCamera::pan(double dx_m, double dy_m) { target += dx_m * right() + dy_
 
 void OrbitCamera::zoom(double clicks) { distance_m = std::clamp(distance_m * std::pow(0.9, clicks), 1e-3, 1e3); }
 
-void OrbitCamera::frame(const Vec3& centre, double radius_m) {
+void OrbitCamera::frame(const Vec3& centre, double radius_m, double aspect) {
     target = centre;
-    distance_m = 0.95 * radius_m / std::sin(fovY_rad / 2);  // a box's bounding sphere is generous
+    // Half the narrower side's angle of view; a box's bounding sphere is generous, hence 0.95.
+    const double halfAngle = std::atan(std::tan(fovY_rad / 2) * std::min(aspect, 1.0));
+    distance_m = 0.95 * radius_m / std::sin(halfAngle);
 }
 
 Ray rayThrough(const OrbitCamera& camera, double ndcX, double ndcY, double aspect) {
     const double h = std::tan(camera.fovY_rad / 2);
-    const Vec3 d = camera.forward() + ndcX * h * aspect * camera.right() + ndcY * h * camera.up();
+    const Vec3 d =
+        camera.forward() + (ndcX - camera.centreX_ndc) * h * aspect * camera.right() + ndcY * h * camera.up();
     return {camera.eye(), d.normalized()};
 }
 
@@ -59,7 +62,8 @@ std::optional<Eigen::Vector2d> projectToNdc(const OrbitCamera& camera, const Vec
     const double depth = d.dot(camera.forward());
     if (depth <= 1e-12) return std::nullopt;
     const double h = std::tan(camera.fovY_rad / 2);
-    return Eigen::Vector2d(d.dot(camera.right()) / (depth * h * aspect), d.dot(camera.up()) / (depth * h));
+    return Eigen::Vector2d(camera.centreX_ndc + d.dot(camera.right()) / (depth * h * aspect),
+                           d.dot(camera.up()) / (depth * h));
 }
 
 Vec3 onPlaneFacingCamera(const OrbitCamera& camera, const Ray& ray, const Vec3& point) {

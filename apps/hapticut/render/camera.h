@@ -15,6 +15,9 @@ struct OrbitCamera {
     double yaw_rad = 0;      // about the world's y axis; 0 looks along -z (from +z)
     double pitch_rad = 0.2;  // up from the horizontal
     double fovY_rad = 0.7;
+    /// Where the target shows across the image, in normalised device coordinates: 0 in the middle. The
+    /// viewer moves it into the middle of what its panel leaves free, so the panel hides no organ.
+    double centreX_ndc = 0;
 
     Vec3 eye() const;
     /// Unit vectors of the camera frame in world coordinates.
@@ -27,8 +30,9 @@ struct OrbitCamera {
     void orbit(double dx_rad, double dy_rad);
     void pan(double dx_m, double dy_m);
     void zoom(double clicks);
-    /// Frames a bounding sphere: target at its centre, close enough that the organ fills most of the height.
-    void frame(const Vec3& centre, double radius_m);
+    /// Frames a bounding sphere: target at its centre, close enough that the organ fills most of the height,
+    /// or of the width where the part of the image it is framed in is narrower (`aspect` < 1, width / height).
+    void frame(const Vec3& centre, double radius_m, double aspect = 1);
 };
 
 struct Ray {

@@ -130,6 +130,7 @@ struct Renderer::Impl {
         lens.far_m = camera.distance_m * 20;
         lens.eyeSeparation_m = settings.eyeSeparation_m;
         lens.focalLength_m = settings.focalLength_m;
+        lens.centreX_ndc = camera.centreX_ndc;
         const Frustum f = eyeFrustum(lens, eye);
         const Eigen::Matrix4d projection = projectionMatrix(f), view = eyeView(camera.view(), f);
         for (ShaderProgram* p : {&organ, &metal, &flat}) setCamera(*p, view, projection, monochrome);
@@ -208,9 +209,9 @@ struct Renderer::Impl {
     }
 };
 
-void ViewSettings::frameOrgan(std::span<const Vec3> positions, double zoom) {
+void ViewSettings::frameOrgan(std::span<const Vec3> positions, double zoom, double aspect) {
     const geometry::Aabb box = geometry::boundsOf(positions);
-    camera.frame(box.center(), 0.5 * box.extent().norm());
+    camera.frame(box.center(), 0.5 * box.extent().norm(), aspect);
     camera.distance_m /= zoom;
     focalLength_m = camera.distance_m;
     eyeSeparation_m = camera.distance_m / 30;

@@ -52,8 +52,8 @@ struct ViewSettings {
     double forceArrowLength_m_per_N = 0.01;
 
     /// Looks at the whole organ from the current direction (`zoom` times closer), with the stereo focal
-    /// plane at the organ's centre.
-    void frameOrgan(std::span<const Vec3> positions, double zoom = 1);
+    /// plane at the organ's centre; `aspect` is that of the part of the image it is framed in.
+    void frameOrgan(std::span<const Vec3> positions, double zoom = 1, double aspect = 1);
 };
 
 class Renderer {

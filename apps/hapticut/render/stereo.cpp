@@ -35,8 +35,10 @@ Frustum eyeFrustum(const Lens& lens, Eye eye) {
     // The focal plane's window, seen from an eye moved by eyeOffset, lies eyeOffset the other way:
     // scaled back to the near plane that is a shift of eyeOffset * near / focal.
     const double shift = f.eyeOffset_m * lens.near_m / lens.focalLength_m;
-    f.left = -halfWidth - shift;
-    f.right = halfWidth - shift;
+    // An axis shown off the middle, at x = c in device coordinates: the window moves the other way.
+    const double offCentre = lens.centreX_ndc * halfWidth;
+    f.left = -halfWidth - shift - offCentre;
+    f.right = halfWidth - shift - offCentre;
     return f;
 }
 

@@ -22,6 +22,7 @@ struct Lens {
     double near_m = 0.01, far_m = 2.0;
     double eyeSeparation_m = 0.012;  // scaled to the scene: the heart is 12 cm across
     double focalLength_m = 0.35;     // put at the organ's centre, so it sits at the screen
+    double centreX_ndc = 0;          // where the view's axis shows across the image (OrbitCamera's)
 };
 
 /// glFrustum's six planes plus where the eye sits along the camera's x axis.

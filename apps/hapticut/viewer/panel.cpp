@@ -120,8 +120,8 @@ void finishRecording(scene::Simulation& session, PanelState& state) {
 
 void drawPanel(scene::Simulation& session, render::ViewSettings& view, const haptics::Snapshot& s, const Rates& rates,
                const ForcePlot& plot, PanelState& state) {
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(kPanelLeft_px, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(kPanelWidth_px, 0), ImGuiCond_FirstUseEver);
     ImGui::Begin("Hapticut");
     state.rightEdge_px = ImGui::GetWindowPos().x + ImGui::GetWindowSize().x;
     loopSection(session, s, rates);

@@ -19,12 +19,17 @@ struct Rates {
     double hapticRate_hz = 0;
 };
 
+/// Where the panel first opens and how wide: at the window's left.
+inline constexpr float kPanelLeft_px = 10, kPanelWidth_px = 380;
+
 /// What the panel keeps between frames: text fields, a recording, the last message.
 struct PanelState {
     std::string modelPath, toolPath, exportPath = "heart-cut.obj", replayPath, recordPath = "recording.csv";
     Notice notice;            // shown over the scene (overlay.h), so it is read wherever the panel is scrolled
     float maxForceScale = 1;  // of the device's maximum force
-    float rightEdge_px = 0;   // where the panel ends, so the overlay centres in the view beside it
+    // Where the panel ends, so the overlay and the organ centre in the view beside it (as the panel first
+    // opens until it is drawn).
+    float rightEdge_px = kPanelLeft_px + kPanelWidth_px;
 };
 
 /// Ends the session's recording, if one runs: its file is complete; what happened goes to state.notice.

@@ -8,6 +8,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -65,6 +66,7 @@ public:
 
     int run();
     void frameOrgan();
+    double freeViewCentre() const;
     std::vector<std::string> yieldingThreads;  // the driver's threads that yield to the haptic loop, for the report
 
 private:
@@ -101,9 +103,24 @@ private:
 void Viewer::frameOrgan() {
     framedModel_ = session_.scene().source.name;
     const auto& positions = session_.scene().source.mesh.positions;
-    view_.frameOrgan(positions);
+    int w = 0, h = 0;
+    glfwGetWindowSize(window_->handle(), &w, &h);
+    // In the part of the window the panel leaves free: a wide organ (a liver, 25 cm across) framed in
+    // the whole window lay half under the panel.
+    const double covered = freeViewCentre();
+    view_.frameOrgan(positions, 1, (1 - covered) * w / std::max(h, 1));
+    view_.camera.centreX_ndc = covered;
     view_.forceArrowLength_m_per_N =
         0.1 * geometry::boundsOf(positions).extent().norm() / std::max(session_.scene().settings.maxForce_N, 0.1);
+}
+
+double Viewer::freeViewCentre() const {
+    // The panel covers the window's left up to its right edge, so the middle of the rest lies at the
+    // covered fraction in device coordinates. Side by side, each half is a view of its own.
+    int w = 0, h = 0;
+    glfwGetWindowSize(window_->handle(), &w, &h);
+    if (!showPanel_ || view_.stereo == render::StereoMode::SideBySide || w <= 0) return 0;
+    return std::clamp(static_cast<double>(panel_.rightEdge_px) / w, 0.0, 0.5);
 }
 
 render::Ray Viewer::cursorRay() const {
@@ -368,6 +385,7 @@ int Viewer::run() {
         lastFrame = timeIsUp() || (options_.frames >= 0 && frames + 1 == options_.frames);
         glfwPollEvents();
         if (session_.scene().source.name != framedModel_) frameOrgan();  // a model loaded from the panel
+        view_.camera.centreX_ndc = freeViewCentre();                     // the panel shown, hidden (F1) or moved
         while (renderer_->toolCount() < session_.scene().tools.size())
             renderer_->addTool(session_.scene().tools[renderer_->toolCount()].mesh);
         exercise_.update(session_, panel_, ImGui::GetTime());
