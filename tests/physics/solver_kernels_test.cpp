@@ -2,6 +2,7 @@
 // giving the same answers under every instruction set this machine runs.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <numeric>
 
 #include "hapticut/mesh/procedural/heart.h"
@@ -200,6 +201,79 @@ TEST(SolverKernels, EveryInstructionSetComputesTheSameProductAndPasses) {
     EXPECT_TRUE(kernels::forceTarget(nullptr));
     EXPECT_STREQ(kernels::targetName(), targets.front());
     EXPECT_FALSE(kernels::forceTarget("no such instruction set"));
+}
+
+// A coarse level's product, rows of several widths in two slices and a padded tail, against the same
+// sums taken entry by entry from a list of (row, column, block), on every instruction set.
+TEST(SolverKernels, TheBlockProductIsTheMatrixTimesTheVectorOnEveryInstructionSet) {
+    constexpr std::size_t kRows = 21, kPadded = 32;  // two slices, the second with 11 padding rows
+    using Block = std::array<float, 6>;
+    auto blockOf = [](std::size_t a, std::size_t b) {
+        const auto s = static_cast<float>(a * 31 + b * 7 % 13);
+        return Block{1 + s / 50, 0.1f * (s - 3), -0.2f, 2 - s / 90, 0.05f * s, 1.5f};
+    };
+    kernels::SymmetricBlocks diagonal;
+    diagonal.resize(kPadded);
+    kernels::SlicedBlocks couplings;
+    std::vector<std::array<std::size_t, 2>> entries;  // (row, column), in each row's slot order
+    for (std::size_t row = 0; row < kRows; ++row)
+        for (std::size_t j = 0; j < row % 5; ++j) entries.push_back({row, (row + 3 * j + 1) % kRows});
+    for (std::size_t slice = 0; slice * kernels::kSliceRows < kPadded; ++slice) {
+        std::size_t width = 0;
+        for (std::size_t row = slice * kernels::kSliceRows; row < (slice + 1) * kernels::kSliceRows; ++row)
+            width = std::max(width, row < kRows ? row % 5 : 0);
+        couplings.sliceBegin.push_back(static_cast<std::uint32_t>(couplings.other.size()));
+        const std::size_t begin = couplings.other.size();
+        couplings.other.resize(begin + width * kernels::kSliceRows);
+        couplings.blocks.resize(couplings.other.size());
+        for (std::size_t row = slice * kernels::kSliceRows; row < (slice + 1) * kernels::kSliceRows; ++row)
+            for (std::size_t j = 0; j < width; ++j) {
+                const std::size_t slot = begin + j * kernels::kSliceRows + row % kernels::kSliceRows;
+                const bool real = row < kRows && j < row % 5;
+                const std::size_t column = real ? (row + 3 * j + 1) % kRows : row;
+                const Block b = real ? blockOf(row, column) : Block{};
+                couplings.other[slot] = static_cast<std::int32_t>(column);
+                couplings.blocks.xx[slot] = b[0], couplings.blocks.xy[slot] = b[1], couplings.blocks.xz[slot] = b[2];
+                couplings.blocks.yy[slot] = b[3], couplings.blocks.yz[slot] = b[4], couplings.blocks.zz[slot] = b[5];
+            }
+    }
+    couplings.sliceBegin.push_back(static_cast<std::uint32_t>(couplings.other.size()));
+    for (std::size_t row = 0; row < kRows; ++row) {
+        const Block b = blockOf(row, row);
+        diagonal.xx[row] = b[0], diagonal.xy[row] = b[1], diagonal.xz[row] = b[2];
+        diagonal.yy[row] = b[3], diagonal.yz[row] = b[4], diagonal.zz[row] = b[5];
+    }
+    kernels::Field y, b;
+    y.resize(kPadded), b.resize(kPadded);
+    for (std::size_t k = 0; k < kRows; ++k) {
+        const Vec3 w = test::wobble(k, 1.0), c = test::wobble(k + 100, 2.0);
+        y.x[k] = w.x(), y.y[k] = w.y(), y.z[k] = w.z();
+        b.x[k] = c.x(), b.y[k] = c.y(), b.z[k] = c.z();
+    }
+    auto times = [](const Block& m, const Vec3& v) {
+        const auto e = [&](int i) { return static_cast<double>(m[static_cast<std::size_t>(i)]); };
+        return Vec3(e(0) * v.x() + e(1) * v.y() + e(2) * v.z(), e(1) * v.x() + e(3) * v.y() + e(4) * v.z(),
+                    e(2) * v.x() + e(4) * v.y() + e(5) * v.z());
+    };
+    std::vector<Vec3> expected(kRows);
+    for (std::size_t row = 0; row < kRows; ++row) expected[row] = times(blockOf(row, row), at(y, row));
+    for (const auto& [row, column] : entries) expected[row] += times(blockOf(row, column), at(y, column));
+
+    const kernels::BlockRows a{kPadded, &diagonal, &couplings};
+    for (const char* target : kernels::supportedTargets()) {
+        ASSERT_TRUE(kernels::forceTarget(target)) << target;
+        kernels::Field product, residual;
+        product.resize(kPadded), residual.resize(kPadded);
+        kernels::blockProduct(a, y, nullptr, product, {0, kPadded});
+        kernels::blockProduct(a, y, &b, residual, {0, kPadded});
+        for (std::size_t row = 0; row < kPadded; ++row) {
+            const Vec3 want = row < kRows ? expected[row] : Vec3::Zero();
+            EXPECT_LT((at(product, row) - want).norm(), 1e-12 * (1 + want.norm())) << target << " row " << row;
+            EXPECT_LT((at(residual, row) - (at(b, row) - want)).norm(), 1e-12 * (1 + want.norm()))
+                << target << " row " << row;
+        }
+    }
+    EXPECT_TRUE(kernels::forceTarget(nullptr));
 }
 
 }  // namespace

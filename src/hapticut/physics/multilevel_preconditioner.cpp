@@ -21,11 +21,6 @@ void add(SymmetricBlock& m, const SymmetricBlock& a) {
     for (std::size_t i = 0; i < 6; ++i) m[i] += a[i];
 }
 
-Vec3 times(const SymmetricBlock& m, const Vec3& v) {
-    return {m[0] * v.x() + m[1] * v.y() + m[2] * v.z(), m[1] * v.x() + m[3] * v.y() + m[4] * v.z(),
-            m[2] * v.x() + m[4] * v.y() + m[5] * v.z()};
-}
-
 /// The inverse of a symmetric positive definite block by its adjugate; zero for a block that is not.
 SymmetricBlock inverseOf(const SymmetricBlock& m) {
     const double a = m[3] * m[5] - m[4] * m[4], b = m[2] * m[4] - m[1] * m[5], c = m[1] * m[4] - m[2] * m[3];
@@ -38,6 +33,26 @@ SymmetricBlock inverseOf(const SymmetricBlock& m) {
             s * (m[0] * m[5] - m[2] * m[2]),
             s * (m[1] * m[2] - m[0] * m[4]),
             s * (m[0] * m[3] - m[1] * m[1])};
+}
+
+/// Block `b` into slot `at` of the kernels' single-precision blocks.
+void store(kernels::SymmetricBlocks& blocks, std::size_t at, const SymmetricBlock& b) {
+    blocks.xx[at] = static_cast<float>(b[0]), blocks.xy[at] = static_cast<float>(b[1]);
+    blocks.xz[at] = static_cast<float>(b[2]), blocks.yy[at] = static_cast<float>(b[3]);
+    blocks.yz[at] = static_cast<float>(b[4]), blocks.zz[at] = static_cast<float>(b[5]);
+}
+
+void reserveBlocks(kernels::SymmetricBlocks& blocks, std::size_t n) {
+    for (auto* a : {&blocks.xx, &blocks.xy, &blocks.xz, &blocks.yy, &blocks.yz, &blocks.zz}) reserveTouched(*a, n);
+}
+
+void reserveField(kernels::Field& f, std::size_t n) {
+    for (auto* a : {&f.x, &f.y, &f.z}) reserveTouched(*a, n);
+}
+
+/// Sized to `n` rows, all zero: the padding rows stay so through the cycle.
+void zeroed(kernels::Field& f, std::size_t n) {
+    for (auto* a : {&f.x, &f.y, &f.z}) a->assign(n, 0.0);
 }
 
 /// The finest level's rows: each with the slots of its slice, whose `other` is itself on padding.
@@ -62,15 +77,22 @@ void MultilevelPreconditioner::reserve(std::size_t nodes, std::size_t slots) {
     coarse_.reserve(kMaxLevels - 1);
     spare_.resize(kMaxLevels - 1);
     // Each level's room: a third of the rows above at most (kMinimumCoarsening), and on average 12 entries
-    // a row (a surface's aggregates have 6 to 8 neighbouring ones); a level that needs more is not made.
-    // Reserved in place, whatever room a copy of this object kept (a copied vector keeps none).
+    // a row (a surface's aggregates have 6 to 8 neighbouring ones), twice that in slices, whose rows are
+    // padded to the slice's longest; a level that needs more is not made. Reserved in place, whatever
+    // room a copy of this object kept (a copied vector keeps none).
     std::size_t above = nodes, aboveEntries = slots;
     for (Level& level : spare_) {
         level.rowCapacity = above / kMinimumCoarsening + 1;
         level.entryCapacity = 12 * level.rowCapacity;
-        const std::size_t rows = level.rowCapacity;
-        for (auto* a : {&level.diagonal, &level.inverse}) reserveTouched(*a, rows);
-        for (auto* a : {&level.r, &level.e, &level.t, &level.held}) reserveTouched(*a, rows);
+        const std::size_t rows = level.rowCapacity, padded = rows + kSlice;
+        reserveTouched(level.diagonal, rows);
+        reserveBlocks(level.diagonalBlocks, padded);
+        reserveBlocks(level.inverseBlocks, padded);
+        reserveBlocks(level.couplings.blocks, 2 * level.entryCapacity);
+        reserveTouched(level.couplings.other, 2 * level.entryCapacity);
+        reserveTouched(level.couplings.sliceBegin, padded / kSlice + 1);
+        reserveTouched(level.slotOf, level.entryCapacity);
+        for (auto* f : {&level.r, &level.e, &level.t, &level.held}) reserveField(*f, padded);
         reserveTouched(level.rowStart, rows + 1);
         reserveTouched(level.childStart, rows + 1);
         reserveTouched(level.column, level.entryCapacity);
@@ -155,9 +177,55 @@ bool MultilevelPreconditioner::aggregate(std::size_t rows, Neighbours&& neighbou
     }
     if (!fits) return false;
     next.offDiagonal.resize(next.column.size());
-    for (auto* a : {&next.diagonal, &next.inverse}) a->resize(count);
-    for (auto* a : {&next.r, &next.e, &next.t, &next.held}) a->resize(count);
+    next.diagonal.resize(count);
+    for (auto* f : {&next.r, &next.e, &next.t, &next.held}) zeroed(*f, next.paddedRows());
+    return sliceEntries(next);
+}
+
+bool MultilevelPreconditioner::sliceEntries(Level& level) {
+    // Each slice as wide as its longest row; the shorter rows, and the padding rows past the last,
+    // padded with zero blocks to themselves.
+    const std::size_t padded = level.paddedRows(), slices = padded / kSlice;
+    kernels::SlicedBlocks& c = level.couplings;
+    auto length = [&](std::size_t row) { return row < level.rows ? level.rowStart[row + 1] - level.rowStart[row] : 0; };
+    c.sliceBegin.assign(slices + 1, 0);
+    for (std::size_t slice = 0; slice < slices; ++slice) {
+        std::size_t width = 0;
+        for (std::size_t row = slice * kSlice; row < (slice + 1) * kSlice; ++row)
+            width = std::max<std::size_t>(width, length(row));
+        c.sliceBegin[slice + 1] = static_cast<std::uint32_t>(c.sliceBegin[slice] + width * kSlice);
+    }
+    const std::size_t slots = c.sliceBegin[slices];
+    if (slots > c.other.capacity()) return false;
+    c.other.resize(slots);
+    level.slotOf.resize(level.column.size());
+    for (std::size_t slice = 0; slice < slices; ++slice)
+        for (std::size_t row = slice * kSlice; row < (slice + 1) * kSlice; ++row)
+            for (std::size_t j = 0, slot = c.sliceBegin[slice] + row % kSlice; slot < c.sliceBegin[slice + 1];
+                 ++j, slot += kSlice) {
+                if (j < length(row)) {
+                    const std::uint32_t entry = level.rowStart[row] + static_cast<std::uint32_t>(j);
+                    c.other[slot] = static_cast<std::int32_t>(level.column[entry]);
+                    level.slotOf[entry] = static_cast<std::uint32_t>(slot);
+                } else {
+                    c.other[slot] = static_cast<std::int32_t>(row);
+                }
+            }
+    kernels::SymmetricBlocks& m = c.blocks;
+    for (auto* a : {&m.xx, &m.xy, &m.xz, &m.yy, &m.yz, &m.zz}) a->assign(slots, 0.0f);
+    for (kernels::SymmetricBlocks* blocks : {&level.diagonalBlocks, &level.inverseBlocks})
+        for (auto* a : {&blocks->xx, &blocks->xy, &blocks->xz, &blocks->yy, &blocks->yz, &blocks->zz})
+            a->assign(padded, 0.0f);
     return true;
+}
+
+void MultilevelPreconditioner::publishBlocks(Level& level) {
+    for (std::size_t a = 0; a < level.rows; ++a) {
+        store(level.diagonalBlocks, a, level.diagonal[a]);
+        store(level.inverseBlocks, a, inverseOf(level.diagonal[a]));
+    }
+    for (std::size_t e = 0; e < level.offDiagonal.size(); ++e)
+        store(level.couplings.blocks, level.slotOf[e], level.offDiagonal[e]);
 }
 
 void MultilevelPreconditioner::release() {
@@ -231,7 +299,7 @@ void MultilevelPreconditioner::assemble(const kernels::SystemRows& fine) {
             add(first.diagonal[first.aggregateOf[row]], d);
         }
     }
-    for (std::size_t a = 0; a < first.rows; ++a) first.inverse[a] = inverseOf(first.diagonal[a]);
+    publishBlocks(first);
     // The coarser levels from the one above, on this thread: each is a few times smaller.
     for (std::size_t l = 1; l < coarse_.size(); ++l) {
         const Level& above = coarse_[l - 1];
@@ -248,8 +316,8 @@ void MultilevelPreconditioner::assemble(const kernels::SystemRows& fine) {
                 }
             }
             level.diagonal[a] = d;
-            level.inverse[a] = inverseOf(d);
         }
+        publishBlocks(level);
     }
     // The coarsest level, factorised when it is small; an empty row (every node in it pinned) stands as
     // the identity, its right-hand side zero.
@@ -273,32 +341,29 @@ void MultilevelPreconditioner::assemble(const kernels::SystemRows& fine) {
     dense_ = factor_.info() == Eigen::Success;
 }
 
-void MultilevelPreconditioner::residual(const Level& level, const std::vector<Vec3>& e, std::vector<Vec3>& out) const {
-    for (std::size_t a = 0; a < level.rows; ++a) {
-        Vec3 s = level.r[a] - times(level.diagonal[a], e[a]);
-        for (std::uint32_t k = level.rowStart[a]; k < level.rowStart[a + 1]; ++k)
-            s -= times(level.offDiagonal[k], e[level.column[k]]);
-        out[a] = s;
-    }
+void MultilevelPreconditioner::residual(const Level& level, const kernels::Field& e, kernels::Field& out) {
+    kernels::blockProduct(level.matrix(), e, &level.r, out, {0, level.paddedRows()});
 }
 
 void MultilevelPreconditioner::smooth(Level& level, bool fromZero) {
-    if (fromZero) {
-        for (std::size_t a = 0; a < level.rows; ++a)
-            level.e[a] = kSmoothingWeight * times(level.inverse[a], level.r[a]);
-        return;
-    }
-    residual(level, level.e, level.t);
-    for (std::size_t a = 0; a < level.rows; ++a) level.e[a] += kSmoothingWeight * times(level.inverse[a], level.t[a]);
+    const kernels::RowRange all{0, level.paddedRows()};
+    if (!fromZero) kernels::blockProduct(level.matrix(), level.e, nullptr, level.t, all);  // t = A e
+    // e = ω D⁻¹ r from zero, else e += ω D⁻¹ (r - A e).
+    (void)kernels::smoothPass(all, kSmoothingWeight, level.r, fromZero ? nullptr : &level.t, level.inverseBlocks,
+                              level.e);
 }
 
 void MultilevelPreconditioner::solveCoarsest(Level& level) {
     if (dense_) {
         DenseVector b(static_cast<Eigen::Index>(3 * level.rows));
         for (std::size_t a = 0; a < level.rows; ++a)
-            b.segment<3>(3 * static_cast<Eigen::Index>(a)) = level.diagonal[a][0] > 0 ? level.r[a] : Vec3::Zero();
+            b.segment<3>(3 * static_cast<Eigen::Index>(a)) =
+                level.diagonal[a][0] > 0 ? Vec3(level.r.x[a], level.r.y[a], level.r.z[a]) : Vec3::Zero();
         factor_.solveInPlace(b);
-        for (std::size_t a = 0; a < level.rows; ++a) level.e[a] = b.segment<3>(3 * static_cast<Eigen::Index>(a));
+        for (std::size_t a = 0; a < level.rows; ++a) {
+            const auto i = 3 * static_cast<Eigen::Index>(a);
+            level.e.x[a] = b(i), level.e.y[a] = b(i + 1), level.e.z[a] = b(i + 2);
+        }
         return;
     }
     smooth(level, true);
@@ -316,7 +381,8 @@ void MultilevelPreconditioner::twoCycles(std::size_t index) {
     residual(level, level.held, level.t);
     std::swap(level.r, level.t);
     cycle(index);
-    for (std::size_t a = 0; a < level.rows; ++a) level.e[a] += level.held[a];
+    for (std::size_t a = 0; a < level.rows; ++a)
+        level.e.x[a] += level.held.x[a], level.e.y[a] += level.held.y[a], level.e.z[a] += level.held.z[a];
 }
 
 void MultilevelPreconditioner::cycle(std::size_t index) {
@@ -329,12 +395,18 @@ void MultilevelPreconditioner::cycle(std::size_t index) {
     smooth(level, true);
     residual(level, level.e, level.t);
     for (std::size_t b = 0; b < next.rows; ++b) {
-        Vec3 s = Vec3::Zero();
-        for (std::uint32_t ch = next.childStart[b]; ch < next.childStart[b + 1]; ++ch) s += level.t[next.children[ch]];
-        next.r[b] = s;
+        double sx = 0, sy = 0, sz = 0;
+        for (std::uint32_t ch = next.childStart[b]; ch < next.childStart[b + 1]; ++ch) {
+            const std::uint32_t i = next.children[ch];
+            sx += level.t.x[i], sy += level.t.y[i], sz += level.t.z[i];
+        }
+        next.r.x[b] = sx, next.r.y[b] = sy, next.r.z[b] = sz;
     }
     twoCycles(index + 1);
-    for (std::size_t a = 0; a < level.rows; ++a) level.e[a] += next.e[next.aggregateOf[a]];
+    for (std::size_t a = 0; a < level.rows; ++a) {
+        const std::uint32_t b = next.aggregateOf[a];
+        level.e.x[a] += next.e.x[b], level.e.y[a] += next.e.y[b], level.e.z[a] += next.e.z[b];
+    }
     smooth(level, false);
 }
 
@@ -367,19 +439,19 @@ kernels::Sums MultilevelPreconditioner::apply(const kernels::SystemRows& fine, c
     multiply(z);
     Level& first = coarse_.front();
     for (std::size_t a = 0; a < first.rows; ++a) {
-        Vec3 s = Vec3::Zero();
+        double sx = 0, sy = 0, sz = 0;
         for (std::uint32_t ch = first.childStart[a]; ch < first.childStart[a + 1]; ++ch) {
             const std::uint32_t i = first.children[ch];
-            s += Vec3(r.x[i] - product_.x[i], r.y[i] - product_.y[i], r.z[i] - product_.z[i]);
+            sx += r.x[i] - product_.x[i], sy += r.y[i] - product_.y[i], sz += r.z[i] - product_.z[i];
         }
-        first.r[a] = s;
+        first.r.x[a] = sx, first.r.y[a] = sy, first.r.z[a] = sz;
     }
     twoCycles(0);  // level 1 gets two cycles as every coarser level does (a W-cycle throughout)
     forEachChunk([&](std::size_t, kernels::RowRange range) {
         for (std::size_t k = range.first; k < std::min(range.end, count_); ++k) {
             if (excluded_[k]) continue;
-            const Vec3& e = first.e[first.aggregateOf[k]];
-            z.x[k] += e.x(), z.y[k] += e.y(), z.z[k] += e.z();
+            const std::uint32_t a = first.aggregateOf[k];
+            z.x[k] += first.e.x[a], z.y[k] += first.e.y[a], z.z[k] += first.e.z[a];
         }
     });
     multiply(z);

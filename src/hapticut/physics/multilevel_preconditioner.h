@@ -4,7 +4,8 @@
 // as in Notay 2010, "An aggregation-based algebraic multigrid method"), level after level, and each level's
 // matrix is the Galerkin product Pᵀ A P of the one above. A W-cycle with damped block-Jacobi smoothing
 // then carries the residual's smooth part, which block-Jacobi alone moves by one ring of nodes per
-// iteration, across the whole region at once.
+// iteration, across the whole region at once. The coarse levels' products and smoothing run as SIMD
+// kernels on single-precision blocks in the finest level's sliced layout (solver_kernels.h).
 //
 // Measured on the fully awake 1,000,000 heart at a 20 ms step (499,890 nodes, from a zero start to 1e-4):
 // block-Jacobi took 156 conjugate-gradient iterations, this preconditioner 12; the 100,000 heart, 34 and 9.
@@ -82,22 +83,36 @@ private:
     /// symmetric), how it aggregates the level above, and its vectors.
     struct Level {
         std::size_t rows = 0;
-        std::vector<SymmetricBlock> diagonal, inverse;  // by row; the inverse is zero for an empty row
-        std::vector<std::uint32_t> rowStart, column;    // the off-diagonal entries of row r: rowStart[r] ..
+        std::vector<SymmetricBlock> diagonal;         // by row, summed in double for the next level
+        std::vector<std::uint32_t> rowStart, column;  // the off-diagonal entries of row r: rowStart[r] ..
         std::vector<SymmetricBlock> offDiagonal;
+        // The matrix as the cycle's SIMD kernels read it (solver_kernels.h), in single precision like the
+        // finest level's couplings: rows padded to whole slices, each entry at its slot (slotOf).
+        kernels::SymmetricBlocks diagonalBlocks, inverseBlocks;  // the inverse is zero for an empty row
+        kernels::SlicedBlocks couplings;
+        std::vector<std::uint32_t> slotOf;
         // The rows of the level above in each of this level's rows, and where each entry of the level
         // above goes here: kToDiagonal (its row's and column's aggregates are the same), an entry's index,
         // or kNone (an empty slot).
         std::vector<std::uint32_t> childStart, children, target;
         std::vector<std::uint32_t> aggregateOf;  // by row of the level above: its row here, or kNone
-        std::vector<Vec3> r, e, t, held;         // residual, correction, scratch, the W-cycle's first correction
+        kernels::Field r, e, t, held;  // residual, correction, scratch, the W-cycle's first correction; padded
         std::size_t rowCapacity = 0, entryCapacity = 0;
+
+        std::size_t paddedRows() const {
+            return (rows + kernels::kSliceRows - 1) / kernels::kSliceRows * kernels::kSliceRows;
+        }
+        kernels::BlockRows matrix() const { return {paddedRows(), &diagonalBlocks, &couplings}; }
     };
 
     /// Aggregates the rows of a level whose neighbours `neighbours(row, visit)` lists into `next`;
     /// false when they do not shrink by kMinimumCoarsening or do not fit the room reserved.
     template <class Neighbours>
     bool aggregate(std::size_t rows, Neighbours&& neighbours, Level& next);
+    /// Lays a level's entries out in slices for the kernels; false when they do not fit the room reserved.
+    static bool sliceEntries(Level& level);
+    /// Copies a level's assembled blocks, and its diagonal's inverses, into the kernels' layout.
+    static void publishBlocks(Level& level);
     /// Moves the levels in use back to the spares.
     void release();
     /// The W-cycle's coarse correction at coarse_[index]: two cycles, the second on the residual the first
@@ -106,9 +121,9 @@ private:
     /// The cycle at coarse_[index] (level index + 1): e = B r on that level's vectors.
     void cycle(std::size_t index);
     /// out = r - A e at a coarse level.
-    void residual(const Level& level, const std::vector<Vec3>& e, std::vector<Vec3>& out) const;
+    static void residual(const Level& level, const kernels::Field& e, kernels::Field& out);
     /// e = e + ω D⁻¹ (r - A e) at a coarse level, or e = ω D⁻¹ r when `fromZero`.
-    void smooth(Level& level, bool fromZero);
+    static void smooth(Level& level, bool fromZero);
     /// The coarsest level's exact solve.
     void solveCoarsest(Level& level);
 

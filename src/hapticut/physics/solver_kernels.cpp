@@ -83,6 +83,41 @@ double Multiply(const SystemRows& a, const Field& y, Field& out, std::size_t fir
     return hn::GetLane(hn::SumOfLanes(d, yAy));
 }
 
+void BlockProduct(const BlockRows& a, const Field& y, const Field* b, Field& out, std::size_t first, std::size_t end) {
+    const D d;
+    const hn::Rebind<std::int32_t, D> di32;
+    const hn::Rebind<std::int64_t, D> di64;
+    const std::size_t lanes = hn::Lanes(d);
+    const SlicedBlocks& c = *a.couplings;
+    const SymmetricBlocks& m = c.blocks;
+    for (std::size_t slice = first / kSliceRows; slice * kSliceRows < end; ++slice) {
+        const std::size_t begin = c.sliceBegin[slice];
+        const std::size_t width = (c.sliceBegin[slice + 1] - begin) / kSliceRows;
+        for (std::size_t group = 0; group < kSliceRows; group += lanes) {
+            const std::size_t row = slice * kSliceRows + group;
+            V sx, sy, sz;
+            symmetricTimes(d, *a.diagonal, row, hn::LoadU(d, y.x.data() + row), hn::LoadU(d, y.y.data() + row),
+                           hn::LoadU(d, y.z.data() + row), sx, sy, sz);
+            for (std::size_t j = 0; j < width; ++j) {
+                const std::size_t slot = begin + j * kSliceRows + group;
+                const auto index = hn::PromoteTo(di64, hn::LoadU(di32, c.other.data() + slot));
+                // A block's product summed apart, then added: the row's sums wait on one addition a slot.
+                V tx, ty, tz;
+                symmetricTimes(d, m, slot, hn::GatherIndex(d, y.x.data(), index), hn::GatherIndex(d, y.y.data(), index),
+                               hn::GatherIndex(d, y.z.data(), index), tx, ty, tz);
+                sx = hn::Add(sx, tx), sy = hn::Add(sy, ty), sz = hn::Add(sz, tz);
+            }
+            if (b) {
+                sx = hn::Sub(hn::LoadU(d, b->x.data() + row), sx);
+                sy = hn::Sub(hn::LoadU(d, b->y.data() + row), sy);
+                sz = hn::Sub(hn::LoadU(d, b->z.data() + row), sz);
+            }
+            hn::StoreU(sx, d, out.x.data() + row), hn::StoreU(sy, d, out.y.data() + row);
+            hn::StoreU(sz, d, out.z.data() + row);
+        }
+    }
+}
+
 Sums StartPass(std::size_t first, std::size_t end, const Field& b, const Field& product, const SymmetricBlocks& inverse,
                Field& r, Field& z, Field& p) {
     const D d;
@@ -167,6 +202,7 @@ std::int64_t forcedTarget = 0;  // forceTarget's choice; zero when the kernels r
 }  // namespace
 
 HWY_EXPORT(Multiply);
+HWY_EXPORT(BlockProduct);
 HWY_EXPORT(StartPass);
 HWY_EXPORT(UpdatePass);
 HWY_EXPORT(DirectionPass);
@@ -174,6 +210,10 @@ HWY_EXPORT(SmoothPass);
 
 double multiply(const SystemRows& a, const Field& y, Field& out, RowRange range) {
     return HWY_DYNAMIC_DISPATCH(Multiply)(a, y, out, range.first, range.end);
+}
+
+void blockProduct(const BlockRows& a, const Field& y, const Field* b, Field& out, RowRange range) {
+    HWY_DYNAMIC_DISPATCH(BlockProduct)(a, y, b, out, range.first, range.end);
 }
 
 Sums startPass(RowRange range, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r, Field& z,

@@ -47,6 +47,20 @@ struct SystemRows {
     const SlicedCouplings* couplings = nullptr;
 };
 
+/// A coarse level of the multilevel preconditioner by rows: a symmetric block on each row's diagonal and
+/// one for each coupling to another row, the couplings in the sliced layout of SlicedCouplings (padding
+/// slots are zero blocks to the row itself).
+struct SlicedBlocks {
+    std::vector<std::uint32_t> sliceBegin;  // one per slice, and the end
+    std::vector<std::int32_t> other;        // the row at the coupling's other end
+    SymmetricBlocks blocks;                 // by slot
+};
+struct BlockRows {
+    std::size_t rows = 0;  // a multiple of kSliceRows
+    const SymmetricBlocks* diagonal = nullptr;
+    const SlicedBlocks* couplings = nullptr;
+};
+
 /// The rows a thread takes at a time when a solve's passes are shared out (a multiple of kSliceRows).
 /// Fixed, so that the partial sums, and with them every result, do not depend on the number of threads.
 inline constexpr std::size_t kChunkRows = 2048;
@@ -66,6 +80,10 @@ inline RowRange chunkRows(std::size_t chunk, std::size_t rows) {
 /// Rows of out = A y; returns their part of yᵀ A y.
 double multiply(const SystemRows& a, const Field& y, Field& out, RowRange range);
 inline double multiply(const SystemRows& a, const Field& y, Field& out) { return multiply(a, y, out, {0, a.rows}); }
+
+/// Rows of out = A y, or of out = b - A y (a residual) when b is given, for a coarse level's matrix. Each
+/// row's sum builds up in registers, its couplings in slot order.
+void blockProduct(const BlockRows& a, const Field& y, const Field* b, Field& out, RowRange range);
 
 /// The sums a conjugate-gradient pass returns: |r|² and r·z, and the largest |r_i|² of a row.
 struct Sums {
