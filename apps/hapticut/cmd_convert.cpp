@@ -2,6 +2,7 @@
 // format, OBJ or PLY.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -84,6 +85,10 @@ int convert(const ConvertOptions& o) {
                   << mm(after.shortestEdge_m) << "; " << remeshed->featureEdges << " sharp or boundary edges kept; "
                   << remeshed->sliversMended << " edits mended thin or folded triangles; distance to the input "
                   << mm(remeshed->distanceMean_m) << " mean, " << mm(remeshed->distanceMax_m) << " max\n";
+        if (remeshed->smoothedFirst)
+            std::cout << "  the input is rough (" << std::lround(100 * remeshed->foldedInputShare)
+                      << "% of its edges fold its faces against each other): smoothed before remeshing, then "
+                         "projected back onto it\n";
         m = std::move(remeshed->mesh);
         if (!source->fromThesisFile) source->physics = physics::thesisPhysicsFor(m, physics::Material{});
     }

@@ -29,6 +29,11 @@ double smallestAngleSine(const Vec3& a, const Vec3& b, const Vec3& c) {
     return l[1] * l[2] > 0 ? twiceArea / (l[1] * l[2]) : 0;
 }
 
+/// An input with more than this share of its edges folded (its two faces facing apart) is rough, as a
+/// jittered segmentation is (10-15%; a clean one, marching tetrahedra's slivers and all, has none), and
+/// is smoothed before the passes (Remesher::lowPass) in kRoughInputRounds rounds.
+constexpr double kRoughInput = 0.01;
+constexpr int kRoughInputRounds = 2;
 /// Collapses do not make triangles thinner than this (sin 15 degrees) where they were not already.
 constexpr double kSliverSine = 0.2588;
 /// Triangles with an angle under 30 degrees (its sine), or folded, are mended after the passes.
@@ -132,6 +137,7 @@ public:
         // Features: boundary edges and edges whose faces bend more than the feature angle.
         const double cosFeature = std::cos(options.featureAngle_deg * std::numbers::pi / 180);
         const MeshAdjacency adjacency = buildAdjacency(faces_);
+        edgeCount_ = adjacency.edges.size();
         for (std::size_t e = 0; e < adjacency.edges.size(); ++e) {
             const auto faces = adjacency.facesOfEdge(e);
             bool isFeature = faces.size() != 2;
@@ -139,6 +145,7 @@ public:
                 const Vec3 n0 = normalOf(faces[0]).normalized(), n1 = normalOf(faces[1]).normalized();
                 isFeature = n0.dot(n1) < cosFeature;
             }
+            if (faces.size() == 2) foldedEdges_ += normalOf(faces[0]).dot(normalOf(faces[1])) < 0;
             const Edge& edge = adjacency.edges[e];
             if (faces.size() == 1) boundary_[edge[0]] = boundary_[edge[1]] = 1;
             if (!isFeature) continue;
@@ -157,6 +164,33 @@ public:
     }
 
     std::size_t featureEdgeCount() const { return featureEdges_.size(); }
+    /// The input's edges whose two faces face apart, as a share of its edges.
+    double foldedEdgeShare() const {
+        return edgeCount_ > 0 ? static_cast<double>(foldedEdges_) / static_cast<double>(edgeCount_) : 0;
+    }
+
+    /// Smooths the mesh in place without shrinking it (Taubin 1995, "A signal processing approach to fair
+    /// surface design": an umbrella step of 0.5 toward the neighbours' mean, then one of -0.53 away):
+    /// on a rough input, whose faces fold against each other at every step of its noise, the passes'
+    /// collapses are refused (they would turn faces too far), the count asked for is missed and the
+    /// mending at the end collapses what is left. The passes project the vertices back onto the input.
+    /// Boundary and feature vertices stay.
+    void lowPass(int rounds) {
+        std::vector<Vec3> next(x_.size());
+        for (int step = 0; step < 2 * rounds; ++step) {
+            const double weight = step % 2 == 0 ? 0.5 : -0.53;
+            for (std::uint32_t v = 0; v < x_.size(); ++v) {
+                next[v] = x_[v];
+                if (feature_[v] > 0 || boundary_[v] != 0) continue;
+                neighbours(v, scratchA_);
+                if (scratchA_.empty()) continue;
+                Vec3 mean = Vec3::Zero();
+                for (std::uint32_t w : scratchA_) mean += x_[w];
+                next[v] += weight * (mean / static_cast<double>(scratchA_.size()) - x_[v]);
+            }
+            x_.swap(next);
+        }
+    }
     std::size_t faceCount() const { return liveFaces_; }
     double targetEdge() const { return options_.targetEdge_m; }
     void setTargetEdge(double l) { options_.targetEdge_m = l; }
@@ -594,6 +628,7 @@ private:
 
     RemeshOptions options_;
     std::size_t liveFaces_ = 0;
+    std::size_t edgeCount_ = 0, foldedEdges_ = 0;  // of the input
     // mendSlivers: the input, the radius its normal is smoothed over, and that normal by vertex.
     const SurfaceGrid* grid_ = nullptr;
     double radius_ = 0;
@@ -653,6 +688,9 @@ Result<RemeshResult, std::string> remeshIsotropic(const SurfaceMesh& input, cons
     Remesher remesher(input, options);
     RemeshResult result;
     result.featureEdges = remesher.featureEdgeCount();
+    result.foldedInputShare = remesher.foldedEdgeShare();
+    result.smoothedFirst = result.foldedInputShare > kRoughInput;
+    if (result.smoothedFirst) remesher.lowPass(kRoughInputRounds);
     const SurfaceGrid grid(input, 2 * std::max(options.targetEdge_m, meanEdgeLength(input)));
     for (int it = 0; it < options.iterations; ++it) {
         remesher.pass(result);

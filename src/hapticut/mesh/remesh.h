@@ -3,6 +3,8 @@
 // tangentially, project back onto the input surface. Boundaries and sharp features are kept. Then the
 // thin and folded triangles that a noisy input leaves are mended by flips, collapses and smart Laplacian
 // moves (Freitag, Jones and Plassmann 1995) judged against the input's normal smoothed over two edges.
+// A rough input (a jittered segmentation, its faces folded against each other) is smoothed first
+// (Taubin 1995), so that the passes can coarsen it.
 #pragma once
 
 #include <cstddef>
@@ -32,6 +34,8 @@ struct RemeshResult {
     long sliversMended = 0;        // thin triangles mended after the passes (an edit each)
     double targetEdge_m = 0;       // the edge length of the last pass
     std::size_t featureEdges = 0;  // of the input, kept
+    double foldedInputShare = 0;   // the input's edges whose two faces face apart, as a share of its edges
+    bool smoothedFirst = false;    // a rough input (many folded edges), smoothed before the passes
     /// How far the result lies from the input: the largest and mean distance of the result's vertices
     /// and face centres to the input surface (a sampled one-sided Hausdorff distance).
     double distanceMax_m = 0, distanceMean_m = 0;

@@ -66,6 +66,9 @@ void expectSegmentedThenReady(const SurfaceMesh& segmented, std::size_t triangle
     EXPECT_NEAR(static_cast<double>(after.faces), static_cast<double>(triangles),
                 0.05 * static_cast<double>(triangles));
     EXPECT_LT(ready->remesh.distanceMax_m, 0.01 * (before.bboxMax - before.bboxMin).norm());
+    // A clean segmentation is not smoothed first; its thin triangles the passes leave are mended.
+    EXPECT_FALSE(ready->remesh.smoothedFirst);
+    EXPECT_GT(ready->remesh.sliversMended, 0);
     EXPECT_EQ(organ.partNames, parts);
     for (std::uint32_t part = 0; part < parts.size(); ++part) {
         SurfaceMesh piece = organ;
