@@ -190,7 +190,8 @@ TEST(Remesh, AJitteredSegmentationGetsTheCountAskedWithEvenTriangles) {
         const MeshReport after = validateMesh(result->mesh);
         EXPECT_TRUE(after.closed && after.manifold && after.oriented) << asked;
         EXPECT_EQ(foldedEdges(result->mesh), 0u) << asked;
-        EXPECT_NEAR(static_cast<double>(result->mesh.faces.size()), static_cast<double>(asked), 0.05 * asked);
+        EXPECT_NEAR(static_cast<double>(result->mesh.faces.size()), static_cast<double>(asked),
+                    0.05 * static_cast<double>(asked));
         EXPECT_GE(after.minAngleDeg, 25) << asked;
         EXPECT_LT(result->distanceMax_m, 0.5 * result->targetEdge_m) << asked;
     }
