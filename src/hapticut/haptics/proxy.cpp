@@ -223,9 +223,12 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
     Vec3 goal = device_m;
     std::optional<std::uint32_t> lastHitFace;
     if (contact_.active) lastHitFace = contact_.face;
+    // A proxy that lifted off heads for the device from where it is: the way there was just searched.
+    std::optional<collision::SegmentHit> towardDevice;
     for (int iteration = 0; iteration < params_.maxIterations; ++iteration) {
         if ((goal - position_).squaredNorm() < 1e-24) break;
-        const auto hit = bvh.firstHit(s, position_, goal);
+        const auto hit = towardDevice ? towardDevice : bvh.firstHit(s, position_, goal);
+        towardDevice.reset();
         if (!hit) {
             position_ = goal;
             if (planeCount_ == 0 || (goal - device_m).squaredNorm() < 1e-24) break;
@@ -247,6 +250,7 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
             }
             planeCount_ = 0;
             goal = device_m;
+            towardDevice = below;
             continue;
         }
         lastHitFace = hit->face;
