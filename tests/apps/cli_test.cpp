@@ -335,6 +335,27 @@ TEST_F(Cli, ARemeshedModelIsRenumberedForLocalityAndBenchMeasuresIt) {
     EXPECT_NE(missing.err.find("none.obj"), std::string::npos) << missing.err;
 }
 
+// The haptics bench says how often the machine took the processor away, and times each proxy update
+// three times, so that the p99 of the update's own work can be told from the machine's gaps.
+TEST_F(Cli, TheHapticsBenchReportsTheMachinesGapsAndTheProxysOwnWork) {
+    const CliResult b =
+        run("bench --triangles 1619 --integrators euler --threads 1 --haptics --seconds 0.05 --json " + path("h.json"));
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    EXPECT_NE(b.out.find("clock gaps over 1 us"), std::string::npos) << b.out;
+    const auto j = nlohmann::json::parse(slurp(path("h.json")));
+    const auto& gaps = j["clock_gaps"];
+    EXPECT_GT(gaps["clock_reads_per_s"].get<double>(), 1e5);  // a clock read is well under 10 us anywhere
+    EXPECT_GE(gaps["gaps_per_s"].get<double>(), 0.0);
+    EXPECT_GE(gaps["stolen_share"].get<double>(), 0.0);
+    EXPECT_LT(gaps["stolen_share"].get<double>(), 1.0);
+    ASSERT_EQ(j["haptics"].size(), 1u);
+    const auto& proxy = j["haptics"][0];
+    // Each update's best is at most its wall time, so every rank of the one is at most the other's.
+    EXPECT_LE(proxy["proxy_update_best_of_3_us"]["p99"].get<double>(), proxy["proxy_update_us"]["p99"].get<double>());
+    EXPECT_LE(proxy["proxy_update_best_of_3_us"]["mean"].get<double>(), proxy["proxy_update_us"]["mean"].get<double>());
+    EXPECT_GT(proxy["proxy_update_best_of_3_us"]["p50"].get<double>(), 0.0);
+}
+
 // Any scene key from the command line, spelt as in a scene file and checked as a file's would be.
 TEST_F(Cli, SetLaysSceneKeysOverTheScenes) {
     const std::string press = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/press-front.csv";
