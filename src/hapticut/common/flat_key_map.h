@@ -5,8 +5,16 @@
 // one slot: open addressing with linear probing (Knuth, TAOCP vol. 3, 6.4), deletion by shifting the
 // entries behind back into the gap (Knuth's Algorithm R), so no tombstones pile up and nothing ever
 // needs an in-place rehash. With room reserved, inserting and erasing never allocate.
+//
+// Keys may be spread over the table by a hash of the whole key, or kept in order of their high halves
+// (Spread::ByHighHalf): an edge's key (mesh::edgeKey) then lands next to the keys of the other edges of
+// its lower vertex, and those of the vertices numbered near it. A cut looks up the edges round the
+// vertices it reaches, which lie near each other in a mesh numbered for locality; spread by a hash,
+// each lookup touched a page of its own in a table of 128 MB (the 1,000,000-triangle heart), and on a
+// virtual machine the first touch of a page left alone for a while can take 100-250 µs.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <optional>
@@ -21,25 +29,39 @@ public:
     /// The one key that cannot be stored: it marks an empty slot.
     static constexpr std::uint64_t kEmptyKey = ~std::uint64_t{0};
 
-    FlatKeyMap() { rehash(kMinSlots); }
+    enum class Spread {
+        Hashed,      // any keys: a hash of the whole key picks the first slot
+        ByHighHalf,  // keys whose high halves count from 0 (an edge's lower vertex)
+    };
+
+    explicit FlatKeyMap(Spread spread = Spread::Hashed) : spread_(spread) { rehash(kMinSlots); }
 
     std::size_t size() const { return size_; }
     /// How many entries fit before the next insert allocates.
     std::size_t room() const { return slots_.size() / 2; }
 
     /// Makes room for `entries`, touching the memory, so that growing to that size never allocates.
-    void reserve(std::size_t entries) {
-        if (entries > room()) rehash(std::bit_ceil(2 * entries));
+    /// Spread by high halves, the table's runs are laid out for high halves below `highHalves` too.
+    void reserve(std::size_t entries, std::size_t highHalves = 0) {
+        highHalves_ = std::max(highHalves_, highHalves);
+        if (entries > room() || (spread_ == Spread::ByHighHalf && runBitsFor(slots_.size()) != runBits_))
+            rehash(std::max(slots_.size(), std::bit_ceil(2 * entries)));
     }
 
     std::optional<std::uint32_t> find(std::uint64_t key) const {
-        for (std::size_t i = home(key);; i = (i + 1) & mask_) {
-            if (slots_[i].key == key) return slots_[i].value;
-            if (slots_[i].key == kEmptyKey) return std::nullopt;
-        }
+        const std::optional<std::size_t> slot = slotOf(key);
+        return slot ? std::optional(slots_[*slot].value) : std::nullopt;
     }
 
     bool contains(std::uint64_t key) const { return find(key).has_value(); }
+
+    /// The slot holding key, if it is there: where in memory a lookup ends (for tests of the spread).
+    std::optional<std::size_t> slotOf(std::uint64_t key) const {
+        for (std::size_t i = home(key);; i = (i + 1) & mask_) {
+            if (slots_[i].key == key) return i;
+            if (slots_[i].key == kEmptyKey) return std::nullopt;
+        }
+    }
 
     /// Sets key's value, adding the key if it is new.
     void set(std::uint64_t key, std::uint32_t value) {
@@ -82,11 +104,24 @@ private:
     std::size_t home(std::uint64_t key) const {
         // Fibonacci hashing: the product's top bits mix all of the key's bits (edge keys differ mostly
         // in their low halves).
-        return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);
+        if (spread_ == Spread::Hashed) return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);
+        // The high half picks a run of slots, the mixed low half a slot in it; high halves past those the
+        // runs were laid out for wrap round (correct, only less local) until the table grows.
+        const std::uint64_t inRun = runBits_ > 0 ? (key & 0xFFFFFFFFull) * 0x9E3779B97F4A7C15ull >> (64 - runBits_) : 0;
+        return static_cast<std::size_t>(((key >> 32 << runBits_) | inRun) & mask_);
+    }
+
+    /// Each high half's run of slots: as long as the table can give every high half seen or reserved for.
+    int runBitsFor(std::size_t slots) const {
+        const std::size_t runs = std::max<std::size_t>(highHalves_, 1);
+        return slots >= runs ? static_cast<int>(std::bit_width(slots / runs)) - 1 : 0;
     }
 
     void rehash(std::size_t slots) {
         std::vector<Slot> old = std::move(slots_);
+        for (const Slot& s : old)
+            if (s.key != kEmptyKey) highHalves_ = std::max<std::size_t>(highHalves_, (s.key >> 32) + 1);
+        runBits_ = runBitsFor(slots);
         slots_.assign(slots, Slot{});  // written, so in memory before the loop needs it
         mask_ = slots - 1;
         shift_ = 64 - std::countr_zero(slots);
@@ -95,9 +130,12 @@ private:
             if (s.key != kEmptyKey) set(s.key, s.value);
     }
 
+    Spread spread_;
     std::vector<Slot> slots_;
     std::size_t mask_ = 0, size_ = 0;
     int shift_ = 64;
+    std::size_t highHalves_ = 0;  // spread by high halves: one more than the largest seen or reserved for
+    int runBits_ = 0;             // spread by high halves: each one's run holds 2^runBits_ slots
 };
 
 }  // namespace hapticut

@@ -28,7 +28,7 @@ CutModel::CutModel(mesh::SurfaceMesh mesh, physics::MassSpringModel model, physi
     for (std::size_t e = 0; e < adjacency.edges.size() && closedBeforeCuts_; ++e)
         closedBeforeCuts_ = adjacency.facesOfEdge(e).size() == 2;
     const physics::Springs& s = model_.springs;
-    springOfEdge_.reserve(roomToGrow(s.size()));  // as the arrays below
+    springOfEdge_.reserve(roomToGrow(s.size()), roomToGrow(mesh_.positions.size()));  // as the arrays below
     for (std::uint32_t k = 0; k < s.size(); ++k) springOfEdge_.set(edgeKey(s.a[k], s.b[k]), k);
     // New springs and anchors follow the model's material: springs scale as 1/L (as the
     // resolution-independent material does), anchors with the node's mass (mass follows area). The means

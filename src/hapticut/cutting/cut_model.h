@@ -169,7 +169,9 @@ private:
     mesh::SurfaceMesh mesh_;
     physics::MassSpringModel model_;
     mesh::VertexFaces facesAround_;
-    FlatKeyMap springOfEdge_;  // edgeKey -> spring, looked up many times a cut
+    // edgeKey -> spring, looked up many times a cut; kept in order of the edges' lower vertices, so that
+    // a cut's lookups stay on a few pages of it.
+    FlatKeyMap springOfEdge_{FlatKeyMap::Spread::ByHighHalf};
     TopologyChanges changes_;
     bool closedBeforeCuts_ = false;
     std::vector<std::uint8_t> wall_;         // per face
