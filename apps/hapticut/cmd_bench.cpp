@@ -10,7 +10,7 @@
 #include <optional>
 #include <random>
 
-#include "bench/clock_gaps.h"
+#include "bench/machine_probes.h"
 #include "bench/solver_kernels.h"
 #include "commands.h"
 #include "hapticut/collision/bvh.h"
@@ -392,9 +392,21 @@ int bench(const BenchOptions& o) {
         for (int triangles : o.triangles)
             haptics.push_back(benchHaptics(scene::benchHeart(triangles).source.mesh, o.seconds));
     }
-    nlohmann::ordered_json cuts = nlohmann::ordered_json::array();
+    nlohmann::ordered_json cuts = nlohmann::ordered_json::array(), idleTouches;
     if (o.cutting) {
-        std::printf("\n%10s %10s %10s %10s %10s %10s %10s\n", "triangles", "events", "points", "mean us", "p50 us",
+        // A cut event touches memory nothing else has touched for a while (the edge map, the lists round
+        // the vertices it reaches): what that costs on this machine after the thread slept.
+        const bench::IdlePageTouches touches = bench::measureIdlePageTouches(64, 1.0, 2000);
+        std::printf(
+            "\npages written, then left alone while the thread slept %.0f s: first touch p50 %.2f us, p99 %.1f us, "
+            "max %.0f us, %.1f%% over %.0f us\n",
+            touches.idle_s, touches.p50_us, touches.p99_us, touches.max_us, 100 * touches.slow_share,
+            bench::IdlePageTouches::kSlow_us);
+        idleTouches = {{"idle_s", touches.idle_s},        {"pages", touches.pages},
+                       {"p50_us", touches.p50_us},        {"p99_us", touches.p99_us},
+                       {"max_us", touches.max_us},        {"slow_threshold_us", bench::IdlePageTouches::kSlow_us},
+                       {"slow_share", touches.slow_share}};
+        std::printf("%10s %10s %10s %10s %10s %10s %10s\n", "triangles", "events", "points", "mean us", "p50 us",
                     "p99 us", "max us");
         for (int triangles : o.triangles) cuts.push_back(benchCutting(scene::benchHeart(triangles)));
     }
@@ -413,7 +425,7 @@ int bench(const BenchOptions& o) {
         j["results"] = results;
         j["solver_kernels"] = kernelTimes;
         if (o.haptics) j["haptics"] = haptics, j["clock_gaps"] = clockGaps;
-        if (o.cutting) j["cutting"] = cuts;
+        if (o.cutting) j["cutting"] = cuts, j["idle_page_touches"] = idleTouches;
         if (o.render) j["render"] = frameRates;
         if (!writeJson(o.json, j)) return 1;
         std::cout << "wrote " << o.json << "\n";
@@ -458,7 +470,8 @@ Command addBenchCommand(CLI::App& app) {
                   "runs of each update) and the probe tip's footprint build (mean and p99), and how often this "
                   "machine takes the processor away (clock gaps)");
     cmd->add_flag("--cutting", o->cutting,
-                  "Also measure the scalpel's cut events through the haptic loop (mean, p50, p99, max)");
+                  "Also measure the scalpel's cut events through the haptic loop (mean, p50, p99, max), and "
+                  "how long this machine takes to touch memory again after the thread slept");
 #ifdef HAPTICUT_WITH_VIEWER
     cmd->add_flag("--render", o->render,
                   "Also measure frames per second, mono and side by side, with the haptic loop running (needs a "

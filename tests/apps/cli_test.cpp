@@ -336,12 +336,15 @@ TEST_F(Cli, ARemeshedModelIsRenumberedForLocalityAndBenchMeasuresIt) {
 }
 
 // The haptics bench says how often the machine took the processor away, and times each proxy update
-// three times, so that the p99 of the update's own work can be told from the machine's gaps.
-TEST_F(Cli, TheHapticsBenchReportsTheMachinesGapsAndTheProxysOwnWork) {
+// three times, so that the p99 of the update's own work can be told from the machine's gaps; the cutting
+// bench says what touching memory again after a sleep costs here.
+TEST_F(Cli, TheBenchReportsWhatTheMachineTakesAndTheProxysOwnWork) {
     const CliResult b =
-        run("bench --triangles 1619 --integrators euler --threads 1 --haptics --seconds 0.05 --json " + path("h.json"));
+        run("bench --triangles 1619 --integrators euler --threads 1 --haptics --cutting --seconds 0.05 --json " +
+            path("h.json"));
     ASSERT_EQ(b.exitCode, 0) << b.err;
     EXPECT_NE(b.out.find("clock gaps over 1 us"), std::string::npos) << b.out;
+    EXPECT_NE(b.out.find("left alone while the thread slept"), std::string::npos) << b.out;
     const auto j = nlohmann::json::parse(slurp(path("h.json")));
     const auto& gaps = j["clock_gaps"];
     EXPECT_GT(gaps["clock_reads_per_s"].get<double>(), 1e5);  // a clock read is well under 10 us anywhere
@@ -354,6 +357,15 @@ TEST_F(Cli, TheHapticsBenchReportsTheMachinesGapsAndTheProxysOwnWork) {
     EXPECT_LE(proxy["proxy_update_best_of_3_us"]["p99"].get<double>(), proxy["proxy_update_us"]["p99"].get<double>());
     EXPECT_LE(proxy["proxy_update_best_of_3_us"]["mean"].get<double>(), proxy["proxy_update_us"]["mean"].get<double>());
     EXPECT_GT(proxy["proxy_update_best_of_3_us"]["p50"].get<double>(), 0.0);
+    const auto& touches = j["idle_page_touches"];
+    EXPECT_EQ(touches["pages"], 2000);
+    EXPECT_GT(touches["p50_us"].get<double>(), 0.0);
+    EXPECT_LE(touches["p50_us"].get<double>(), touches["p99_us"].get<double>());
+    EXPECT_LE(touches["p99_us"].get<double>(), touches["max_us"].get<double>());
+    EXPECT_GE(touches["slow_share"].get<double>(), 0.0);
+    EXPECT_LE(touches["slow_share"].get<double>(), 1.0);
+    ASSERT_EQ(j["cutting"].size(), 1u);
+    EXPECT_GT(j["cutting"][0]["cut_events"].get<int>(), 0);
 }
 
 // Any scene key from the command line, spelt as in a scene file and checked as a file's would be.
