@@ -30,8 +30,10 @@ public:
     static constexpr std::uint64_t kEmptyKey = ~std::uint64_t{0};
 
     enum class Spread {
-        Hashed,      // any keys: a hash of the whole key picks the first slot
-        ByHighHalf,  // keys whose high halves count from 0 (an edge's lower vertex)
+        Hashed,  // any keys: a hash of the whole key picks the first slot
+        // Keys whose high halves count from 0 with a few keys each (an edge's lower vertex): a high half
+        // with many (a vertex joined to hundreds) makes a long run that its neighbours' lookups walk.
+        ByHighHalf,
     };
 
     explicit FlatKeyMap(Spread spread = Spread::Hashed) : spread_(spread) { rehash(kMinSlots); }
