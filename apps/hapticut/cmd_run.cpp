@@ -304,7 +304,12 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
     if (r.multiRate && r.multiRateFrom_s > 0)
         std::cout << "the physics took more than half the period: multi-rate from t = " << r.multiRateFrom_s << " s\n";
     std::cout << (r.multiRate ? "multi-rate" : "single-rate") << " physics: " << r.physicsRate_hz << " steps/s, "
-              << r.physicsRealtimeFactor << " simulated s per wall s\n";
+              << r.physicsRealtimeFactor << " simulated s per wall s; step " << r.physicsStepTime_us.p50 / 1e3
+              << " ms p50, " << r.physicsStepTime_us.p99 / 1e3 << " ms p99\n";
+    if (r.multiRate && config.realtime)
+        std::cout << "the tissue fell behind by " << r.physicsTimeLost_s << " s in steps longer than "
+                  << r.maxPhysicsStep_s << " s, and was " << r.physicsLagAtEnd_s
+                  << " s behind the wall clock at the end (the step in progress and a frame coming in)\n";
     if (config.realtime)
         std::cout << "haptic thread: " << r.hapticScheduling
                   << (r.hapticScheduling.rfind("normal: ", 0) == 0

@@ -11,6 +11,7 @@ from conftest import ticks_while
 
 # Wall-clock measurements, and who made the report: the only fields two runs of one experiment may differ in.
 TIMING = {"provenance", "wall_time_s", "steps_per_wall_s", "step_us", "physics_rate_hz", "physics_realtime_factor",
+          "physics_step_us", "physics_time_lost_s", "physics_lag_at_end_s",
           "cut_event_us", "physics_sync_us"}
 
 

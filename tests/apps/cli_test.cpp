@@ -709,12 +709,38 @@ TEST_F(Cli, RealTimeRunsLongerThanASecondLogEveryStepWhileTheProgressLineRuns) {
         const auto j = nlohmann::json::parse(slurp(path("rt.json")));
         EXPECT_EQ(j["steps"], 1500);
         EXPECT_GT(j["haptic_rate_hz"].get<double>(), kLeastRate_hz);
+        ASSERT_TRUE(j["physics_step_us"].is_object()) << "how long the physics' steps took";
+        EXPECT_GT(j["physics_step_us"]["max"].get<double>(), 0.0);
+        EXPECT_TRUE(j["physics_time_lost_s"].is_null()) << "single-rate: a step that overruns is an overrun";
         const std::string log = slurp(path("f.csv"));
         EXPECT_EQ(std::count(log.begin(), log.end(), '\n') - 1 + j["log_dropped_steps"].get<long>(), 1500);
         if (j["log_dropped_steps"] == 0) {
             EXPECT_NE(r.out.find("wrote 1500 steps to"), std::string::npos) << r.out;
         }
     }
+}
+
+// A multi-rate run says where its tissue fell short of real time: steps longer than the longest step
+// lose wall time, and at the end the tissue is about a step behind.
+TEST_F(Cli, AMultiRateRunSaysWhereItsTissueFellShortOfRealTime) {
+    const std::string press = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/press-front.csv";
+    const CliResult r =
+        run("run --trajectory " + press + " --realtime --steps 400 --set simulation.physics_rate=multi" + " --report " +
+            path("mr.json"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(path("mr.json")));
+    ASSERT_EQ(j["multi_rate"], true);
+    ASSERT_TRUE(j["physics_step_us"].is_object());
+    EXPECT_GT(j["physics_step_us"]["mean"].get<double>(), 0.0);
+    const double wall = j["wall_time_s"], factor = j["physics_realtime_factor"];
+    const double lost = j["physics_time_lost_s"], lag = j["physics_lag_at_end_s"];
+    EXPECT_GE(lost, 0.0);
+    EXPECT_GE(lag, 0.0);
+    EXPECT_LT(lag, 0.2) << "a step of the 1,619 heart or two";
+    if (lag > 0) {
+        EXPECT_NEAR(wall * factor + lost + lag, wall, 1e-6) << "the shortfall is the two";
+    }
+    EXPECT_NE(r.out.find("behind the wall clock at the end"), std::string::npos) << r.out;
 }
 
 // A material so stiff that RK4 would need tens of thousands of substeps a step: refused up front with

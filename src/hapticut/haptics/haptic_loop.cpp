@@ -611,7 +611,9 @@ void HapticLoop::advanceTissue(Frame& frame) noexcept {
     const auto physicsStart = Clock::now();
     pressVolume();
     const physics::StepResult result = stepper_.step(model_, 1 / config_.rate_hz);
-    watchPhysicsTime(std::chrono::duration<double, std::micro>(Clock::now() - physicsStart).count());
+    const double physics_us = std::chrono::duration<double, std::micro>(Clock::now() - physicsStart).count();
+    watchPhysicsTime(physics_us);
+    stats_.physicsStepTime_us.record(physics_us);
     snapshots_.nodesMoved(stepper_.movedNodes());
     ++stats_.physicsSteps;
     stats_.physicsTime_s += 1 / config_.rate_hz;
@@ -708,6 +710,8 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
             lastSolve_ = f->solve;
             ++stats_.physicsSteps;
             stats_.physicsTime_s += f->dt_s;
+            stats_.physicsStepTime_us.record(1e6 * f->wall_s);
+            stats_.physicsTimeLost_s += f->lost_s;
             worker_->releaseFrame();
         }
         if (inParts && (taken == kFrameNodesPerStep || whole || movedFaces_.size() >= kFrameFacesPerStep))

@@ -173,7 +173,11 @@ struct LoopStats {
     long multiRateFromStep = -1;    // the step from which the physics ran on its own thread; -1: never
     long multiRateSwitchSteps = 0;  // Auto: steps taken, the tissue held still, while the physics' copy was made
     double physicsTime_s = 0;       // simulated by them
-    bool volumeKept = false;        // LoopConfig::bulkModulus_Pa took effect (a closed organ, single-rate)
+    // How long each physics step took to compute on the wall clock, and the wall time left unsimulated
+    // because a multi-rate step took longer than LoopConfig::maxPhysicsStep_s (the tissue fell behind).
+    LatencyHistogram physicsStepTime_us{10, 200'000};
+    double physicsTimeLost_s = 0;
+    bool volumeKept = false;  // LoopConfig::bulkModulus_Pa took effect (a closed organ, single-rate)
 };
 
 struct LoopCommand {

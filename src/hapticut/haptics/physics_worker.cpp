@@ -103,10 +103,12 @@ void PhysicsWorker::releaseFrame() {
     readFrame_ ^= 1;
 }
 
-void PhysicsWorker::stepOnce(double dt_s) {
+void PhysicsWorker::stepOnce(double dt_s, double lost_s) {
     const Tools& tools = tools_.readLatest();
     for (std::size_t t = 0; t < tools.size(); ++t) tools[t].copyTo(model_.tools[t]);
+    const auto start = std::chrono::steady_clock::now();
     const physics::StepResult result = stepper_.step(model_, dt_s);
+    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // The frame the haptic side gave back; in simulated time it was given back before this call.
     PhysicsFrame& frame = frames_[static_cast<std::size_t>(writeFrame_)];
     const std::span<const std::uint32_t> moved = stepper_.movedNodes();
@@ -118,6 +120,8 @@ void PhysicsWorker::stepOnce(double dt_s) {
         frame.velocities[k] = model_.nodes.velocity[moved[k]];
     }
     frame.dt_s = dt_s;
+    frame.wall_s = wall_s;
+    frame.lost_s = lost_s;
     frame.finite = result.finite;
     frame.solve = result.solve;
     frame.implicit = stepper_.scheme() == physics::Scheme::BackwardEuler;
@@ -156,13 +160,14 @@ void PhysicsWorker::threadMain() {
         // As long as the previous step took, so that the tissue keeps up with the wall clock; within a
         // haptic period and maxStep (beyond it the physics falls behind, and the report says so).
         const auto now = Clock::now();
-        const double dt = std::clamp(std::chrono::duration<double>(now - last).count(), period_s_, maxStep_s_);
-        if (std::chrono::duration<double>(now - last).count() < period_s_) {
+        const double elapsed = std::chrono::duration<double>(now - last).count();
+        if (elapsed < period_s_) {
             pause();
             continue;
         }
+        const double dt = std::min(elapsed, maxStep_s_);
         last = now;
-        stepOnce(dt);
+        stepOnce(dt, elapsed - dt);
     }
     idle_.store(true, std::memory_order_release);
 }

@@ -23,6 +23,9 @@ struct PhysicsFrame {
     std::vector<std::uint32_t> nodes;
     std::vector<Vec3> positions, velocities;
     double dt_s = 0;
+    double wall_s = 0;  // how long the step took to compute
+    // Wall time this step did not simulate: the previous one took longer than the longest step allowed.
+    double lost_s = 0;
     bool finite = true;
     physics::SolveReport solve;
     bool implicit = false;  // solve is the implicit scheme's
@@ -93,8 +96,8 @@ public:
 
 private:
     void threadMain();
-    /// Steps once by dt_s and fills the free frame with what moved.
-    void stepOnce(double dt_s);
+    /// Steps once by dt_s and fills the free frame with what moved; `lost_s` of wall time went unsimulated.
+    void stepOnce(double dt_s, double lost_s = 0);
 
     physics::MassSpringModel model_;
     physics::Stepper stepper_;

@@ -209,6 +209,9 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.physicsRate_hz = st.wallTime_s > 0 ? static_cast<double>(st.physicsSteps) / st.wallTime_s : 0;
     r.physicsRealtimeFactor = st.wallTime_s > 0 ? st.physicsTime_s / st.wallTime_s : 0;
     r.maxPhysicsStep_s = config.loop.maxPhysicsStep_s;
+    r.physicsStepTime_us = st.physicsStepTime_us.summary();
+    r.physicsTimeLost_s = st.physicsTimeLost_s;
+    r.physicsLagAtEnd_s = std::max(0.0, st.wallTime_s - st.physicsTime_s - st.physicsTimeLost_s);
     return r;
 }
 
