@@ -221,14 +221,15 @@ SolveReport BackwardEuler::solve(double& stepNorm2) {
                     for (std::size_t k = first; k < end; ++k) (*a)[k] *= scale;
         });
     }
+    // With the multilevel preconditioner z is its cycle's, which begins with the passes' z weighted for smoothing.
+    const double weight = useMultilevel_ ? multilevel_.firstWeight() : 1.0;
     forEachChunk(rows, [&](std::size_t first, std::size_t end) {
         partial_[chunkOf(first)] =
-            kernels::startPass({first, end}, b, product_, inverse, residual_, preconditioned_, direction_);
+            kernels::startPass({first, end}, b, product_, inverse, residual_, preconditioned_, direction_, weight);
     });
     kernels::Sums sums = total(partial_);
-    // With the multilevel preconditioner z is its cycle's, not the passes' block-Jacobi one.
     const kernels::SystemRows matrix = system_.matrix();
-    auto precondition = [&] { sums = multilevel_.apply(matrix, inverse, residual_, preconditioned_, pool_); };
+    auto precondition = [&] { sums = multilevel_.apply(matrix, inverse, residual_, preconditioned_, pool_, true); };
     if (useMultilevel_) {
         precondition();
         forEachChunk(rows, [&](std::size_t first, std::size_t end) {
@@ -245,7 +246,7 @@ SolveReport BackwardEuler::solve(double& stepNorm2) {
         const double alpha = rz / pq;
         forEachChunk(rows, [&](std::size_t first, std::size_t end) {
             partial_[chunkOf(first)] = kernels::updatePass({first, end}, alpha, direction_, product_, inverse,
-                                                           solution_, residual_, preconditioned_);
+                                                           solution_, residual_, preconditioned_, weight);
         });
         sums = total(partial_);
         ++report.iterations;

@@ -411,7 +411,8 @@ void MultilevelPreconditioner::cycle(std::size_t index) {
 }
 
 kernels::Sums MultilevelPreconditioner::apply(const kernels::SystemRows& fine, const kernels::SymmetricBlocks& inverse,
-                                              const kernels::Field& r, kernels::Field& z, OwnedWorkerPool& pool) {
+                                              const kernels::Field& r, kernels::Field& z, OwnedWorkerPool& pool,
+                                              bool smoothed) {
     const std::size_t rows = fine.rows;
     partial_.resize(kernels::chunksOf(rows));
     auto forEachChunk = [&](auto&& task) {
@@ -433,9 +434,10 @@ kernels::Sums MultilevelPreconditioner::apply(const kernels::SystemRows& fine, c
     auto multiply = [&](const kernels::Field& y) {
         forEachChunk([&](std::size_t, kernels::RowRange range) { kernels::multiply(fine, y, product_, range); });
     };
-    forEachChunk([&](std::size_t, kernels::RowRange range) {
-        kernels::smoothPass(range, kSmoothingWeight, r, nullptr, inverse, z);
-    });
+    if (!smoothed)
+        forEachChunk([&](std::size_t, kernels::RowRange range) {
+            kernels::smoothPass(range, kSmoothingWeight, r, nullptr, inverse, z);
+        });
     multiply(z);
     Level& first = coarse_.front();
     for (std::size_t a = 0; a < first.rows; ++a) {

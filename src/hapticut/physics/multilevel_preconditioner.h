@@ -65,8 +65,12 @@ public:
     void assemble(const kernels::SystemRows& fine);
     /// z = B r for the preconditioner B (symmetric and positive definite: the cycle's smoothing is the same
     /// before and after its coarse correction); returns the sums over r and z (kernels::Sums).
+    /// With `smoothed`, z already holds the first smoothing, firstWeight() P⁻¹ r: the conjugate-gradient
+    /// pass that updated r wrote it, which saves a pass over the rows.
     kernels::Sums apply(const kernels::SystemRows& fine, const kernels::SymmetricBlocks& inverse,
-                        const kernels::Field& r, kernels::Field& z, OwnedWorkerPool& pool);
+                        const kernels::Field& r, kernels::Field& z, OwnedWorkerPool& pool, bool smoothed = false);
+    /// The weight of the first smoothing, z = ω P⁻¹ r (1 without a coarse level: plain block-Jacobi).
+    double firstWeight() const { return coarse_.empty() ? 1.0 : kSmoothingWeight; }
 
     /// Whether the levels are laid out (layOut since the last reserve or copy).
     bool laidOut() const { return laidOut_; }

@@ -119,8 +119,9 @@ void BlockProduct(const BlockRows& a, const Field& y, const Field* b, Field& out
 }
 
 Sums StartPass(std::size_t first, std::size_t end, const Field& b, const Field& product, const SymmetricBlocks& inverse,
-               Field& r, Field& z, Field& p) {
+               Field& r, Field& z, Field& p, double omega) {
     const D d;
+    const V w = hn::Set(d, omega);  // times 1 leaves z as it was, bit for bit
     V r2 = hn::Zero(d), rz = hn::Zero(d), rowMax2 = hn::Zero(d);
     for (std::size_t i = first; i < end; i += hn::Lanes(d)) {
         const V rx = hn::Sub(hn::LoadU(d, b.x.data() + i), hn::LoadU(d, product.x.data() + i));
@@ -128,6 +129,7 @@ Sums StartPass(std::size_t first, std::size_t end, const Field& b, const Field& 
         const V rzv = hn::Sub(hn::LoadU(d, b.z.data() + i), hn::LoadU(d, product.z.data() + i));
         V zx, zy, zz;
         symmetricTimes(d, inverse, i, rx, ry, rzv, zx, zy, zz);
+        zx = hn::Mul(w, zx), zy = hn::Mul(w, zy), zz = hn::Mul(w, zz);
         hn::StoreU(rx, d, r.x.data() + i), hn::StoreU(ry, d, r.y.data() + i), hn::StoreU(rzv, d, r.z.data() + i);
         hn::StoreU(zx, d, z.x.data() + i), hn::StoreU(zy, d, z.y.data() + i), hn::StoreU(zz, d, z.z.data() + i);
         hn::StoreU(zx, d, p.x.data() + i), hn::StoreU(zy, d, p.y.data() + i), hn::StoreU(zz, d, p.z.data() + i);
@@ -137,9 +139,9 @@ Sums StartPass(std::size_t first, std::size_t end, const Field& b, const Field& 
 }
 
 Sums UpdatePass(std::size_t first, std::size_t end, double alpha, const Field& p, const Field& q,
-                const SymmetricBlocks& inverse, Field& x, Field& r, Field& z) {
+                const SymmetricBlocks& inverse, Field& x, Field& r, Field& z, double omega) {
     const D d;
-    const V a = hn::Set(d, alpha), minusA = hn::Set(d, -alpha);
+    const V a = hn::Set(d, alpha), minusA = hn::Set(d, -alpha), w = hn::Set(d, omega);
     V r2 = hn::Zero(d), rz = hn::Zero(d), rowMax2 = hn::Zero(d);
     for (std::size_t i = first; i < end; i += hn::Lanes(d)) {
         hn::StoreU(hn::MulAdd(a, hn::LoadU(d, p.x.data() + i), hn::LoadU(d, x.x.data() + i)), d, x.x.data() + i);
@@ -150,6 +152,7 @@ Sums UpdatePass(std::size_t first, std::size_t end, double alpha, const Field& p
         const V rzv = hn::MulAdd(minusA, hn::LoadU(d, q.z.data() + i), hn::LoadU(d, r.z.data() + i));
         V zx, zy, zz;
         symmetricTimes(d, inverse, i, rx, ry, rzv, zx, zy, zz);
+        zx = hn::Mul(w, zx), zy = hn::Mul(w, zy), zz = hn::Mul(w, zz);
         hn::StoreU(rx, d, r.x.data() + i), hn::StoreU(ry, d, r.y.data() + i), hn::StoreU(rzv, d, r.z.data() + i);
         hn::StoreU(zx, d, z.x.data() + i), hn::StoreU(zy, d, z.y.data() + i), hn::StoreU(zz, d, z.z.data() + i);
         addToSums(rx, ry, rzv, zx, zy, zz, r2, rz, rowMax2);
@@ -217,13 +220,13 @@ void blockProduct(const BlockRows& a, const Field& y, const Field* b, Field& out
 }
 
 Sums startPass(RowRange range, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r, Field& z,
-               Field& p) {
-    return HWY_DYNAMIC_DISPATCH(StartPass)(range.first, range.end, b, product, inverse, r, z, p);
+               Field& p, double omega) {
+    return HWY_DYNAMIC_DISPATCH(StartPass)(range.first, range.end, b, product, inverse, r, z, p, omega);
 }
 
 Sums updatePass(RowRange range, double alpha, const Field& p, const Field& q, const SymmetricBlocks& inverse, Field& x,
-                Field& r, Field& z) {
-    return HWY_DYNAMIC_DISPATCH(UpdatePass)(range.first, range.end, alpha, p, q, inverse, x, r, z);
+                Field& r, Field& z, double omega) {
+    return HWY_DYNAMIC_DISPATCH(UpdatePass)(range.first, range.end, alpha, p, q, inverse, x, r, z, omega);
 }
 
 void directionPass(RowRange range, double beta, const Field& z, Field& p) {

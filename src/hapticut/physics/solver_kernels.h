@@ -90,12 +90,13 @@ struct Sums {
     double r2 = 0, rz = 0, rowMax2 = 0;
 };
 
-/// The first pass: r = b - Ax (`product` holds Ax), z = P⁻¹ r, p = z; the sums over the range's rows.
+/// The first pass: r = b - Ax (`product` holds Ax), z = omega P⁻¹ r, p = z; the sums over the range's rows.
+/// omega is 1 for block-Jacobi; the multilevel cycle's first smoothing is this pass's z with its weight.
 Sums startPass(RowRange range, const Field& b, const Field& product, const SymmetricBlocks& inverse, Field& r, Field& z,
-               Field& p);
-/// After a product q = A p: x += alpha p, r -= alpha q, z = P⁻¹ r.
+               Field& p, double omega = 1.0);
+/// After a product q = A p: x += alpha p, r -= alpha q, z = omega P⁻¹ r.
 Sums updatePass(RowRange range, double alpha, const Field& p, const Field& q, const SymmetricBlocks& inverse, Field& x,
-                Field& r, Field& z);
+                Field& r, Field& z, double omega = 1.0);
 /// p = z + beta p.
 void directionPass(RowRange range, double beta, const Field& z, Field& p);
 /// Damped block-Jacobi smoothing for the multilevel preconditioner: z = omega P⁻¹ r with `product` null,
