@@ -46,12 +46,14 @@ Model load(const std::string& model, int triangles, const std::vector<std::strin
         // Loading a large file or heart takes seconds that other Python threads can use.
         py::gil_scoped_release release;
         loaded.emplace(scene::loadModelSource(model, triangles, parts));
+        if (*loaded) {
+            if (scale != 1)
+                for (Vec3& p : (*loaded)->mesh.positions) p *= scale;
+            scene::describeInMetres(**loaded);
+        }
     }
     if (!*loaded) raiseError(loaded->error());
-    Model m{std::move(loaded->value())};
-    if (scale != 1)
-        for (Vec3& p : m.source.mesh.positions) p *= scale;
-    return m;
+    return Model{std::move(loaded->value())};
 }
 
 }  // namespace

@@ -298,6 +298,26 @@ TEST_F(Cli, ConvertRemeshesToATriangleCountOrAnEdgeLength) {
     EXPECT_TRUE(nlohmann::json::parse(flat.out)["shape_advice"].is_string());
     EXPECT_TRUE(nlohmann::json::parse(run("info heart --json").out)["shape_advice"].is_null());
 
+    // The same in millimetres, read with --units mm: the advice and the physics are the metre file's.
+    // They were once worked out before the units, and gave edges a thousand times too long and springs
+    // of a thousandth of the stiffness; `convert` wrote those springs into a thesis file.
+    std::ofstream(path("flat-mm.obj")) << "v 0 0 0\nv 50 0 0\nv 0 50 0\nv 25 25 0.2\n"
+                                          "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+    const CliResult mm = run("info " + path("flat-mm.obj") + " --units mm --json");
+    ASSERT_EQ(mm.exitCode, 0) << mm.err;
+    const auto metres = nlohmann::json::parse(flat.out), millimetres = nlohmann::json::parse(mm.out);
+    EXPECT_EQ(millimetres["shape_advice"], metres["shape_advice"]);
+    EXPECT_NE(mm.err.find("against a mean of 46.1 mm"), std::string::npos) << mm.err;
+    for (const char* constant : {"ks", "kd", "kp", "kdp"})
+        EXPECT_NEAR(millimetres["physics"][constant].get<double>(), metres["physics"][constant].get<double>(),
+                    1e-9 * metres["physics"][constant].get<double>())
+            << constant;
+    ASSERT_EQ(run("convert " + path("flat-mm.obj") + " --units mm " + path("flat.txt")).exitCode, 0);
+    ASSERT_EQ(run("convert " + path("flat.obj") + " " + path("flat-m.txt")).exitCode, 0);
+    const auto thesis = nlohmann::json::parse(run("info " + path("flat.txt") + " --json").out);
+    EXPECT_NEAR(thesis["physics"]["kp"].get<double>(), metres["physics"]["kp"].get<double>(),
+                1e-6 * metres["physics"]["kp"].get<double>());
+
     EXPECT_EQ(run("convert heart --remesh 3000 --target-edge 0.004 " + path("x.obj")).exitCode, 2);
     EXPECT_EQ(run("convert heart --target-edge -1 " + path("x.obj")).exitCode, 2);
     EXPECT_EQ(run("convert heart --remesh 2 " + path("x.obj")).exitCode, 2);

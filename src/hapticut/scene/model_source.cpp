@@ -21,7 +21,6 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles, 
         mesh::procedural::HeartOptions options;
         options.triangles = triangles;
         source.mesh = mesh::procedural::makeHeart(options);
-        source.physics = physics::thesisPhysicsFor(source.mesh, physics::Material{});
         source.vertexOrder.spanBefore = source.vertexOrder.spanAfter = mesh::meanEdgeSpan(source.mesh);
         return source;
     }
@@ -37,7 +36,7 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles, 
     // Every per-node pass of the physics, the tree and the cutter reads neighbours together: a mesh in no
     // spatial order made a fully awake implicit step of a 100,000-triangle heart 1.7 times as slow.
     source.vertexOrder = mesh::orderVerticesForLocality(source.mesh);
-    source.physics = loaded->physics ? *loaded->physics : physics::thesisPhysicsFor(source.mesh, physics::Material{});
+    if (loaded->physics) source.physics = *loaded->physics;
     // Open or non-manifold surfaces can still be simulated; say what is unusual and go on.
     const mesh::MeshReport report = mesh::validateMesh(source.mesh);
     auto warn = [&](std::string message) { source.warnings.push_back({model, 0, std::move(message)}); };
@@ -45,7 +44,6 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles, 
     if (report.nonManifoldEdges > 0)
         warn(std::to_string(report.nonManifoldEdges) + " non-manifold edges (hapticut convert --repair splits them)");
     if (report.misorientedEdges > 0) warn("inconsistently oriented faces (hapticut convert --repair orients them)");
-    if (const auto advice = mesh::shapeAdvice(report)) warn(*advice);
     return source;
 }
 
@@ -62,6 +60,17 @@ Result<ModelSource, Error> loadModelSource(const std::string& model, int triangl
                   "out of memory loading the model" +
                       (model == "heart" ? " at " + std::to_string(triangles) + " triangles" : std::string())});
     }
+}
+
+std::optional<Warning> describeInMetres(ModelSource& source) {
+    // Computed on the file's own coordinates, an organ in millimetres was said to have edges a thousand
+    // times too long and springs of a thousandth of their stiffness.
+    if (!source.fromThesisFile) source.physics = physics::thesisPhysicsFor(source.mesh, physics::Material{});
+    if (source.name == "heart") return std::nullopt;  // even triangles by construction, at any size
+    const auto advice = mesh::shapeAdvice(mesh::validateMesh(source.mesh));
+    if (!advice) return std::nullopt;
+    source.warnings.push_back({source.name, 0, *advice});
+    return source.warnings.back();
 }
 
 physics::MassSpringModel buildSimulationModel(const ModelSource& source) {

@@ -105,6 +105,7 @@ Result<Scene, Error> assembleScene(std::filesystem::path file, SceneFile setting
     if (!source) return unexpected(source.error());
     scene.source = std::move(*source);
     applyPlacement(scene.settings, scene.source.mesh.positions);
+    describeInMetres(scene.source);
     auto tissue = materialField(scene.settings.regions, scene.file);
     if (!tissue) return unexpected(tissue.error());
     scene.tissue = std::move(*tissue);
