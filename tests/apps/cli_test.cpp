@@ -740,6 +740,37 @@ TEST_F(Cli, RealTimeRunsLongerThanASecondLogEveryStepWhileTheProgressLineRuns) {
     }
 }
 
+// An organ exported inside out (every face's normal into the tissue, as some exporters write them)
+// loads outward with a warning, and is pressed as the heart is: inside out, the probe's proxy sank
+// millimetres into the tissue and the dent stayed after the probe left.
+TEST_F(Cli, AnOrganExportedInsideOutIsTurnedOutwardAndPressedAsItShouldBe) {
+    ASSERT_EQ(run("convert heart " + path("heart.obj")).exitCode, 0);
+    std::istringstream in(slurp(path("heart.obj")));
+    std::ofstream out(path("inside-out.obj"));
+    for (std::string line; std::getline(in, line);) {
+        std::istringstream words(line);
+        std::string tag, a, b, c;
+        if (words >> tag >> a >> b >> c && tag == "f")
+            out << "f " << a << " " << c << " " << b << "\n";
+        else
+            out << line << "\n";
+    }
+    out.close();
+    const std::string press = std::string(HAPTICUT_SOURCE_DIR) + "/assets/trajectories/press-front.csv";
+    auto pressed = [&](const std::string& model, const std::string& report) {
+        const CliResult r = run("run --model " + path(model) + " --trajectory " + press + " --report " + path(report));
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return std::pair{r, nlohmann::json::parse(slurp(path(report)))};
+    };
+    const auto [turned, j] = pressed("inside-out.obj", "turned.json");
+    EXPECT_NE(turned.err.find("1 piece came inside out (1616 faces"), std::string::npos) << turned.err;
+    const auto [plain, expected] = pressed("heart.obj", "plain.json");
+    EXPECT_EQ(plain.err.find("inside out"), std::string::npos) << plain.err;
+    EXPECT_LT(j["max_proxy_penetration_m"].get<double>(), 1e-4);
+    EXPECT_NEAR(j["max_force_N"].get<double>(), expected["max_force_N"].get<double>(), 1e-6);
+    EXPECT_LT(j["final_max_displacement_m"].get<double>(), 1e-3) << "the tissue springs back";
+}
+
 // A multi-rate run says where its tissue fell short of real time: steps longer than the longest step
 // lose wall time, and at the end the tissue is about a step behind.
 TEST_F(Cli, AMultiRateRunSaysWhereItsTissueFellShortOfRealTime) {

@@ -224,6 +224,58 @@ std::size_t orient(SurfaceMesh& m, std::vector<std::uint32_t>& component) {
 
 }  // namespace
 
+TurnedOutward turnInsideOutPiecesOutward(SurfaceMesh& m) {
+    TurnedOutward turned;
+    const MeshAdjacency adj = buildAdjacency(m.faces);
+    std::vector<std::uint32_t> piece(m.faces.size(), kNoFace);
+    std::vector<std::uint32_t> members;
+    std::vector<char> partNamed(m.partNames.size(), 0);
+    for (std::uint32_t seed = 0; seed < m.faces.size(); ++seed) {
+        if (piece[seed] != kNoFace) continue;
+        members.clear();
+        members.push_back(seed);
+        piece[seed] = seed;
+        bool closed = true, consistent = true;
+        for (std::size_t next = 0; next < members.size(); ++next) {
+            const std::uint32_t f = members[next];
+            for (int k = 0; k < 3; ++k) {
+                const auto faces = adj.facesOfEdge(adj.faceEdges[f][k]);
+                if (faces.size() != 2) {
+                    closed = false;
+                    continue;
+                }
+                const std::uint32_t g = faces[0] == f ? faces[1] : faces[0];
+                // Neighbours that agree run their shared edge in opposite directions.
+                if (traversesForward(m.faces[g], m.faces[f][k], m.faces[f][(k + 1) % 3])) consistent = false;
+                if (piece[g] != kNoFace) continue;
+                piece[g] = seed;
+                members.push_back(g);
+            }
+        }
+        if (!closed || !consistent) continue;
+        // About a corner of the piece rather than the origin: a segmentation in body coordinates sits far
+        // from it, and the volume's terms would cancel.
+        const Vec3 origin = m.positions[m.faces[seed][0]];
+        double volume = 0;
+        for (std::uint32_t f : members) {
+            const Face& c = m.faces[f];
+            volume += (m.positions[c[0]] - origin).dot((m.positions[c[1]] - origin).cross(m.positions[c[2]] - origin));
+        }
+        if (!(volume < 0)) continue;
+        for (std::uint32_t f : members) {
+            std::swap(m.faces[f][1], m.faces[f][2]);
+            if (m.uvs.size() == m.faces.size()) std::swap(m.uvs[f][1], m.uvs[f][2]);
+            const std::uint32_t part = m.partOf(f);
+            if (part < partNamed.size() && !partNamed[part])
+                partNamed[part] = 1, turned.parts.push_back(m.partNames[part]);
+        }
+        ++turned.pieces;
+        turned.faces += members.size();
+    }
+    if (turned.faces > 0) computeFaceNormals(m);
+    return turned;
+}
+
 RepairReport cleanMesh(SurfaceMesh& m, const RepairOptions& options) {
     RepairReport r;
     if (m.uvs.size() != m.faces.size()) m.uvs.assign(m.faces.size(), FaceUvs{Vec2::Zero(), Vec2::Zero(), Vec2::Zero()});

@@ -34,6 +34,18 @@ struct RepairReport {
 /// small components. Recomputes normals and the edge list.
 RepairReport cleanMesh(SurfaceMesh& mesh, const RepairOptions& options = {});
 
+/// The closed pieces of a mesh that were turned outward.
+struct TurnedOutward {
+    std::size_t pieces = 0, faces = 0;
+    std::vector<std::string> parts;  // the named parts they belong to, each once
+};
+
+/// Turns outward each closed, consistently oriented piece whose faces all face inward (a negative
+/// enclosed volume), as files exported inside out come: contact, the tissue's volume and shading all take
+/// a face's normal to point out of the tissue. Pieces that are open or disagree within themselves are
+/// left to cleanMesh's repair. Cheap enough to run on every load: one pass over the edges.
+TurnedOutward turnInsideOutPiecesOutward(SurfaceMesh& mesh);
+
 /// Scales and moves the mesh into the unit box centred at the origin (largest extent 1), as the
 /// thesis's models had to be.
 void fitUnitBox(SurfaceMesh& mesh);

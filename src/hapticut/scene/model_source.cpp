@@ -6,6 +6,7 @@
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/parts.h"
 #include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/mesh/repair.h"
 #include "hapticut/physics/material.h"
 
 namespace hapticut::scene {
@@ -29,6 +30,18 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles, 
     source.warnings = std::move(loaded->warnings);
     source.mesh = std::move(loaded->mesh);
     if (const auto refused = mesh::selectParts(source.mesh, parts)) return unexpected(Error{model, 0, *refused});
+    // An inside-out part was pressed from outside as if from within: the proxy sank 3.6 mm into a
+    // segmented ball and the tissue stayed dented after the tool left.
+    const mesh::TurnedOutward turned = mesh::turnInsideOutPiecesOutward(source.mesh);
+    if (turned.pieces > 0) {
+        std::string which;
+        for (const std::string& part : turned.parts) which += (which.empty() ? "part '" : ", '") + part + "'";
+        if (which.empty()) which = std::to_string(turned.pieces) + (turned.pieces == 1 ? " piece" : " pieces");
+        source.warnings.push_back(
+            {model, 0,
+             which + " came inside out (" + std::to_string(turned.faces) +
+                 " faces whose normals pointed into the tissue): turned outward, as contact and volume need"});
+    }
     source.toolThreshold_N = loaded->toolThreshold_N;
     source.fromThesisFile = loaded->physics.has_value();
     if (source.mesh.faces.empty())

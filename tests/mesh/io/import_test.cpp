@@ -235,6 +235,50 @@ TEST(Repair, OrientsFlippedFacesOutward) {
     EXPECT_GT(test::signedVolume(m), 0) << "outward";
 }
 
+// A file exported inside out loads outward: every closed piece that agrees within itself but faces
+// inward is turned, far from the origin too (a segmentation's body coordinates); an open patch, a piece
+// already outward and one that disagrees within itself are left alone, and the parts turned are named.
+TEST(Repair, TurnsClosedPiecesThatCameInsideOutOutward) {
+    SurfaceMesh m;
+    auto part = [&](const SurfaceMesh& piece, const std::string& name, bool insideOut) {
+        SurfaceMesh p = piece;
+        if (insideOut)
+            for (Face& f : p.faces) std::swap(f[1], f[2]);
+        const std::size_t first = m.faces.size();
+        procedural::appendMesh(m, p);
+        m.partNames.push_back(name);
+        m.faceParts.resize(m.faces.size(), static_cast<std::uint32_t>(m.partNames.size() - 1));
+        return std::pair{first, m.faces.size()};
+    };
+    const auto ball = part(procedural::makeSphere(Vec3(0.3, 0.2, 0.1), 0.01, 16, 8), "gallbladder", true);
+    const auto liver = part(procedural::makeSphere(Vec3(0.35, 0.2, 0.1), 0.02, 24, 12), "liver", false);
+    const auto patch = part(procedural::makeGrid(4, 0.01), "sheet", true);
+    SurfaceMesh mixed = procedural::makeSphere(Vec3(0.3, 0.3, 0.1), 0.01, 12, 6);
+    for (Face& f : mixed.faces) std::swap(f[1], f[2]);
+    std::swap(mixed.faces[0][1], mixed.faces[0][2]);  // one face disagrees: --repair's to sort out
+    const auto disagreeing = part(mixed, "cyst", false);
+    const SurfaceMesh before = m;
+
+    const TurnedOutward turned = turnInsideOutPiecesOutward(m);
+    EXPECT_EQ(turned.pieces, 1u);
+    EXPECT_EQ(turned.faces, ball.second - ball.first);
+    EXPECT_EQ(turned.parts, std::vector<std::string>{"gallbladder"});
+    auto volumeOf = [&](std::pair<std::size_t, std::size_t> range) {
+        SurfaceMesh piece = m;
+        piece.faces.assign(m.faces.begin() + static_cast<long>(range.first),
+                           m.faces.begin() + static_cast<long>(range.second));
+        return test::signedVolume(piece);
+    };
+    EXPECT_GT(volumeOf(ball), 0) << "turned outward";
+    EXPECT_GT(volumeOf(liver), 0);
+    for (auto range : {liver, patch, disagreeing})
+        for (std::size_t f = range.first; f < range.second; ++f) EXPECT_EQ(m.faces[f], before.faces[f]) << f;
+    ASSERT_EQ(m.normals.size(), m.faces.size());
+    EXPECT_GT(m.normals[ball.first].dot(m.positions[m.faces[ball.first][0]] - Vec3(0.3, 0.2, 0.1)), 0)
+        << "its normals recomputed, pointing out";
+    EXPECT_EQ(turnInsideOutPiecesOutward(m).pieces, 0u) << "nothing left to turn";
+}
+
 TEST(Repair, PartsAFinFromTheEdgeItSharesWithAClosedPiece) {
     SurfaceMesh m = test::tetrahedron();
     m.positions.push_back(Vec3(2, 2, -2));
