@@ -291,6 +291,13 @@ TEST(MultiRate, InRealTimeThePhysicsRunsOnItsOwnThreadAndKeepsUp) {
 #endif
     EXPECT_GT(st.physicsTime_s, kLeastPhysicsShare * st.wallTime_s) << "the tissue keeps up with the wall clock";
     EXPECT_LT(st.physicsTime_s, 1.05 * st.wallTime_s);
+    // The panel shows how the physics keeps up: its share of real time and how long its last step took.
+    const Snapshot& shown = loop.snapshots().readLatest();
+    EXPECT_TRUE(shown.multiRate);
+    EXPECT_GT(shown.physicsRealtimeFactor, kLeastPhysicsShare);
+    EXPECT_LT(shown.physicsRealtimeFactor, 1.05);
+    EXPECT_GT(shown.physicsStep_s, 0.0);
+    EXPECT_LE(shown.physicsStep_s * 1e6, st.physicsStepTime_us.summary().max);
     EXPECT_GT(maxForce, kLeastForce_N) << "the press pushes back";
     EXPECT_GT(physics::maxDisplacement(organ.model()), 1e-4) << "the tissue moved on the haptic side's copy";
 }

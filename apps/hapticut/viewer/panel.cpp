@@ -71,7 +71,10 @@ void loopSection(scene::Simulation& session, const haptics::Snapshot& s, const R
     ImGui::Text("render %.0f fps   haptic %.0f Hz", rates.renderFps, rates.hapticRate_hz);
     ImGui::Text("haptic thread: %s", session.hapticScheduling().c_str());
     ImGui::Text("step %.1f us (max %.1f us)", s.stepTime_us, s.maxStepTime_us);
-    if (s.multiRate) ImGui::Text("physics %.0f Hz on its own thread (multi-rate)", s.physicsRate_hz);
+    if (s.multiRate) {
+        ImGui::Text("physics %.0f Hz on its own thread (multi-rate)", s.physicsRate_hz);
+        ImGui::Text("  %.3f of real time, last step %.1f ms", s.physicsRealtimeFactor, s.physicsStep_s * 1e3);
+    }
     if (s.scheme == physics::Scheme::BackwardEuler)
         ImGui::Text("implicit, %d CG iterations (%s)", s.solverIterations,
                     s.solverMultilevel ? "multilevel" : "block-Jacobi");

@@ -614,6 +614,7 @@ void HapticLoop::advanceTissue(Frame& frame) noexcept {
     const double physics_us = std::chrono::duration<double, std::micro>(Clock::now() - physicsStart).count();
     watchPhysicsTime(physics_us);
     stats_.physicsStepTime_us.record(physics_us);
+    lastPhysicsStep_s_ = physics_us / 1e6;
     snapshots_.nodesMoved(stepper_.movedNodes());
     ++stats_.physicsSteps;
     stats_.physicsTime_s += 1 / config_.rate_hz;
@@ -711,6 +712,7 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
             ++stats_.physicsSteps;
             stats_.physicsTime_s += f->dt_s;
             stats_.physicsStepTime_us.record(1e6 * f->wall_s);
+            lastPhysicsStep_s_ = f->wall_s;
             stats_.physicsTimeLost_s += f->lost_s;
             worker_->releaseFrame();
         }
@@ -950,6 +952,8 @@ void HapticLoop::publishSnapshot(const StepOutput& out) {
     s.solverMultilevel = lastSolve_.multilevel;
     s.multiRate = worker_ != nullptr;
     s.physicsRate_hz = worker_ && time_s() > 0 ? static_cast<double>(stats_.physicsSteps) / time_s() : config_.rate_hz;
+    s.physicsRealtimeFactor = time_s() > 0 ? stats_.physicsTime_s / time_s() : 1;
+    s.physicsStep_s = lastPhysicsStep_s_;
     s.overruns = stats_.overruns;
     s.stalls = stats_.stalls;
     s.cutEvents = stats_.cutEvents;

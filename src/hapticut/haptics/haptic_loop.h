@@ -382,6 +382,7 @@ private:
     LoopConfig config_;
     physics::Stepper stepper_;
     physics::SolveReport lastSolve_;         // the latest step's, for the snapshot
+    double lastPhysicsStep_s_ = 0;           // how long the latest physics step took, for the snapshot
     std::vector<std::uint32_t> movedFaces_;  // the faces round the nodes the latest step moved, for the refit
     // Each node where the tree's boxes last saw it. The boxes are grown by a margin (Bvh::setMargin), so
     // they hold every face while its corners stay within the margin of these: most of an awake region

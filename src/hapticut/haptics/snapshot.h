@@ -49,7 +49,9 @@ struct Snapshot {
     int solverIterations = 0;                               // the implicit scheme's, in the latest step
     bool solverMultilevel = false;                          // ... preconditioned by the multilevel cycle
     bool multiRate = false;
-    double physicsRate_hz = 0;  // physics steps per second: the loop's rate unless multi-rate
+    double physicsRate_hz = 0;         // physics steps per second: the loop's rate unless multi-rate
+    double physicsRealtimeFactor = 1;  // simulated physics time per second of the loop's
+    double physicsStep_s = 0;          // how long the latest physics step took to compute
     long overruns = 0, stalls = 0, cutEvents = 0, contactSteps = 0;
     cutting::CutStats cut{};  // the cutter's counts since the loop started: cuts, their length, wounds crossed
     bool watchdogTripped = false, paused = false;
