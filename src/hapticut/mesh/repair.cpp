@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <queue>
+#include <span>
 #include <unordered_map>
 
 #include "hapticut/geometry/aabb.h"
@@ -178,6 +178,48 @@ std::size_t splitNonManifoldVertices(SurfaceMesh& m) {
     return split;
 }
 
+/// The piece of `seed` (the faces joined across edges that exactly two faces share), breadth first into
+/// `members`, each marked `mark` in `piece`. meet(f, k, g, first) is called for face f's edge k and the
+/// face g across it, with `first` when g is met for the first time (before it is marked, so that the
+/// caller may flip it). Returns whether the piece is closed: no edge of it has one face or more than two.
+template <class Meet>
+bool gatherPiece(const MeshAdjacency& adj, std::uint32_t seed, std::uint32_t mark, std::vector<std::uint32_t>& piece,
+                 std::vector<std::uint32_t>& members, Meet&& meet) {
+    members.assign(1, seed);
+    piece[seed] = mark;
+    bool closed = true;
+    for (std::size_t next = 0; next < members.size(); ++next) {
+        const std::uint32_t f = members[next];
+        for (int k = 0; k < 3; ++k) {
+            const auto faces = adj.facesOfEdge(adj.faceEdges[f][k]);
+            if (faces.size() != 2) {
+                closed = false;
+                continue;
+            }
+            const std::uint32_t g = faces[0] == f ? faces[1] : faces[0];
+            const bool first = piece[g] == kNoFace;
+            meet(f, k, g, first);
+            if (!first) continue;
+            piece[g] = mark;
+            members.push_back(g);
+        }
+    }
+    return closed;
+}
+
+/// Six times the volume a closed piece encloses, positive when its faces face out. About a corner of
+/// the piece rather than the origin: a segmentation in body coordinates sits far from it, and the
+/// terms would cancel.
+double enclosedVolume6(const SurfaceMesh& m, std::span<const std::uint32_t> members) {
+    const Vec3 origin = m.positions[m.faces[members.front()][0]];
+    double volume = 0;
+    for (std::uint32_t f : members) {
+        const Face& c = m.faces[f];
+        volume += (m.positions[c[0]] - origin).dot((m.positions[c[1]] - origin).cross(m.positions[c[2]] - origin));
+    }
+    return volume;
+}
+
 /// Flips faces so that neighbours agree (breadth-first over manifold edges), then turns each closed
 /// piece outward (positive enclosed volume). Returns the faces flipped and the piece of each face.
 std::size_t orient(SurfaceMesh& m, std::vector<std::uint32_t>& component) {
@@ -185,38 +227,17 @@ std::size_t orient(SurfaceMesh& m, std::vector<std::uint32_t>& component) {
     component.assign(m.faces.size(), kNoFace);
     std::size_t flipped = 0;
     std::uint32_t pieces = 0;
+    std::vector<std::uint32_t> members;
     for (std::uint32_t seed = 0; seed < m.faces.size(); ++seed) {
         if (component[seed] != kNoFace) continue;
-        std::vector<std::uint32_t> members;
-        std::queue<std::uint32_t> todo;
-        todo.push(seed);
-        component[seed] = pieces;
-        bool closed = true;
-        while (!todo.empty()) {
-            const std::uint32_t f = todo.front();
-            todo.pop();
-            members.push_back(f);
-            for (int k = 0; k < 3; ++k) {
-                const auto faces = adj.facesOfEdge(adj.faceEdges[f][k]);
-                if (faces.size() != 2) {
-                    closed = false;
-                    continue;
-                }
-                const std::uint32_t g = faces[0] == f ? faces[1] : faces[0];
-                if (component[g] != kNoFace) continue;
-                const std::uint32_t a = m.faces[f][k], b = m.faces[f][(k + 1) % 3];
-                if (traversesForward(m.faces[g], a, b)) flip(m, g), ++flipped;  // a neighbour must run b -> a
-                component[g] = pieces;
-                todo.push(g);
-            }
-        }
-        if (closed) {
-            double volume = 0;
-            for (std::uint32_t f : members)
-                volume += m.positions[m.faces[f][0]].dot(m.positions[m.faces[f][1]].cross(m.positions[m.faces[f][2]]));
-            if (volume < 0)
-                for (std::uint32_t f : members) flip(m, f), ++flipped;
-        }
+        const bool closed = gatherPiece(
+            adj, seed, pieces, component, members, [&](std::uint32_t f, int k, std::uint32_t g, bool first) {
+                // a neighbour must run the shared edge b -> a
+                if (first && traversesForward(m.faces[g], m.faces[f][k], m.faces[f][(k + 1) % 3]))
+                    flip(m, g), ++flipped;
+            });
+        if (closed && enclosedVolume6(m, members) < 0)
+            for (std::uint32_t f : members) flip(m, f), ++flipped;
         ++pieces;
     }
     return flipped;
@@ -227,44 +248,19 @@ std::size_t orient(SurfaceMesh& m, std::vector<std::uint32_t>& component) {
 TurnedOutward turnInsideOutPiecesOutward(SurfaceMesh& m) {
     TurnedOutward turned;
     const MeshAdjacency adj = buildAdjacency(m.faces);
-    std::vector<std::uint32_t> piece(m.faces.size(), kNoFace);
-    std::vector<std::uint32_t> members;
+    std::vector<std::uint32_t> piece(m.faces.size(), kNoFace), members;
     std::vector<char> partNamed(m.partNames.size(), 0);
     for (std::uint32_t seed = 0; seed < m.faces.size(); ++seed) {
         if (piece[seed] != kNoFace) continue;
-        members.clear();
-        members.push_back(seed);
-        piece[seed] = seed;
-        bool closed = true, consistent = true;
-        for (std::size_t next = 0; next < members.size(); ++next) {
-            const std::uint32_t f = members[next];
-            for (int k = 0; k < 3; ++k) {
-                const auto faces = adj.facesOfEdge(adj.faceEdges[f][k]);
-                if (faces.size() != 2) {
-                    closed = false;
-                    continue;
-                }
-                const std::uint32_t g = faces[0] == f ? faces[1] : faces[0];
-                // Neighbours that agree run their shared edge in opposite directions.
+        bool consistent = true;  // neighbours that agree run their shared edge in opposite directions
+        const bool closed =
+            gatherPiece(adj, seed, seed, piece, members, [&](std::uint32_t f, int k, std::uint32_t g, bool) {
                 if (traversesForward(m.faces[g], m.faces[f][k], m.faces[f][(k + 1) % 3])) consistent = false;
-                if (piece[g] != kNoFace) continue;
-                piece[g] = seed;
-                members.push_back(g);
-            }
-        }
-        if (!closed || !consistent) continue;
-        // About a corner of the piece rather than the origin: a segmentation in body coordinates sits far
-        // from it, and the volume's terms would cancel.
-        const Vec3 origin = m.positions[m.faces[seed][0]];
-        double volume = 0;
-        for (std::uint32_t f : members) {
-            const Face& c = m.faces[f];
-            volume += (m.positions[c[0]] - origin).dot((m.positions[c[1]] - origin).cross(m.positions[c[2]] - origin));
-        }
-        if (!(volume < 0)) continue;
+            });
+        if (!closed || !consistent || !(enclosedVolume6(m, members) < 0)) continue;
         for (std::uint32_t f : members) {
             std::swap(m.faces[f][1], m.faces[f][2]);
-            if (m.uvs.size() == m.faces.size()) std::swap(m.uvs[f][1], m.uvs[f][2]);
+            if (m.uvs.size() == m.faces.size()) std::swap(m.uvs[f][1], m.uvs[f][2]);  // a file may come without
             const std::uint32_t part = m.partOf(f);
             if (part < partNamed.size() && !partNamed[part])
                 partNamed[part] = 1, turned.parts.push_back(m.partNames[part]);
