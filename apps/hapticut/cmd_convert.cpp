@@ -46,7 +46,7 @@ int convert(const ConvertOptions& o) {
     if (!source) return 1;
     mesh::SurfaceMesh& m = source->mesh;
     applyUnits(o.units, m.positions, source->name);
-    if (const auto advice = scene::describeInMetres(*source)) std::cerr << "warning: " << advice->toString() << "\n";
+    for (const Warning& w : scene::describeInMetres(*source)) std::cerr << "warning: " << w.toString() << "\n";
     if (o.weld || o.repair) {
         mesh::RepairOptions options;
         options.weldEpsilon_m = o.weld.value_or(-1);

@@ -26,7 +26,7 @@ int info(const InfoOptions& o) {
     auto source = loadModelSource(o.model, o.triangles, o.units.parts);
     if (!source) return 1;
     applyUnits(o.units, source->mesh.positions, source->name);
-    if (const auto advice = scene::describeInMetres(*source)) std::cerr << "warning: " << advice->toString() << "\n";
+    for (const Warning& w : scene::describeInMetres(*source)) std::cerr << "warning: " << w.toString() << "\n";
     const mesh::MeshReport r = mesh::validateMesh(source->mesh);
     if (o.json) {
         std::cout << scene::modelInfo(*source).dump(2) << "\n";

@@ -33,6 +33,19 @@ def test_a_model_file_loads_as_written(tmp_path):
         hapticut.load_mesh(tmp_path / "t.obj", units="inch")
 
 
+def test_a_model_says_what_is_unusual_about_it_in_metres_and_comes_outward(tmp_path):
+    # The tetrahedron in millimetres, inside out, one face dropped: turned outward is not possible for an
+    # open piece, so it stays as it came and says it is open; closed, it is turned and says so.
+    inside_out = "".join(f"f {a} {c} {b}\n" for a, b, c in [(1, 3, 2), (1, 2, 4), (1, 4, 3), (2, 3, 4)])
+    points = "v 0 0 0\nv 50 0 0\nv 0 50 0\nv 0 0 50\n"
+    closed = hapticut.load_mesh(write(tmp_path / "in.obj", points + inside_out), units="mm")
+    assert any("came inside out (4 faces" in w for w in closed.warnings), closed.warnings
+    np.testing.assert_array_equal(closed.faces, [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    opened = hapticut.load_mesh(write(tmp_path / "open.obj", points + inside_out.split("\n", 1)[1]), units="mm")
+    assert any("open surface, 3 boundary edges" in w for w in opened.warnings), opened.warnings
+    assert not any("inside out" in w for w in opened.warnings)
+
+
 def test_a_file_in_no_spatial_order_is_renumbered_and_says_where_each_vertex_was(tmp_path):
     heart = hapticut.load_mesh("heart", triangles=5000)
     order = np.random.default_rng(5).permutation(len(heart.positions))  # file vertex k is heart vertex order[k]

@@ -50,13 +50,6 @@ Result<ModelSource, Error> loadOrThrow(const std::string& model, int triangles, 
     // spatial order made a fully awake implicit step of a 100,000-triangle heart 1.7 times as slow.
     source.vertexOrder = mesh::orderVerticesForLocality(source.mesh);
     if (loaded->physics) source.physics = *loaded->physics;
-    // Open or non-manifold surfaces can still be simulated; say what is unusual and go on.
-    const mesh::MeshReport report = mesh::validateMesh(source.mesh);
-    auto warn = [&](std::string message) { source.warnings.push_back({model, 0, std::move(message)}); };
-    if (report.boundaryEdges > 0) warn("open surface, " + std::to_string(report.boundaryEdges) + " boundary edges");
-    if (report.nonManifoldEdges > 0)
-        warn(std::to_string(report.nonManifoldEdges) + " non-manifold edges (hapticut convert --repair splits them)");
-    if (report.misorientedEdges > 0) warn("inconsistently oriented faces (hapticut convert --repair orients them)");
     return source;
 }
 
@@ -75,15 +68,22 @@ Result<ModelSource, Error> loadModelSource(const std::string& model, int triangl
     }
 }
 
-std::optional<Warning> describeInMetres(ModelSource& source) {
+std::vector<Warning> describeInMetres(ModelSource& source) {
     // Computed on the file's own coordinates, an organ in millimetres was said to have edges a thousand
     // times too long and springs of a thousandth of their stiffness.
     if (!source.fromThesisFile) source.physics = physics::thesisPhysicsFor(source.mesh, physics::Material{});
-    if (source.name == "heart") return std::nullopt;  // even triangles by construction, at any size
-    const auto advice = mesh::shapeAdvice(mesh::validateMesh(source.mesh));
-    if (!advice) return std::nullopt;
-    source.warnings.push_back({source.name, 0, *advice});
-    return source.warnings.back();
+    if (source.name == "heart") return {};  // closed, manifold and evenly shaped by construction, at any size
+    // Open or non-manifold surfaces can still be simulated; say what is unusual and go on.
+    const mesh::MeshReport report = mesh::validateMesh(source.mesh);
+    std::vector<Warning> found;
+    auto warn = [&](std::string message) { found.push_back({source.name, 0, std::move(message)}); };
+    if (report.boundaryEdges > 0) warn("open surface, " + std::to_string(report.boundaryEdges) + " boundary edges");
+    if (report.nonManifoldEdges > 0)
+        warn(std::to_string(report.nonManifoldEdges) + " non-manifold edges (hapticut convert --repair splits them)");
+    if (report.misorientedEdges > 0) warn("inconsistently oriented faces (hapticut convert --repair orients them)");
+    if (const auto advice = mesh::shapeAdvice(report)) warn(*advice);
+    source.warnings.insert(source.warnings.end(), found.begin(), found.end());
+    return found;
 }
 
 physics::MassSpringModel buildSimulationModel(const ModelSource& source) {

@@ -31,10 +31,11 @@ struct ModelSource {
 Result<ModelSource, Error> loadModelSource(const std::string& model, int triangles,
                                            std::span<const std::string> parts = {});
 
-/// What depends on the model's size, once its coordinates are in metres (after --units, --scale or a
-/// scene's placement): the thesis equivalent of the default material (a thesis file keeps its own
-/// constants) and the advice on its shape, which is appended to the warnings and returned.
-std::optional<Warning> describeInMetres(ModelSource& source);
+/// Once the model's coordinates are in metres (after --units, --scale or a scene's placement): the
+/// thesis equivalent of the default material (a thesis file keeps its own constants), and what is unusual
+/// about its surface (open, non-manifold, inconsistently oriented, badly shaped for simulation), checked
+/// once here, appended to the warnings and returned.
+std::vector<Warning> describeInMetres(ModelSource& source);
 
 /// The simulation model: a thesis file's own constants, otherwise the default resolution-independent material.
 physics::MassSpringModel buildSimulationModel(const ModelSource& source);
