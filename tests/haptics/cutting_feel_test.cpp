@@ -237,6 +237,22 @@ TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyS
     }
 }
 
+double meanEdgeOf(const mesh::SurfaceMesh& m) {
+    double edges = 0;
+    for (const mesh::Face& f : m.faces)
+        for (int k = 0; k < 3; ++k) edges += (m.positions[f[(k + 1) % 3]] - m.positions[f[k]]).norm();
+    return edges / (3.0 * static_cast<double>(m.faces.size()));
+}
+
+/// Every vertex moved at random by up to `amount` along each axis, as a noisy segmentation leaves it.
+mesh::SurfaceMesh jitteredBy(const mesh::SurfaceMesh& smooth, double amount, unsigned seed) {
+    mesh::SurfaceMesh jittered = smooth;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    for (Vec3& x : jittered.positions) x += amount * Vec3(unit(rng), unit(rng), unit(rng));
+    return jittered;
+}
+
 // An organ as a segmentation gives it: every vertex moved at random by up to a third of the mean edge,
 // which leaves slivers, faces tilted tens of degrees and fans that fold. The scalpel's stroke cuts across
 // it in one cut, most of the way it cuts across the smooth heart. Seen in space, the way from a cut point
@@ -257,10 +273,7 @@ TEST(CuttingFeel, AScalpelStrokeOverAJitteredHeartCutsAsFarAsOverTheSmoothOne) {
     };
     const mesh::SurfaceMesh smooth = mesh::procedural::makeHeart({.triangles = 30000});
     const double smoothLength = cutLength(smooth).second;
-    double edges = 0;
-    for (const mesh::Face& f : smooth.faces)
-        for (int k = 0; k < 3; ++k) edges += (smooth.positions[f[(k + 1) % 3]] - smooth.positions[f[k]]).norm();
-    const double meanEdge = edges / (3.0 * static_cast<double>(smooth.faces.size()));
+    const double meanEdge = meanEdgeOf(smooth);
 #ifdef HAPTICUT_SANITIZED
     const std::vector<unsigned> seeds{6};  // the one that cut least; the code is the same for all
 #else
@@ -268,15 +281,58 @@ TEST(CuttingFeel, AScalpelStrokeOverAJitteredHeartCutsAsFarAsOverTheSmoothOne) {
 #endif
     for (unsigned seed : seeds) {
         SCOPED_TRACE(testing::Message() << "seed " << seed);
-        mesh::SurfaceMesh jittered = smooth;
-        std::mt19937 rng(seed);
-        std::uniform_real_distribution<double> unit(-1, 1);
-        for (Vec3& x : jittered.positions) x += meanEdge / 3 * Vec3(unit(rng), unit(rng), unit(rng));
+        const mesh::SurfaceMesh jittered = jitteredBy(smooth, meanEdge / 3, seed);
         const auto [cuts, length] = cutLength(jittered);
         EXPECT_EQ(cuts, 1);
-        // 0.66 at the least (seed 6): the crack of a blade pressed straight down into the sloping front
-        // first runs back up the slope, and the cut, turned round, loses some of its way.
-        EXPECT_GT(length, 0.6 * smoothLength) << "smooth: " << smoothLength << " m";
+        // 1.04 at the least. Seed 6 cut 0.66 before a cut turned round by a crack that first ran up the
+        // slope could step back along an edge out of a folded fan (ProgressiveCutter::crossToward).
+        EXPECT_GT(length, 0.9 * smoothLength) << "smooth: " << smoothLength << " m";
+    }
+}
+
+/// How far along x, the scalpel stroke's way, the vertices a run added reach: the cut's span.
+double spanAlongX(const cutting::CutModel& organ, std::size_t verticesBefore) {
+    double lo = 1e300, hi = -1e300;
+    for (std::size_t v = verticesBefore; v < organ.mesh().positions.size(); ++v)
+        lo = std::min(lo, organ.mesh().positions[v].x()), hi = std::max(hi, organ.mesh().positions[v].x());
+    return hi > lo ? hi - lo : 0.0;
+}
+
+// Jittered by half the mean edge, as a noisy segmentation is: many vertices stick out past all their
+// neighbours with their faces turned over, so that no edge of their fan leads toward the blade, or
+// only across the lips the cut has just opened. The cut steps along an edge to the neighbour nearest
+// the blade and goes on. It used to stay at such a vertex while the blade pressed on at the force
+// clamp: 12 and 29 mm of the smooth heart's 47 on two of these hearts (seeds 4 and 5), and 3.9 mm of 50
+// on a jittered 960,796-triangle liver.
+TEST(CuttingFeel, AScalpelStrokeOverAHeartJitteredByHalfAnEdgeCutsAcrossIt) {
+    const auto trajectory =
+        readTrajectory(std::filesystem::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories/cut-front.csv");
+    ASSERT_TRUE(trajectory);
+    auto cutSpan = [&](const mesh::SurfaceMesh& heart) {
+        cutting::CutModel organ(heart, physics::buildModel(heart, physics::Material{}));
+        const auto run = scene::runHaptic(organ, *trajectory, scalpelRun());
+        EXPECT_TRUE(run) << run.error().message;
+        if (!run) return std::pair{0L, 0.0};
+        EXPECT_TRUE(run->invariantProblems.empty()) << run->invariantProblems.front();
+        EXPECT_EQ(run->penetrationMeasuredSteps, run->steps) << "the organ stays closed";
+        return std::pair{run->cut.cuts, spanAlongX(organ, heart.positions.size())};
+    };
+    const mesh::SurfaceMesh smooth = mesh::procedural::makeHeart({.triangles = 9714});
+    const double smoothSpan = cutSpan(smooth).second;
+    EXPECT_GT(smoothSpan, 0.04);
+    const double meanEdge = meanEdgeOf(smooth);
+#ifdef HAPTICUT_SANITIZED
+    const std::vector<unsigned> seeds{4};  // the one that cut least before; the code is the same for all
+#else
+    const std::vector<unsigned> seeds{1, 2, 3, 4, 5, 6};
+#endif
+    for (unsigned seed : seeds) {
+        SCOPED_TRACE(testing::Message() << "seed " << seed);
+        const mesh::SurfaceMesh jittered = jitteredBy(smooth, meanEdge / 2, seed);
+        const auto [cuts, span] = cutSpan(jittered);
+        EXPECT_EQ(cuts, 1);
+        // 0.86 at the least (seed 1).
+        EXPECT_GT(span, 0.8 * smoothSpan) << "smooth: " << smoothSpan << " m";
     }
 }
 

@@ -258,6 +258,7 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
         return std::find(points_.begin(), points_.end(), v) != points_.end() || recentLip(v);
     };
     bool backIntoItsOwnWound = false;
+    bool acrossItsNewLips = false;  // the way crossed a lip this cut has just opened
     for (const Crossing& c : crossings) {
         // A boundary edge is an open end of the organ or an earlier wound: the cut runs into it there
         // and joins it (on the edge, or at an end of it rather than make a sliver).
@@ -266,7 +267,16 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
         // cut bends, and another edge of the fan leads on. An older lip of its own on the way means
         // the cut has turned back round to the wound it opened before.
         if (boundaryEdge && inCut(c.a) && inCut(c.b)) {
-            backIntoItsOwnWound = backIntoItsOwnWound || (!recentLip(c.a) && !recentLip(c.b));
+            const bool older = !recentLip(c.a) && !recentLip(c.b);
+            backIntoItsOwnWound = backIntoItsOwnWound || older;
+            acrossItsNewLips = acrossItsNewLips || !older;
+            continue;
+        }
+        // Nor is an edge between two of its points or lips that is not a lip itself: where a cut along
+        // a rough mesh's edges bends back, such an edge spans the bend, and a point on it would lie
+        // wedged among the cut's own lips with no way on from it.
+        if (inCut(c.a) && inCut(c.b)) {
+            acrossItsNewLips = true;
             continue;
         }
         std::uint32_t next = pointOnEdge(c.a, c.b, c.u);
@@ -288,8 +298,18 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
             continue;  // would step back along the cut
         }
         // A split that snapped to an end of its edge behind the blade would walk the cut backwards, and
-        // a cut that doubles back on a rough mesh hems itself in with its own lips.
-        if ((next == c.a || next == c.b) && (m.positions[next] - from).dot(q - from) <= 0) continue;
+        // a cut that doubles back on a rough mesh hems itself in with its own lips. Split the edge clear
+        // of that end instead where the faces allow it: on a rough mesh the way can cross the only
+        // edge that leads on a hair's breadth from its end behind.
+        auto behind = [&](std::uint32_t v) { return (m.positions[v] - from).dot(q - from) <= 0; };
+        if ((next == c.a || next == c.b) && behind(next) && !boundaryEdge) {
+            const std::uint32_t other = next == c.a ? c.b : c.a;
+            if (inCut(other) || behind(other)) continue;
+            const auto away = splitAwayFrom(c.a, c.b, c.u, next);
+            if (!away) continue;
+            next = *away;
+        }
+        if ((next == c.a || next == c.b) && behind(next)) continue;
         if (!advanceTo(next)) continue;
         return true;
     }
@@ -300,6 +320,25 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
     // went on (a 4 cm stroke across a jittered 50,000-triangle heart: 17 mm cut).
     if (!backIntoItsOwnWound)
         if (const auto next = neighbourToward(q); next && advanceTo(*next)) return true;
+    // Still no way on: the fan folds, seen along its normal, and leaves no opening toward the blade, or
+    // only across the lips the cut has just opened, or its one edge there cannot be split clear of the
+    // cut. A jittered segmentation's vertex can stick out past all its neighbours, its faces turned
+    // over, so that every edge from it leads back. The cut steps along the edge to the neighbour nearest
+    // the blade, whichever way it leads, and goes on from there. Kept waiting, it never moved again
+    // while the blade pressed on at the force clamp (a stroke across a jittered 960,796-triangle liver:
+    // 3.9 mm cut of 50). Only a way across its new lips to a blade close behind it is waited for: the cut
+    // ran ahead of the blade along the edges. Behind is taken against the cut's way over its last few
+    // points (one step may have been such a detour), and close is within the last point's two rings.
+    const std::uint32_t fewBack = points_[points_.size() - std::min<std::size_t>(points_.size(), kWayPoints)];
+    const bool bladeAhead = fewBack == last || (q - from).dot(from - m.positions[fewBack]) > 0;
+    auto withinTwoRings = [&] {
+        for (std::uint32_t f : model_.facesAround(last))
+            for (std::uint32_t y : m.faces[f])
+                if (y != last && fanContains(y, q)) return true;
+        return false;
+    };
+    if (!backIntoItsOwnWound && (!acrossItsNewLips || bladeAhead || !withinTwoRings()))
+        if (const auto next = neighbourNearest(q); next && advanceTo(*next)) return true;
     // A short cut that turned back toward its start: the crack of a blade pressed in at a slant to the
     // surface can first run a few millimetres the wrong way (up the slope) until the stroke pulls it
     // round, and the way back then crosses only the lips it has just opened. It goes on from its first
@@ -320,24 +359,42 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
     return false;
 }
 
-std::optional<std::uint32_t> ProgressiveCutter::neighbourToward(const Vec3& q) const {
+template <class Visit>
+void ProgressiveCutter::forEachNeighbourOnTheSurface(Visit&& visit) const {
     const mesh::SurfaceMesh& m = model_.mesh();
     const std::uint32_t last = points_.back();
-    const Vec3 from = m.positions[last];
-    const Vec3 way = (q - from).normalized();
-    std::optional<std::uint32_t> best;
-    double bestCosine = kMostAskewStep;
     for (std::uint32_t f : model_.facesAround(last)) {
         if (model_.isWall(f)) continue;
         for (std::uint32_t y : m.faces[f]) {
             if (y == last || model_.onRim(last, y)) continue;
             if (std::find(lipVertices_.begin(), lipVertices_.end(), y) != lipVertices_.end()) continue;
-            const Vec3 step = m.positions[y] - from;
-            const double length = step.norm();
-            if (!(length > 0)) continue;
-            if (const double cosine = step.dot(way) / length; cosine > bestCosine) bestCosine = cosine, best = y;
+            visit(y);
         }
     }
+}
+
+std::optional<std::uint32_t> ProgressiveCutter::neighbourToward(const Vec3& q) const {
+    const mesh::SurfaceMesh& m = model_.mesh();
+    const Vec3 from = m.positions[points_.back()];
+    const Vec3 way = (q - from).normalized();
+    std::optional<std::uint32_t> best;
+    double bestCosine = kMostAskewStep;
+    forEachNeighbourOnTheSurface([&](std::uint32_t y) {
+        const Vec3 step = m.positions[y] - from;
+        const double length = step.norm();
+        if (!(length > 0)) return;
+        if (const double cosine = step.dot(way) / length; cosine > bestCosine) bestCosine = cosine, best = y;
+    });
+    return best;
+}
+
+std::optional<std::uint32_t> ProgressiveCutter::neighbourNearest(const Vec3& q) const {
+    const mesh::SurfaceMesh& m = model_.mesh();
+    std::optional<std::uint32_t> best;
+    double bestD2 = 1e300;
+    forEachNeighbourOnTheSurface([&](std::uint32_t y) {
+        if (const double d2 = (m.positions[y] - q).squaredNorm(); d2 < bestD2) bestD2 = d2, best = y;
+    });
     return best;
 }
 

@@ -94,6 +94,14 @@ private:
     /// leads most nearly toward q, within kMostAskewStep of the way.
     std::optional<std::uint32_t> neighbourToward(const Vec3& q) const;
     static constexpr double kMostAskewStep = 0.25;  // the cosine of 75 degrees
+    /// Over how many of its latest points a cut's way is taken, when it asks whether the blade is ahead.
+    static constexpr std::size_t kWayPoints = 8;
+    /// The same neighbour nearest q, whichever way its edge leads: the way out of a folded fan.
+    std::optional<std::uint32_t> neighbourNearest(const Vec3& q) const;
+    /// Each neighbour of the last point over the organ's surface (not across a rim or a wall) and not yet
+    /// among the cut's points and lips, as often as its faces list it.
+    template <class Visit>
+    void forEachNeighbourOnTheSurface(Visit&& visit) const;
     /// The cut's point on edge (a, b) at a + u (b - a): a new vertex, or an end of the edge when the
     /// split would be too close to it or make a sliver.
     std::uint32_t pointOnEdge(std::uint32_t a, std::uint32_t b, double u);
