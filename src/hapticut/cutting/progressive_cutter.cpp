@@ -302,14 +302,13 @@ bool ProgressiveCutter::crossToward(const Vec3& q) {
         // of that end instead where the faces allow it: on a rough mesh the way can cross the only
         // edge that leads on a hair's breadth from its end behind.
         auto behind = [&](std::uint32_t v) { return (m.positions[v] - from).dot(q - from) <= 0; };
-        if ((next == c.a || next == c.b) && behind(next) && !boundaryEdge) {
+        if ((next == c.a || next == c.b) && behind(next)) {
             const std::uint32_t other = next == c.a ? c.b : c.a;
-            if (inCut(other) || behind(other)) continue;
-            const auto away = splitAwayFrom(c.a, c.b, c.u, next);
+            const bool splittable = !boundaryEdge && !inCut(other) && !behind(other);
+            const auto away = splittable ? splitAwayFrom(c.a, c.b, c.u, next) : std::nullopt;
             if (!away) continue;
             next = *away;
         }
-        if ((next == c.a || next == c.b) && behind(next)) continue;
         if (!advanceTo(next)) continue;
         return true;
     }
