@@ -4,11 +4,13 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "hapticut/collision/point_inside.h"
 #include "hapticut/haptics/proxy.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"
+#include "hapticut/mesh/vertex_faces.h"
 
 namespace hapticut::haptics {
 namespace {
@@ -160,6 +162,34 @@ TEST(Proxy, NeverInsideTheHeartWhileSlidingOverEdgesAndVertices) {
             return Vec3(0.045 * std::cos(3 * a), 0.05 * std::sin(2 * a), 0.03 * std::cos(5 * a + 0.3));
         },
         1500);
+}
+
+// The lips of a wound pressed through each other, as two closed boxes: the right one's face x = 9.8 mm
+// lies 0.2 mm inside the left one, whose own face x = 10 mm is just behind it. A proxy resting on that
+// face from the left is in the left tissue; the device drawn 1.2 mm further left, the proxy left the
+// face with nothing in its way, and the faces round its nearest point (that face's) said outside: it
+// stayed free in the tissue (a scalpel lifted out of a cut on a jittered heart went 1.8 mm in so).
+TEST(Proxy, PulledOffLipsPressedThroughEachOtherItIsHeldOnThemNotLeftInTheTissue) {
+    const std::vector<Vec2> left = {Vec2(0, 0), Vec2(0.010, 0), Vec2(0.010, 0.010), Vec2(0, 0.010)};
+    const std::vector<Vec2> right = {Vec2(0.0098, 0.001), Vec2(0.020, 0.001), Vec2(0.020, 0.009), Vec2(0.0098, 0.009)};
+    Scene s{mesh::procedural::makePrism(left, 0, 0.010), {}};
+    mesh::procedural::appendMesh(s.mesh, mesh::procedural::makePrism(right, 0.001, 0.009));
+    s.rebuild();
+    const mesh::VertexFaces topology = mesh::buildVertexFaces(s.mesh.faces, s.mesh.positions.size());
+    GodObjectProxy proxy(ProxyParams{.closedSurface = true});
+    proxy.setTopology(&topology);
+    const Vec3 onTheLip(0.0098 - proxy.params().offset_m, 0.005, 0.005);
+    proxy.reset(onTheLip);
+    proxy.update(onTheLip, s.view(), s.bvh);
+    ASSERT_TRUE(proxy.contact().active) << "resting on the right box's face";
+    const Vec3 device(0.00865, 0.005, 0.005);  // 1.35 mm inside the left box
+    ASSERT_TRUE(collision::insideClosedSurface(s.bvh, s.view(), device));
+    for (int step = 0; step < 10; ++step) {
+        proxy.update(device, s.view(), s.bvh);
+        EXPECT_GE(proxy.position().x(), 0.0098) << "step " << step << ": held on the lip it was pulled off";
+        EXPECT_FALSE(collision::insideClosedSurface(s.bvh, s.view(), proxy.position())) << "step " << step;
+        EXPECT_GT(hookeForce(proxy.position(), device, 400).x(), 0.45) << "step " << step << ": the lip pushes back";
+    }
 }
 
 }  // namespace
