@@ -171,6 +171,28 @@ std::optional<std::uint32_t> GodObjectProxy::restingFace(const collision::Surfac
     return resting;
 }
 
+std::optional<collision::SegmentHit> GodObjectProxy::firstHitRoundContact(const collision::SurfaceView& s,
+                                                                          const collision::Bvh& bvh,
+                                                                          const Vec3& goal) const {
+    // A proxy resting on the surface, pressed further in, meets the face it rests on or one round it
+    // within about its offset: a face there crossed that soon is the first, and the tree need not be
+    // walked (a face from elsewhere would have to lie within that distance of the proxy).
+    if (topology_ && contact_.active && contact_.face < s.faces.size()) {
+        const double reach = 2 * params_.offset_m / (goal - position_).norm();  // as a fraction of the way
+        std::optional<collision::SegmentHit> first;
+        facesRound(s, contact_.face, [&](std::uint32_t f) {
+            const mesh::Face& face = s.faces[f];
+            const auto hit = geometry::intersectSegmentTriangle(position_, goal, s.positions[face[0]],
+                                                                s.positions[face[1]], s.positions[face[2]]);
+            if (hit && hit->t <= reach && (!first || hit->t < first->t))
+                first = collision::SegmentHit{f, hit->t, position_ + hit->t * (goal - position_), hit->bary};
+            return false;
+        });
+        if (first) return first;
+    }
+    return bvh.firstHit(s, position_, goal);
+}
+
 void GodObjectProxy::findContact(const collision::SurfaceView& s, const collision::Bvh& bvh,
                                  std::optional<std::uint32_t> touched_face) {
     const double reach = 3 * params_.offset_m;
@@ -237,7 +259,9 @@ int GodObjectProxy::update(const Vec3& device_m, const collision::SurfaceView& s
     std::optional<collision::SegmentHit> towardDevice;
     for (int iteration = 0; iteration < params_.maxIterations; ++iteration) {
         if ((goal - position_).squaredNorm() < 1e-24) break;
-        const auto hit = towardDevice ? towardDevice : bvh.firstHit(s, position_, goal);
+        const auto hit = towardDevice                          ? towardDevice
+                         : iteration == 0 && startedInContact_ ? firstHitRoundContact(s, bvh, goal)
+                                                               : bvh.firstHit(s, position_, goal);
         towardDevice.reset();
         if (!hit) {
             position_ = goal;

@@ -94,6 +94,10 @@ private:
     /// the offset: the proxy rests on the surface.
     std::optional<std::uint32_t> restingFace(const collision::SurfaceView& surface, const Vec3& device_m,
                                              std::optional<std::uint32_t> slid_on) const;
+    /// The first face the way to `goal` crosses, from the faces round the contact when one of them is
+    /// crossed within twice the offset, else from the tree.
+    std::optional<collision::SegmentHit> firstHitRoundContact(const collision::SurfaceView& surface,
+                                                              const collision::Bvh& bvh, const Vec3& goal) const;
     Vec3 constrainedGoal(const Vec3& device_m) const;
     Vec3 applyFriction(const Vec3& goal, const Vec3& device_m, const Vec3& from) const;
     /// The contact from the faces round `touched_face` (the contact's face if not given) when one is
