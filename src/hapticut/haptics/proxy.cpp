@@ -83,11 +83,11 @@ bool GodObjectProxy::insideNear(const collision::SurfaceView& s, const collision
         constexpr double kFoldReach_m = 5e-3;
         const Vec3 wayOut = away.norm() > 0 ? Vec3(away.normalized()) : faceNormal(s, near.face);
         bool crossed = bvh.countCrossings(s, position_, position_ + kFoldReach_m * wayOut) != 0;
-        // Two sheets pressed through each other, the lips of a wound, leave the one nearest a point in the
-        // tissue behind the other facing it: the faces round the nearest point say outside, and a proxy that
-        // rested on that sheet and left it this update is free in the tissue (a scalpel lifted out of a cut
-        // on a jittered heart went 1.8 mm in so). A second sheet crossed just behind the nearest point
-        // says so; a proxy that rests on the surface, within its offset, is not looked at.
+        // Two sheets pressed through each other, the lips of a wound, put a point in one lip's tissue in
+        // front of the other lip: the faces round its nearest point (that lip's) say outside, and a proxy
+        // that rested on that lip and left it this update is free in the tissue (a scalpel lifted out of
+        // a cut on a jittered heart went 1.8 mm in so). A second sheet crossed just behind the nearest
+        // point says so; a proxy that rests on the surface, within its offset, is not looked at.
         if (!crossed && startedInContact_ && away.norm() > 2 * params_.offset_m) {
             constexpr double kSheetReach_m = 1e-3;
             crossed = bvh.countCrossings(s, position_, near.point - kSheetReach_m * wayOut) > 1;
