@@ -151,24 +151,30 @@ Vec3 GodObjectProxy::applyFriction(const Vec3& goal, const Vec3& device_m, const
     return slip > held ? Vec3(goal + tangential * (held / slip)) : goal;
 }
 
+std::optional<collision::SegmentHit> GodObjectProxy::crossingRound(const collision::SurfaceView& s, std::uint32_t face,
+                                                                   const Vec3& to) const {
+    const double reach = 2 * params_.offset_m / (to - position_).norm();  // as a fraction of the way
+    std::optional<collision::SegmentHit> first;
+    auto consider = [&](std::uint32_t f) {
+        const mesh::Face& corners = s.faces[f];
+        const auto hit = geometry::intersectSegmentTriangle(position_, to, s.positions[corners[0]],
+                                                            s.positions[corners[1]], s.positions[corners[2]]);
+        if (hit && hit->t <= reach && (!first || hit->t < first->t))
+            first = collision::SegmentHit{f, hit->t, position_ + hit->t * (to - position_), hit->bary};
+        return false;
+    };
+    if (topology_)
+        facesRound(s, face, consider);
+    else
+        consider(face);
+    return first;
+}
+
 std::optional<std::uint32_t> GodObjectProxy::restingFace(const collision::SurfaceView& s, const Vec3& device_m,
                                                          std::optional<std::uint32_t> slid_on) const {
     if (!slid_on || *slid_on >= s.faces.size()) return std::nullopt;
-    const double reach = 2 * params_.offset_m / (device_m - position_).norm();  // as a fraction of the way
-    auto within = [&](std::uint32_t f) {
-        const mesh::Face& face = s.faces[f];
-        const auto hit = geometry::intersectSegmentTriangle(position_, device_m, s.positions[face[0]],
-                                                            s.positions[face[1]], s.positions[face[2]]);
-        return hit && hit->t <= reach;
-    };
-    if (within(*slid_on)) return slid_on;
-    if (!topology_) return std::nullopt;
-    std::optional<std::uint32_t> resting;
-    facesRound(s, *slid_on, [&](std::uint32_t f) {
-        if (f != *slid_on && within(f)) resting = f;
-        return resting.has_value();
-    });
-    return resting;
+    const auto crossing = crossingRound(s, *slid_on, device_m);
+    return crossing ? std::optional(crossing->face) : std::nullopt;
 }
 
 std::optional<collision::SegmentHit> GodObjectProxy::firstHitRoundContact(const collision::SurfaceView& s,
@@ -177,19 +183,8 @@ std::optional<collision::SegmentHit> GodObjectProxy::firstHitRoundContact(const 
     // A proxy resting on the surface, pressed further in, meets the face it rests on or one round it
     // within about its offset: a face there crossed that soon is the first, and the tree need not be
     // walked (a face from elsewhere would have to lie within that distance of the proxy).
-    if (topology_ && contact_.active && contact_.face < s.faces.size()) {
-        const double reach = 2 * params_.offset_m / (goal - position_).norm();  // as a fraction of the way
-        std::optional<collision::SegmentHit> first;
-        facesRound(s, contact_.face, [&](std::uint32_t f) {
-            const mesh::Face& face = s.faces[f];
-            const auto hit = geometry::intersectSegmentTriangle(position_, goal, s.positions[face[0]],
-                                                                s.positions[face[1]], s.positions[face[2]]);
-            if (hit && hit->t <= reach && (!first || hit->t < first->t))
-                first = collision::SegmentHit{f, hit->t, position_ + hit->t * (goal - position_), hit->bary};
-            return false;
-        });
-        if (first) return first;
-    }
+    if (topology_ && contact_.active && contact_.face < s.faces.size())
+        if (auto crossing = crossingRound(s, contact_.face, goal)) return crossing;
     return bvh.firstHit(s, position_, goal);
 }
 

@@ -90,8 +90,12 @@ private:
                 if (visit(f)) return;
             }
     }
-    /// A face round `slid_on` (the face itself first) that the way to the device crosses within twice
-    /// the offset: the proxy rests on the surface.
+    /// The nearest crossing of the way to `to` within twice the offset among `face` and, with the
+    /// topology, the faces round it.
+    std::optional<collision::SegmentHit> crossingRound(const collision::SurfaceView& surface, std::uint32_t face,
+                                                       const Vec3& to) const;
+    /// A face round `slid_on` that the way to the device crosses within twice the offset: the proxy
+    /// rests on the surface.
     std::optional<std::uint32_t> restingFace(const collision::SurfaceView& surface, const Vec3& device_m,
                                              std::optional<std::uint32_t> slid_on) const;
     /// The first face the way to `goal` crosses, from the faces round the contact when one of them is
