@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "hapticut/common/flat_key_map.h"
+#include "hapticut/common/reserve.h"
 #include "hapticut/mesh/surface_mesh.h"
 
 namespace hapticut {
@@ -106,6 +107,31 @@ TEST(FlatKeyMap, TheEdgesOfNeighbouringVerticesShareAFewPagesWhenSpreadByTheirLo
     };
     EXPECT_LE(pagesTouched(FlatKeyMap::Spread::ByHighHalf), 10u);  // each row's five vertices on a page or two
     EXPECT_GE(pagesTouched(FlatKeyMap::Spread::Hashed), 60u);      // of 75 edges
+}
+
+// Reserved as the cut model reserves its edges (room to grow by half, for vertices too), a mesh's edges
+// leave every vertex's run of slots room to spare, so a lookup reads a slot or two, and one of an edge
+// that is not there (a cut asks whether two vertices are joined) stops as soon. With four slots a run,
+// which this grid's size rounded to, each vertex's three edges filled its run three quarters, the runs'
+// probes joined into clusters, and a miss read 5-8 slots on the hearts of that size.
+TEST(FlatKeyMap, AnEdgeLookupReadsASlotOrTwoWhetherTheEdgeIsThereOrNot) {
+    constexpr std::uint32_t kSide = 150, kVertices = kSide * kSide;
+    std::vector<std::uint64_t> edges;
+    for (std::uint32_t v = 0; v < kVertices; ++v) {
+        const std::uint32_t row = v / kSide, column = v % kSide;
+        if (column + 1 < kSide) edges.push_back(mesh::edgeKey(v, v + 1));
+        if (row + 1 < kSide) edges.push_back(mesh::edgeKey(v, v + kSide));
+        if (column + 1 < kSide && row + 1 < kSide) edges.push_back(mesh::edgeKey(v, v + kSide + 1));
+    }
+    FlatKeyMap map(FlatKeyMap::Spread::ByHighHalf);
+    map.reserve(roomToGrow(edges.size()), roomToGrow(kVertices));
+    for (std::uint32_t k = 0; k < edges.size(); ++k) map.set(edges[k], k);
+    double found = 0, missed = 0;
+    for (std::uint64_t key : edges) found += static_cast<double>(map.probes(key));
+    for (std::uint32_t v = 0; v + 2 < kVertices; ++v)
+        missed += static_cast<double>(map.probes(mesh::edgeKey(v, v + 2)));
+    EXPECT_LT(found / static_cast<double>(edges.size()), 1.3);
+    EXPECT_LT(missed / (kVertices - 2), 1.5);
 }
 
 }  // namespace
