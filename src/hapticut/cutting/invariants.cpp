@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "hapticut/geometry/triangle.h"
 #include "hapticut/mesh/adjacency.h"
@@ -75,12 +74,23 @@ InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_
             problem("vertex " + std::to_string(v) + " joins " + std::to_string(fans[v]) +
                     " fans of faces that touch only there");
 
-    std::vector<mesh::Edge> springEdges;
+    // Each vertex's edges to higher vertices are a run of the sorted edges: a spring's edge is looked for
+    // in its lower end's run, and counted there, so an edge with two springs shows without a sort.
+    std::size_t vertices = m.positions.size();
+    for (const mesh::Edge& e : adj.edges) vertices = std::max<std::size_t>(vertices, std::size_t{e[1]} + 1);
+    std::vector<std::size_t> edgesFrom(vertices + 1, 0);
+    for (const mesh::Edge& e : adj.edges) ++edgesFrom[e[0] + 1];
+    for (std::size_t v = 0; v < vertices; ++v) edgesFrom[v + 1] += edgesFrom[v];
+    std::vector<std::uint8_t> springsOnEdge(adj.edges.size(), 0);
+    bool twoOnAnEdge = false;
     for (std::size_t k = 0; k < s.size(); ++k) {
         const mesh::Edge e{std::min(s.a[k], s.b[k]), std::max(s.a[k], s.b[k])};
-        springEdges.push_back(e);
-        if (!std::binary_search(adj.edges.begin(), adj.edges.end(), e))
+        std::size_t edge = e[0] < vertices ? edgesFrom[e[0]] : 0, end = e[0] < vertices ? edgesFrom[e[0] + 1] : 0;
+        while (edge < end && adj.edges[edge][1] != e[1]) ++edge;
+        if (edge == end)
             problem("spring " + std::to_string(k) + " is on no face");
+        else
+            twoOnAnEdge |= ++springsOnEdge[edge] > 1;
         if (cut.springOf(e[0], e[1]) != k) problem("spring " + std::to_string(k) + " is not the one its edge looks up");
         if (!(s.restLength[k] > 0) || !std::isfinite(s.stiffness[k]))
             problem("spring " + std::to_string(k) + " has a bad rest length or stiffness");
@@ -88,13 +98,19 @@ InvariantReport checkInvariants(const CutModel& cut, const double expected_mass_
             (std::min(m.edges[k][0], m.edges[k][1]) != e[0] || std::max(m.edges[k][0], m.edges[k][1]) != e[1]))
             problem("edge list entry " + std::to_string(k) + " is not spring " + std::to_string(k));
     }
-    std::sort(springEdges.begin(), springEdges.end());
-    if (std::adjacent_find(springEdges.begin(), springEdges.end()) != springEdges.end())
-        problem("an edge has two springs");
+    if (twoOnAnEdge) problem("an edge has two springs");
 
+    // geometry::minAngle(...) <= 0 without its arc tangents where it cannot be: an angle is positive
+    // wherever its corner's cross product is not zero.
+    auto degenerate = [](const Vec3& a, const Vec3& b, const Vec3& c) {
+        const Vec3 ab = b - a, bc = c - b, ca = a - c;
+        if (ab.cross(ca).squaredNorm() > 0 && bc.cross(ab).squaredNorm() > 0 && ca.cross(bc).squaredNorm() > 0)
+            return false;
+        return geometry::minAngle(a, b, c) <= 0;
+    };
     for (std::uint32_t f = 0; f < m.faces.size(); ++f) {
         const mesh::Face& face = m.faces[f];
-        if (geometry::minAngle(m.positions[face[0]], m.positions[face[1]], m.positions[face[2]]) <= 0)
+        if (degenerate(m.positions[face[0]], m.positions[face[1]], m.positions[face[2]]))
             problem("face " + std::to_string(f) + " is degenerate");
         for (std::uint32_t v : face) {
             const auto& around = cut.facesAround(v);
