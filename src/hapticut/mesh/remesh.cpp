@@ -67,6 +67,12 @@ public:
         Closest best;
         const Eigen::Array3i c = cellOf(p);
         const int maxRing = dims_.maxCoeff();
+        // How far p lies inside its cell's walls: a point close to the surface usually finds its nearest
+        // triangle nearer than that in its own cell, and the 26 round it need not be searched (a
+        // triangle not listed in a searched cell lies wholly outside them). Outside the grid, nothing.
+        const Vec3 low = box_.min + cell_ * c.cast<double>().matrix();
+        const double inside =
+            std::max(0.0, std::min((p - low).minCoeff(), (low + Vec3::Constant(cell_) - p).minCoeff()));
         for (int r = 0; r <= maxRing; ++r) {
             for (int x = c.x() - r; x <= c.x() + r; ++x)
                 for (int y = c.y() - r; y <= c.y() + r; ++y)
@@ -81,8 +87,8 @@ public:
                             if (d < best.distance) best = {q.point, f, d};
                         }
                     }
-            // Every point in ring r + 1 is at least r cells away from p's cell.
-            if (best.distance <= r * cell_) break;
+            // Every point beyond ring r lies more than r cells and p's depth in its cell away.
+            if (best.distance <= r * cell_ + inside) break;
         }
         return best;
     }
