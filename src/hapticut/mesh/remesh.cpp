@@ -7,6 +7,7 @@
 #include <numbers>
 #include <numeric>
 #include <optional>
+#include <span>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -39,21 +40,32 @@ constexpr double kSliverSine = 0.2588;
 /// Triangles with an angle under 30 degrees (its sine), or folded, are mended after the passes.
 constexpr double kMendSine = 0.5;
 
-/// The input's triangles in a uniform grid, for the closest point on the input surface.
+/// The input's triangles in a uniform grid, for the closest point on the input surface. Each cell's
+/// triangles are a run of one array (compressed rows), so a grid of millions of cells, most of them
+/// empty, costs four bytes a cell.
 class SurfaceGrid {
 public:
-    SurfaceGrid(const SurfaceMesh& m, double cell) : m_(m), cell_(cell) {
+    /// Cells of about `cell` metres, larger where more than kMaxCells of them would fill the box.
+    SurfaceGrid(const SurfaceMesh& m, double cell) : m_(m) {
         for (const Vec3& p : m.positions) box_.grow(p);
-        dims_ = ((box_.extent() / cell_).array().floor().cast<int>() + 1).max(1);
-        cells_.resize(static_cast<std::size_t>(dims_.x()) * dims_.y() * dims_.z());
-        for (std::uint32_t f = 0; f < m.faces.size(); ++f) {
+        const Vec3 extent = box_.extent();
+        const double cells = ((extent / cell).array().floor() + 1).prod();
+        cell_ = cells > kMaxCells ? cell * std::cbrt(cells / kMaxCells) * 1.01 : cell;
+        dims_ = ((extent / cell_).array().floor().cast<int>() + 1).max(1);
+        start_.assign(static_cast<std::size_t>(dims_.x()) * dims_.y() * dims_.z() + 1, 0);
+        auto forCellsOf = [&](std::uint32_t f, auto&& visit) {
             geometry::Aabb b;
             for (std::uint32_t v : m.faces[f]) b.grow(m.positions[v]);
             const Eigen::Array3i lo = cellOf(b.min), hi = cellOf(b.max);
             for (int x = lo.x(); x <= hi.x(); ++x)
                 for (int y = lo.y(); y <= hi.y(); ++y)
-                    for (int z = lo.z(); z <= hi.z(); ++z) cells_[index(x, y, z)].push_back(f);
-        }
+                    for (int z = lo.z(); z <= hi.z(); ++z) visit(index(x, y, z));
+        };
+        for (std::uint32_t f = 0; f < m.faces.size(); ++f) forCellsOf(f, [&](std::size_t c) { ++start_[c + 1]; });
+        for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+        faces_.resize(start_.back());
+        std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
+        for (std::uint32_t f = 0; f < m.faces.size(); ++f) forCellsOf(f, [&](std::size_t c) { faces_[next[c]++] = f; });
     }
 
     struct Closest {
@@ -79,7 +91,7 @@ public:
                     for (int z = c.z() - r; z <= c.z() + r; ++z) {
                         if (std::max({std::abs(x - c.x()), std::abs(y - c.y()), std::abs(z - c.z())}) != r) continue;
                         if (x < 0 || y < 0 || z < 0 || x >= dims_.x() || y >= dims_.y() || z >= dims_.z()) continue;
-                        for (std::uint32_t f : cells_[index(x, y, z)]) {
+                        for (std::uint32_t f : cellFaces(index(x, y, z))) {
                             const Face& t = m_.faces[f];
                             const auto q = geometry::closestPointOnTriangle(p, m_.positions[t[0]], m_.positions[t[1]],
                                                                             m_.positions[t[2]]);
@@ -101,7 +113,7 @@ public:
         for (int x = lo.x(); x <= hi.x(); ++x)
             for (int y = lo.y(); y <= hi.y(); ++y)
                 for (int z = lo.z(); z <= hi.z(); ++z)
-                    for (std::uint32_t f : cells_[index(x, y, z)]) {
+                    for (std::uint32_t f : cellFaces(index(x, y, z))) {
                         const Face& t = m_.faces[f];
                         const Vec3 c = (m_.positions[t[0]] + m_.positions[t[1]] + m_.positions[t[2]]) / 3;
                         // Counted once, in the cell that holds its centre.
@@ -119,12 +131,17 @@ private:
     std::size_t index(int x, int y, int z) const {
         return (static_cast<std::size_t>(z) * dims_.y() + y) * dims_.x() + x;
     }
+    std::span<const std::uint32_t> cellFaces(std::size_t c) const {
+        return {faces_.data() + start_[c], faces_.data() + start_[c + 1]};
+    }
 
+    static constexpr double kMaxCells = 16e6;
     const SurfaceMesh& m_;
-    double cell_;
+    double cell_ = 0;
     geometry::Aabb box_;
     Eigen::Array3i dims_;
-    std::vector<std::vector<std::uint32_t>> cells_;
+    std::vector<std::uint32_t> start_;  // cell c's faces are faces_[start_[c], start_[c + 1])
+    std::vector<std::uint32_t> faces_;
 };
 
 /// The mesh being remeshed: faces die in place and are compacted at the end.
@@ -697,7 +714,9 @@ Result<RemeshResult, std::string> remeshIsotropic(const SurfaceMesh& input, cons
     result.foldedInputShare = remesher.foldedEdgeShare();
     result.smoothedFirst = result.foldedInputShare > kRoughInput;
     if (result.smoothedFirst) remesher.lowPass(kRoughInputRounds);
-    const SurfaceGrid grid(input, 2 * std::max(options.targetEdge_m, meanEdgeLength(input)));
+    // Cells of two input edges hold a few triangles each; of a quarter of the edge asked for when that is
+    // larger, so that the smooth normal's search over cells (twice that edge round a point) stays short.
+    const SurfaceGrid grid(input, 2 * std::max(meanEdgeLength(input), options.targetEdge_m / 4));
     for (int it = 0; it < options.iterations; ++it) {
         remesher.pass(result);
         // Relaxation moves vertices off a curved surface: each pass ends with them put back on it.
