@@ -59,6 +59,36 @@ TEST(PhysicsWorkerFrames, KeepTheirRoomWhileTheOrganGrowsWithinIt) {
     for (std::size_t room : frameRooms()) EXPECT_GE(room, worker.model().nodes.size()) << "past it they grow";
 }
 
+// After a cut the haptic side's tools may hold nodes the cut added, which the physics' copy has only
+// once it is synced. A step given such a tool leaves it out (it would read and push past the copy's
+// arrays) and counts it; the same tool on nodes the copy has pushes them.
+TEST(PhysicsWorkerTools, AToolOnNodesTheCopyLacksWaitsForTheSync) {
+    const mesh::SurfaceMesh heart = mesh::procedural::makeHeart({});
+    const physics::MassSpringModel model = physics::buildModel(heart, physics::Material{});
+    PhysicsWorker worker(model, physics::Stepper(physics::Scheme::BackwardEuler), physics::Scheme::BackwardEuler, 0.001,
+                         0.02);
+    const auto nodes = static_cast<std::uint32_t>(model.nodes.size());
+    auto pushedBy = [&](std::uint32_t third) {
+        PhysicsWorker::Tools tools{};
+        physics::PointSpring& tool = tools[0];
+        tool.active = true;
+        tool.touchTriangle({0, 1, third}, Vec3(1.0 / 3, 1.0 / 3, 1.0 / 3));
+        tool.anchor_m = model.nodes.restPosition[0] + Vec3(0, 0, 0.01);
+        tool.stiffness_N_per_m = 400;
+        tool.maxForce_N = 3.3;
+        worker.setTools(tools);
+        worker.stepNow(0.001);
+        const PhysicsFrame* f = worker.takeFrame();
+        EXPECT_NE(f, nullptr);
+        if (f) worker.releaseFrame();
+        return (worker.model().nodes.position[0] - worker.model().nodes.restPosition[0]).norm();
+    };
+    EXPECT_EQ(pushedBy(nodes), 0.0) << "a node past the copy's: left out";
+    EXPECT_EQ(worker.toolsOutOfReach(), 1);
+    EXPECT_GT(pushedBy(2), 1e-5) << "the copy's own nodes: pushed";
+    EXPECT_EQ(worker.toolsOutOfReach(), 1);
+}
+
 /// A heart and the path a device replays on it: the generated press, or a 12 mm scalpel stroke.
 struct HeartAndPath {
     enum class Kind { Press, Stroke };
@@ -368,6 +398,7 @@ TEST(MultiRate, InRealTimeCutsReachThePhysicsThread) {
     clock.stop();
     EXPECT_GT(loop.stats().cutEvents, 5);
     EXPECT_GT(loop.stats().physicsSteps, 100);
+    EXPECT_EQ(loop.stats().toolsOutOfReach, 0) << "the tools reached the physics only with the cuts they hold";
     const auto problems = cutting::checkInvariants(organ, mass).problems;
     EXPECT_TRUE(problems.empty()) << problems.front();
 }

@@ -177,7 +177,8 @@ struct LoopStats {
     // because a multi-rate step took longer than LoopConfig::maxPhysicsStep_s (the tissue fell behind).
     LatencyHistogram physicsStepTime_us{10, 200'000};
     double physicsTimeLost_s = 0;
-    bool volumeKept = false;  // LoopConfig::bulkModulus_Pa took effect (a closed organ, single-rate)
+    long toolsOutOfReach = 0;  // multi-rate: tools a physics step left out, as they named nodes its copy lacked
+    bool volumeKept = false;   // LoopConfig::bulkModulus_Pa took effect (a closed organ, single-rate)
 };
 
 struct LoopCommand {

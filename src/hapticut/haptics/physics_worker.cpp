@@ -105,7 +105,18 @@ void PhysicsWorker::releaseFrame() {
 
 void PhysicsWorker::stepOnce(double dt_s, double lost_s) {
     const Tools& tools = tools_.readLatest();
-    for (std::size_t t = 0; t < tools.size(); ++t) tools[t].copyTo(model_.tools[t]);
+    for (std::size_t t = 0; t < tools.size(); ++t) {
+        tools[t].copyTo(model_.tools[t]);
+        // A tool on nodes a cut added that this copy has not been given yet would read and push past its
+        // arrays: it waits for the sync (HapticLoop::advanceMultiRate publishes none meanwhile).
+        physics::PointSpring& tool = model_.tools[t];
+        const std::span<const std::uint32_t> loaded = tool.loadedNodes();
+        const std::size_t nodes = model_.nodes.size();
+        if (tool.active && std::any_of(loaded.begin(), loaded.end(), [&](std::uint32_t i) { return i >= nodes; })) {
+            tool.active = false;
+            toolsOutOfReach_.fetch_add(1, std::memory_order_relaxed);
+        }
+    }
     const auto start = std::chrono::steady_clock::now();
     const physics::StepResult result = stepper_.step(model_, dt_s);
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

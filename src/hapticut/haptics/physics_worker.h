@@ -93,6 +93,8 @@ public:
     // Counts, safe from any thread.
     long steps() const { return steps_.load(std::memory_order_relaxed); }
     double simulatedTime_s() const { return simulated_s_.load(std::memory_order_relaxed); }
+    /// Tools left out of a step because they named a node this copy did not have yet.
+    long toolsOutOfReach() const { return toolsOutOfReach_.load(std::memory_order_relaxed); }
 
 private:
     void threadMain();
@@ -110,7 +112,7 @@ private:
     int writeFrame_ = 0, readFrame_ = 0;
     std::thread thread_;
     std::atomic<bool> stop_{false}, hold_{false}, idle_{false}, paused_{false};
-    std::atomic<long> steps_{0};
+    std::atomic<long> steps_{0}, toolsOutOfReach_{0};
     std::atomic<double> simulated_s_{0};
 };
 
