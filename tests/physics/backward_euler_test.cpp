@@ -203,6 +203,42 @@ TEST(BackwardEuler, TakesAStiffToolCouplingAtOneStepPerMillisecond) {
     EXPECT_GT(force, 0.1) << "the tool really presses";
 }
 
+// A scalpel pressed at its clamped force (3.3 N) on tissue a cut has just freed: a node of a milligram
+// held by springs a thousand times weaker than the organ's, under the whole load, the device 10 mm in.
+// Each step carries the node at most to the device, never beyond it, with Newton's corrections or
+// without (the one linearised step, or corrections cut short to keep pace). With the clamped force left
+// out of the matrix as a constant, the linearised step threw such a node metres past the blade.
+TEST(BackwardEuler, AClampedToolNeverCarriesTheTissuePastTheDevice) {
+    const mesh::SurfaceMesh mesh = heartMesh(1619);
+    for (int newtonIterations : {1, SolverSettings{}.maxNewtonIterations}) {
+        MassSpringModel model = buildModel(mesh, Material{});
+        const std::uint32_t node = 700;
+        model.nodes.mass[node] = 1e-6, model.nodes.inverseMass[node] = 1e6;
+        model.nodes.anchorStiffness[node] = model.nodes.anchorDamping[node] = 0;
+        for (std::size_t k = 0; k < model.springs.size(); ++k)
+            if (model.springs.a[k] == node || model.springs.b[k] == node) model.springs.stiffness[k] *= 1e-3;
+        const Vec3 outward = model.nodes.restPosition[node].normalized();
+        PointSpring& tool = model.tools[0];
+        tool.active = true;
+        tool.count = 1, tool.nodes[0] = node, tool.weights[0] = 1, tool.spread = true;
+        tool.anchor_m = model.nodes.restPosition[node] - 0.01 * outward;
+        tool.stiffness_N_per_m = 400;  // 4 N asked for at first: clamped
+        tool.maxForce_N = 3.3;
+        tool.normal = outward;
+        Stepper stepper(Scheme::BackwardEuler);
+        stepper.setSolverSettings({.maxNewtonIterations = newtonIterations});
+        double deepest = 0;
+        for (int step = 0; step < 50; ++step) {
+            ASSERT_TRUE(stepper.step(model, 4e-3).finite);
+            const double pastDevice = (tool.anchor_m - model.nodes.position[node]).dot(outward);
+            ASSERT_LT(pastDevice, 1e-4) << "Newton iterations " << newtonIterations << ", step " << step << ": "
+                                        << pastDevice << " m past the device";
+            deepest = std::max(deepest, 0.01 - pastDevice);
+        }
+        EXPECT_GT(deepest, 0.009) << "the tool really pushes the node in, to within a millimetre of the device";
+    }
+}
+
 TEST(BackwardEuler, OnlyTheActiveRegionMatchesTheFullSolve) {
     const mesh::SurfaceMesh mesh = heartMesh(9714);
     MassSpringModel full = buildModel(mesh, Material{}), local = full;
