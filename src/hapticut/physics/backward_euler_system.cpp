@@ -81,12 +81,12 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
     });
     for (const PointSpring& tool : model.tools) {
         if (!tool.active) continue;
-        const Vec3 force = tool.forceOnTool(x);
+        const Vec3 held = tool.heldPoint(x), force = tool.forceAt(held);
         // A clamped force enters the matrix by its secant, the stiffness that gives the clamped force at
         // the held point and none at the device, so a step never carries the tissue past the device.
         // Left out (a constant force), it did: a scalpel's 3.3 N on tissue a cut had just freed, a quarter
         // of it on a node of half a milligram, threw that node 24 mm beyond the blade in one 4 ms step.
-        const double unclamped = (tool.stiffness_N_per_m * (tool.heldPoint(x) - tool.anchor_m) - tool.bias_N).norm();
+        const double unclamped = (tool.stiffness_N_per_m * (held - tool.anchor_m) - tool.bias_N).norm();
         const double secant = unclamped > tool.maxForce_N ? tool.maxForce_N / unclamped : 1.0;
         const double kt = force != Vec3::Zero() ? tool.scale * secant * tool.stiffness_N_per_m : 0.0;
         // The spring's stiffness k w w^T lumped by rows to k w_i: with weights that sum to 1 the lumped
