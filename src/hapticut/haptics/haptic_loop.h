@@ -364,7 +364,9 @@ private:
     /// What the tree's boxes are computed from (see treePositions_).
     collision::SurfaceView treeSurface() const { return {treePositions_, faces_}; }
     void sendForces(const Frame& frame, StepOutput& out) noexcept;
-    void finishStep(StepOutput& out, double elapsed_us) noexcept;
+    /// Counts the step, publishes its snapshot when one is due and records the step's time from `start`,
+    /// the publication included; `elapsed_us` is its time up to the forces, which the snapshot carries.
+    void finishStep(StepOutput& out, std::chrono::steady_clock::time_point start, double elapsed_us) noexcept;
 
     /// Whether hand h's proxy is in contact and held off its device this step.
     bool touching(const Frame& frame, std::size_t h) const;

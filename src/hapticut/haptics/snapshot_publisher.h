@@ -15,7 +15,8 @@ namespace hapticut::haptics {
 
 class SnapshotPublisher {
 public:
-    /// Sizes every slot for the organ, with room to grow as cuts add to it, at topology version `version`.
+    /// Sizes every slot for the organ, with room to grow as cuts add to it, and fills it with the organ as it
+    /// is, at topology version `version`.
     void prepare(std::span<const Vec3> positions, std::span<const mesh::Face> faces, std::span<const mesh::FaceUvs> uvs,
                  std::span<const std::uint8_t> walls, long version, int handCount);
     /// The faces that topology version `version` rewrote or added; kept until every slot has them.
@@ -31,6 +32,8 @@ public:
     Snapshot& fill(std::span<const Vec3> positions, std::span<const mesh::Face> faces,
                    std::span<const mesh::FaceUvs> uvs, std::span<const std::uint8_t> walls, long version);
     void publish() { buffer_.publish(); }
+    /// How many nodes' positions the last fill copied.
+    std::size_t copiedByLastFill() const { return copiedByLastFill_; }
 
     TripleBuffer<Snapshot>& buffer() { return buffer_; }
 
@@ -46,6 +49,7 @@ private:
     std::array<std::vector<std::uint32_t>, 3> moved_;
     std::array<std::vector<std::uint8_t>, 3> movedMark_;
     std::array<bool, 3> wholeCopy_{};
+    std::size_t copiedByLastFill_ = 0;
 };
 
 }  // namespace hapticut::haptics
