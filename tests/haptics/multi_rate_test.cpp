@@ -462,3 +462,20 @@ TEST(MultiRate, AutoTurnsMultiRateWhenThePhysicsDoesNotFitThePeriod) {
 
 }  // namespace
 }  // namespace hapticut::haptics
+
+namespace hapticut::haptics {
+namespace {
+
+// A frame's parts shrink where taking nodes in has lately cost more, so that a part fits in its budget:
+// under a scalpel on the 1,000,000 heart a part of 2,048 nodes took 400-800 µs on a slow day.
+TEST(MultiRate, AFramesPartsFitTheirBudgetAtWhatTakingANodeInCostLately) {
+    EXPECT_EQ(framePartNodes(0), kFramePartNodes) << "nothing measured yet";
+    EXPECT_EQ(framePartNodes(10), kFramePartNodes) << "quiet nodes that stay in their boxes";
+    const double slow_ns = 4 * 1e3 * kFramePartBudget_us / static_cast<double>(kFramePartNodes);
+    EXPECT_EQ(framePartNodes(slow_ns), kFramePartNodes / 4);
+    EXPECT_LE(static_cast<double>(framePartNodes(slow_ns)) * slow_ns, 1e3 * kFramePartBudget_us);
+    EXPECT_EQ(framePartNodes(1e9), kMinFramePartNodes) << "a part always takes some nodes";
+}
+
+}  // namespace
+}  // namespace hapticut::haptics

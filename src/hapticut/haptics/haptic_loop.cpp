@@ -662,6 +662,13 @@ void HapticLoop::advanceMultiRate(Frame& frame) noexcept {
     if (!taken || !worker_->threaded()) takeFrames(frame);
 }
 
+std::size_t framePartNodes(double intake_ns_per_node) {
+    if (!(intake_ns_per_node > 0)) return kFramePartNodes;
+    const double fit = 1e3 * kFramePartBudget_us / intake_ns_per_node;
+    return static_cast<std::size_t>(
+        std::clamp(fit, static_cast<double>(kMinFramePartNodes), static_cast<double>(kFramePartNodes)));
+}
+
 bool HapticLoop::takeFrames(Frame& frame) noexcept {
     // In real time a frame comes in a part at a time, its first nodes (the region grows from the tools,
     // so those are the touched ones) first: a frame of a large region taken whole cost the step that
@@ -674,12 +681,19 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
     std::size_t taken = 0;
     bool any = false, whole = false;
     movedFaces_.clear();
+    const auto intakeStart = Clock::now();
     auto finish = [&](bool allIn) {
         if (!any) return allIn;
         whole ? refitWholeTree() : bvh_.refitFaces(treeSurface(), movedFaces_);
         const collision::SurfaceView view = surface();
         for (std::size_t h = 0; h < hands_.size(); ++h)
             if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
+        if (inParts) {  // what the next parts may cost: a running mean that follows the tissue and the machine
+            const double ns = std::chrono::duration<double, std::nano>(Clock::now() - intakeStart).count();
+            const double perNode = ns / static_cast<double>(std::max<std::size_t>(taken, 1));
+            frameIntake_ns_per_node_ =
+                frameIntake_ns_per_node_ > 0 ? 0.75 * frameIntake_ns_per_node_ + 0.25 * perNode : perNode;
+        }
         return allIn;
     };
     physics::Nodes& n = model_.nodes;
@@ -693,7 +707,8 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
                 for (HandFrame& hand : frame) hand.force_N = Vec3::Zero();
             }
         }
-        const std::size_t room = inParts ? std::min(kFramePartNodes, kFrameNodesPerStep - taken) : f->nodes.size();
+        const std::size_t room =
+            inParts ? std::min(framePartNodes(frameIntake_ns_per_node_), kFrameNodesPerStep - taken) : f->nodes.size();
         const std::size_t from = frameCursor_, to = from + std::min(room, f->nodes.size() - from);
         const std::span<const std::uint32_t> part(f->nodes.data() + from, to - from);
         for (std::size_t k = from; k < to; ++k) {

@@ -110,6 +110,17 @@ inline constexpr double kTreeMarginPerEdge = 0.03;
 inline constexpr std::size_t kFramePartNodes = 2048;
 inline constexpr std::size_t kFrameNodesPerStep = 4096;
 inline constexpr std::size_t kFrameFacesPerStep = 2048;
+/// A part is smaller where taking nodes in has lately cost more than this a part: under a scalpel on
+/// the 1,000,000 heart a part of 2,048 nodes moved 9,000-12,000 faces out of their boxes and took
+/// 400-800 µs to come in on a slow day (the refit most), and with the tool's coupling and a cut event in
+/// the same step some steps overran.
+inline constexpr double kFramePartBudget_us = 400;
+inline constexpr std::size_t kMinFramePartNodes = 256;
+/// The nodes of a frame's next part: as many as `intake_ns_per_node` (what taking a node in has lately
+/// cost, its share of the tree's refit and of the proxies' following included) lets into
+/// kFramePartBudget_us, within kMinFramePartNodes and kFramePartNodes; kFramePartNodes while that cost
+/// is unknown (0).
+std::size_t framePartNodes(double intake_ns_per_node);
 
 /// How many physics steps within a second may take more than half the period before an Auto loop
 /// turns multi-rate.
@@ -403,9 +414,10 @@ private:
     int pendingEditCount_ = 0;
     std::vector<std::uint32_t> pendingNodes_, pendingSprings_;  // multi-rate: what cuts changed since the last sync
     bool pendingSync_ = false;
-    long lastFrameStep_ = 0;       // multi-rate: the step whose present the latest frame's state is
-    std::size_t frameCursor_ = 0;  // multi-rate: how many of the frame being taken in are in
-    int slowPhysicsSteps_ = 0;     // watchPhysicsTime's count in the current second
+    long lastFrameStep_ = 0;              // multi-rate: the step whose present the latest frame's state is
+    std::size_t frameCursor_ = 0;         // multi-rate: how many of the frame being taken in are in
+    double frameIntake_ns_per_node_ = 0;  // multi-rate in real time: what a node's intake cost lately (framePartNodes)
+    int slowPhysicsSteps_ = 0;            // watchPhysicsTime's count in the current second
     long slowWindowStart_ = 0;
     collision::Bvh bvh_;
     ContactFootprint footprint_;
