@@ -460,12 +460,6 @@ TEST(MultiRate, AutoTurnsMultiRateWhenThePhysicsDoesNotFitThePeriod) {
     EXPECT_GT(loop.stats().multiRateSwitchSteps, 1);
 }
 
-}  // namespace
-}  // namespace hapticut::haptics
-
-namespace hapticut::haptics {
-namespace {
-
 // A frame's parts shrink where taking nodes in has lately cost more, so that a part fits in its budget:
 // under a scalpel on the 1,000,000 heart a part of 2,048 nodes took 400-800 µs on a slow day.
 TEST(MultiRate, AFramesPartsFitTheirBudgetAtWhatTakingANodeInCostLately) {
