@@ -15,6 +15,7 @@
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/tools.h"
+#include "hapticut/physics/mass_spring_model.h"
 #include "hapticut/physics/material.h"
 #include "hapticut/scene/sample_trajectories.h"
 
@@ -134,11 +135,9 @@ Trace replay(const HeartAndPath& h, LoopConfig::PhysicsRate rate, double thresho
     HapticLoop loop(organ, device, config);
     Trace t;
     t.multiRate = loop.multiRate();
-    const physics::Nodes& nodes = organ.model().nodes;
     runSimulated(loop, std::lround(h.path.duration_s() * config.rate_hz) + 1, [&](const StepOutput& s) {
         t.force_N.push_back(s.hand().force_N.norm());
-        for (std::size_t i = 0; i < nodes.size(); ++i)
-            t.maxDisplacement_m = std::max(t.maxDisplacement_m, (nodes.position[i] - nodes.restPosition[i]).norm());
+        t.maxDisplacement_m = std::max(t.maxDisplacement_m, physics::maxDisplacement(organ.model()));
     });
     t.cutEvents = loop.stats().cutEvents;
     t.physicsSteps = loop.stats().physicsSteps;

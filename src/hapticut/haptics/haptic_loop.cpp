@@ -681,7 +681,7 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
     std::size_t taken = 0;
     bool any = false, whole = false;
     movedFaces_.clear();
-    const auto intakeStart = Clock::now();
+    Clock::time_point intakeStart;  // read once a frame is there: most steps take none
     auto finish = [&](bool allIn) {
         if (!any) return allIn;
         whole ? refitWholeTree() : bvh_.refitFaces(treeSurface(), movedFaces_);
@@ -700,6 +700,7 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
     for (;;) {
         const PhysicsFrame* f = worker_->takeFrame();
         if (!f) return finish(true);
+        if (inParts && !any) intakeStart = Clock::now();
         if (frameCursor_ == 0) {
             lastFrameStep_ = stepIndex_ + 1;  // the frame's state is the next step's present
             if (!f->finite) {
