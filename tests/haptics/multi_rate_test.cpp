@@ -468,6 +468,10 @@ TEST(MultiRate, AFramesPartsFitTheirBudgetAtWhatTakingANodeInCostLately) {
     EXPECT_EQ(framePartNodes(slow_ns), kFramePartNodes / 4);
     EXPECT_LE(static_cast<double>(framePartNodes(slow_ns)) * slow_ns, 1e3 * kFramePartBudget_us);
     EXPECT_EQ(framePartNodes(1e9), kMinFramePartNodes) << "a part always takes some nodes";
+    // A part has what the step's other work left (HapticLoop::partBudget_us): less after a slow cut event,
+    // and still some nodes after a step that used its share of the period before the part came.
+    EXPECT_EQ(framePartNodes(slow_ns, kFramePartBudget_us / 2), kFramePartNodes / 8);
+    EXPECT_EQ(framePartNodes(slow_ns, -100), kMinFramePartNodes);
 }
 
 }  // namespace

@@ -47,6 +47,8 @@ public:
     void begin(const collision::SurfaceView& surface, std::uint32_t face, const Vec3& bary, double radius_m) noexcept;
     /// Integrates up to `maxFaces` more faces; true once every face under the tip is in.
     bool advance(const collision::SurfaceView& surface, const mesh::VertexFaces& around, std::size_t maxFaces) noexcept;
+    /// The faces the build under way has integrated or passed by so far.
+    std::size_t facesDone() const noexcept { return next_; }
     /// Gives `tool` the footprint built (the touched triangle, as in the thesis, when nothing lay under
     /// the tip) and its subgrid compliance.
     FootprintSpread finish(const collision::SurfaceView& surface, const mesh::VertexFaces& around,

@@ -19,6 +19,19 @@ namespace hapticut::haptics {
 using Clock = std::chrono::steady_clock;
 
 namespace {
+/// How many items that lately cost `ns_per_item` each fit into `budget_us`, within [least, most]; `most`
+/// while that cost is unknown (0).
+std::size_t itemsWithinBudget(double ns_per_item, double budget_us, std::size_t least, std::size_t most) {
+    if (!(ns_per_item > 0)) return most;
+    const double fit = 1e3 * budget_us / ns_per_item;
+    return static_cast<std::size_t>(std::clamp(fit, static_cast<double>(least), static_cast<double>(most)));
+}
+
+/// A running mean of what an item costs, which follows the tissue and the machine within a few samples.
+void followCost(double& mean_ns, double sample_ns) {
+    mean_ns = mean_ns > 0 ? 0.75 * mean_ns + 0.25 * sample_ns : sample_ns;
+}
+
 /// The proxy may use the ray-parity inside test only on a closed surface (no boundary edges).
 ProxyParams withClosedFlag(ProxyParams params, std::span<const mesh::Face> faces) {
     const mesh::MeshAdjacency adj = mesh::buildAdjacency(faces);
@@ -257,6 +270,7 @@ bool HapticLoop::touching(const Frame& frame, std::size_t h) const {
 
 StepOutput HapticLoop::step() noexcept {
     const auto start = Clock::now();
+    stepStart_ = start;
     frameNodes_.clear();
     applyPendingCommands();
     if (std::exchange(stalled_, false)) {
@@ -576,7 +590,7 @@ double HapticLoop::loadTissue(std::size_t h, physics::PointSpring& tool, bool wa
             footprintBuilder_ = self, footprintBuildTopology_ = topologyVersion_, footprintBuildRadius_m_ = radius_m;
             footprintBuildAt_m_ = at_m;
         }
-        if (footprint_.advance(view, organ_.vertexFaces(), kFootprintFacesPerStep)) {
+        if (advanceFootprint(view)) {
             const FootprintSpread spread =
                 footprint_.finish(view, organ_.vertexFaces(), model_.nodes.anchorStiffness, tool);
             footprintBuilder_ = -1;
@@ -592,6 +606,21 @@ double HapticLoop::loadTissue(std::size_t h, physics::PointSpring& tool, bool wa
     if (kept) return hand.subgrid_m_per_N;
     tool.touchTriangle(faces_[contact.face], contact.bary);
     return 0;
+}
+
+std::size_t footprintFacesPerStep(double ns_per_face) {
+    return itemsWithinBudget(ns_per_face, kFootprintBudget_us, kMinFootprintFaces, kFootprintFacesPerStep);
+}
+
+bool HapticLoop::advanceFootprint(const collision::SurfaceView& view) noexcept {
+    if (!realtime_) return footprint_.advance(view, organ_.vertexFaces(), kFootprintFacesPerStep);
+    const std::size_t before = footprint_.facesDone();
+    const auto start = Clock::now();
+    const bool whole = footprint_.advance(view, organ_.vertexFaces(), footprintFacesPerStep(footprint_ns_per_face_));
+    const double ns = std::chrono::duration<double, std::nano>(Clock::now() - start).count();
+    if (const std::size_t faces = footprint_.facesDone() - before; faces > 0)
+        followCost(footprint_ns_per_face_, ns / static_cast<double>(faces));
+    return whole;
 }
 
 Vec3 HapticLoop::forceAhead(const physics::PointSpring& tool, double ahead_s) const {
@@ -662,11 +691,13 @@ void HapticLoop::advanceMultiRate(Frame& frame) noexcept {
     if (!taken || !worker_->threaded()) takeFrames(frame);
 }
 
-std::size_t framePartNodes(double intake_ns_per_node) {
-    if (!(intake_ns_per_node > 0)) return kFramePartNodes;
-    const double fit = 1e3 * kFramePartBudget_us / intake_ns_per_node;
-    return static_cast<std::size_t>(
-        std::clamp(fit, static_cast<double>(kMinFramePartNodes), static_cast<double>(kFramePartNodes)));
+std::size_t framePartNodes(double intake_ns_per_node, double budget_us) {
+    return itemsWithinBudget(intake_ns_per_node, budget_us, kMinFramePartNodes, kFramePartNodes);
+}
+
+double HapticLoop::partBudget_us() const noexcept {
+    const double spent_us = std::chrono::duration<double, std::micro>(Clock::now() - stepStart_).count();
+    return std::min(kFramePartBudget_us, kStepWorkShare * 1e6 / config_.rate_hz - spent_us);
 }
 
 bool HapticLoop::takeFrames(Frame& frame) noexcept {
@@ -688,11 +719,9 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
         const collision::SurfaceView view = surface();
         for (std::size_t h = 0; h < hands_.size(); ++h)
             if (!letGo(frame, h)) hands_[h].proxy.followSurface(view, bvh_);
-        if (inParts) {  // what the next parts may cost: a running mean that follows the tissue and the machine
+        if (inParts) {  // what the next parts may cost
             const double ns = std::chrono::duration<double, std::nano>(Clock::now() - intakeStart).count();
-            const double perNode = ns / static_cast<double>(std::max<std::size_t>(taken, 1));
-            frameIntake_ns_per_node_ =
-                frameIntake_ns_per_node_ > 0 ? 0.75 * frameIntake_ns_per_node_ + 0.25 * perNode : perNode;
+            followCost(frameIntake_ns_per_node_, ns / static_cast<double>(std::max<std::size_t>(taken, 1)));
         }
         return allIn;
     };
@@ -709,7 +738,8 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
             }
         }
         const std::size_t room =
-            inParts ? std::min(framePartNodes(frameIntake_ns_per_node_), kFrameNodesPerStep - taken) : f->nodes.size();
+            inParts ? std::min(framePartNodes(frameIntake_ns_per_node_, partBudget_us()), kFrameNodesPerStep - taken)
+                    : f->nodes.size();
         const std::size_t from = frameCursor_, to = from + std::min(room, f->nodes.size() - from);
         const std::span<const std::uint32_t> part(f->nodes.data() + from, to - from);
         for (std::size_t k = from; k < to; ++k) {

@@ -94,6 +94,16 @@ inline constexpr double kFootprintSlide = 0.05;
 /// faces, so it is built in the step that asks; on the 1,000,000 heart it walks 8,000-16,000, which took
 /// a step 0.3-0.7 ms (more on a cold cache than in `bench`) whole, an overrun together with a frame.
 inline constexpr std::size_t kFootprintFacesPerStep = 2048;
+/// In real time, fewer where a face has lately cost more than this a step: under a scalpel on the
+/// 1,000,000 heart the 2,048 faces took 200-340 µs in the slowest steps (a cold cache after a cut), the
+/// most of any part of those steps after a frame's part. In simulated time every step takes
+/// kFootprintFacesPerStep, so a run does not depend on the machine.
+inline constexpr double kFootprintBudget_us = 150;
+inline constexpr std::size_t kMinFootprintFaces = 256;
+/// The faces a footprint's build takes in a step: as many as `ns_per_face` (what a face cost lately) lets
+/// into kFootprintBudget_us, within kMinFootprintFaces and kFootprintFacesPerStep; kFootprintFacesPerStep
+/// while that cost is unknown (0).
+std::size_t footprintFacesPerStep(double ns_per_face);
 /// The collision tree's margin as a share of the organ's mean edge (Bvh::setMargin): wide enough that the
 /// nodes a step moves by microns stay in their boxes, narrow enough that queries meet few more boxes.
 /// Measured on the 100,000 and 1,000,000 hearts: 0.1 and 0.3 edges left as many overruns in a real-time
@@ -116,11 +126,14 @@ inline constexpr std::size_t kFrameFacesPerStep = 2048;
 /// the same step some steps overran.
 inline constexpr double kFramePartBudget_us = 400;
 inline constexpr std::size_t kMinFramePartNodes = 256;
+/// And a part has only what is left of this share of the period, counted from the step's start, after
+/// the step's other work (a cut event, the proxies, the tool's coupling and its footprint): those came
+/// together with a part in the steps that still overran under the scalpel on the 1,000,000 heart.
+inline constexpr double kStepWorkShare = 0.6;
 /// The nodes of a frame's next part: as many as `intake_ns_per_node` (what taking a node in has lately
-/// cost, its share of the tree's refit and of the proxies' following included) lets into
-/// kFramePartBudget_us, within kMinFramePartNodes and kFramePartNodes; kFramePartNodes while that cost
-/// is unknown (0).
-std::size_t framePartNodes(double intake_ns_per_node);
+/// cost, its share of the tree's refit and of the proxies' following included) lets into `budget_us`,
+/// within kMinFramePartNodes and kFramePartNodes; kFramePartNodes while that cost is unknown (0).
+std::size_t framePartNodes(double intake_ns_per_node, double budget_us = kFramePartBudget_us);
 
 /// How many physics steps within a second may take more than half the period before an Auto loop
 /// turns multi-rate.
@@ -333,6 +346,9 @@ private:
     /// Multi-rate: the frames the physics made so far, into the model, the tree and the proxies, in real
     /// time a part at a time, as kFramePartNodes says. True when every frame made so far is in.
     bool takeFrames(Frame& frame) noexcept;
+    /// What a frame's next part may cost this step: kFramePartBudget_us, or what the step's other work
+    /// left of kStepWorkShare of the period (framePartNodes gives kMinFramePartNodes when it left none).
+    double partBudget_us() const noexcept;
     /// Multi-rate, with the physics held: the edits and cuts made since it was last held, into its copy.
     void syncWorker() noexcept;
     /// Starts the physics' own copy and, on the wall clock, its thread, for the steps from `fromStep`.
@@ -358,6 +374,9 @@ private:
     /// While a new footprint is being built, the tool loads the last one for the same tip (through cuts
     /// too), else the touched triangle. One build is under way at a time (footprintBuilder_).
     double loadTissue(std::size_t h, physics::PointSpring& tool, bool wasActive) noexcept;
+    /// Takes the footprint under way a step further: in real time as many faces as footprintFacesPerStep
+    /// lets in, at what a face has cost lately. True once it is whole.
+    bool advanceFootprint(const collision::SurfaceView& view) noexcept;
     /// Multi-rate: the tool's force with its held point carried `ahead_s` on at its nodes' velocities.
     Vec3 forceAhead(const physics::PointSpring& tool, double ahead_s) const;
     /// An edit to the model: now in a single-rate loop, and in a multi-rate one once the physics is held.
@@ -417,7 +436,10 @@ private:
     long lastFrameStep_ = 0;              // multi-rate: the step whose present the latest frame's state is
     std::size_t frameCursor_ = 0;         // multi-rate: how many of the frame being taken in are in
     double frameIntake_ns_per_node_ = 0;  // multi-rate in real time: what a node's intake cost lately (framePartNodes)
-    int slowPhysicsSteps_ = 0;            // watchPhysicsTime's count in the current second
+    double footprint_ns_per_face_ = 0;    // in real time: what a footprint's face cost lately (footprintFacesPerStep)
+    std::chrono::steady_clock::time_point
+        stepStart_{};           // when this step began: its later work has what is left (kStepWorkShare)
+    int slowPhysicsSteps_ = 0;  // watchPhysicsTime's count in the current second
     long slowWindowStart_ = 0;
     collision::Bvh bvh_;
     ContactFootprint footprint_;
