@@ -349,6 +349,9 @@ private:
     /// What a frame's next part may cost this step: kFramePartBudget_us, or what the step's other work
     /// left of kStepWorkShare of the period (framePartNodes gives kMinFramePartNodes when it left none).
     double partBudget_us() const noexcept;
+    /// What a node of the next part is taken to cost: the running mean, or what the `taken` nodes of this
+    /// step's parts since `intakeStart` cost, whichever is more.
+    double partCost_ns_per_node(std::size_t taken, std::chrono::steady_clock::time_point intakeStart) const noexcept;
     /// Multi-rate, with the physics held: the edits and cuts made since it was last held, into its copy.
     void syncWorker() noexcept;
     /// Starts the physics' own copy and, on the wall clock, its thread, for the steps from `fromStep`.
