@@ -440,8 +440,8 @@ private:
     std::size_t frameCursor_ = 0;         // multi-rate: how many of the frame being taken in are in
     double frameIntake_ns_per_node_ = 0;  // multi-rate in real time: what a node's intake cost lately (framePartNodes)
     double footprint_ns_per_face_ = 0;    // in real time: what a footprint's face cost lately (footprintFacesPerStep)
-    std::chrono::steady_clock::time_point
-        stepStart_{};           // when this step began: its later work has what is left (kStepWorkShare)
+    // When this step began: its later work has what is left of kStepWorkShare of the period.
+    std::chrono::steady_clock::time_point stepStart_{};
     int slowPhysicsSteps_ = 0;  // watchPhysicsTime's count in the current second
     long slowWindowStart_ = 0;
     collision::Bvh bvh_;
