@@ -695,17 +695,17 @@ std::size_t framePartNodes(double intake_ns_per_node, double budget_us) {
     return itemsWithinBudget(intake_ns_per_node, budget_us, kMinFramePartNodes, kFramePartNodes);
 }
 
-double HapticLoop::partBudget_us() const noexcept {
-    const double spent_us = std::chrono::duration<double, std::micro>(Clock::now() - stepStart_).count();
+double HapticLoop::partBudget_us(Clock::time_point now) const noexcept {
+    const double spent_us = std::chrono::duration<double, std::micro>(now - stepStart_).count();
     return std::min(kFramePartBudget_us, kStepWorkShare * 1e6 / config_.rate_hz - spent_us);
 }
 
-double HapticLoop::partCost_ns_per_node(std::size_t taken, Clock::time_point intakeStart) const noexcept {
+double HapticLoop::partCost_ns_per_node(std::size_t taken, Clock::duration intake) const noexcept {
     // A further part in the same step is sized by what this step's parts cost, when that is more: the
     // running mean lags a frame that moves more than the last ones, and two parts of 2,048 nodes then
     // took 600-900 µs on a 202,120-triangle organ under the scalpel.
     if (taken == 0) return frameIntake_ns_per_node_;
-    const double ns = std::chrono::duration<double, std::nano>(Clock::now() - intakeStart).count();
+    const double ns = std::chrono::duration<double, std::nano>(intake).count();
     return std::max(frameIntake_ns_per_node_, ns / static_cast<double>(taken));
 }
 
@@ -738,7 +738,9 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
     for (;;) {
         const PhysicsFrame* f = worker_->takeFrame();
         if (!f) return finish(true);
-        if (inParts && !any) intakeStart = Clock::now();
+        // One clock read a part, in real time only: where the intake began, what it cost, what is left.
+        const Clock::time_point now = inParts ? Clock::now() : Clock::time_point{};
+        if (inParts && !any) intakeStart = now;
         if (frameCursor_ == 0) {
             lastFrameStep_ = stepIndex_ + 1;  // the frame's state is the next step's present
             if (!f->finite) {
@@ -747,7 +749,7 @@ bool HapticLoop::takeFrames(Frame& frame) noexcept {
             }
         }
         const std::size_t room =
-            inParts ? std::min(framePartNodes(partCost_ns_per_node(taken, intakeStart), partBudget_us()),
+            inParts ? std::min(framePartNodes(partCost_ns_per_node(taken, now - intakeStart), partBudget_us(now)),
                                kFrameNodesPerStep - taken)
                     : f->nodes.size();
         const std::size_t from = frameCursor_, to = from + std::min(room, f->nodes.size() - from);

@@ -346,12 +346,12 @@ private:
     /// Multi-rate: the frames the physics made so far, into the model, the tree and the proxies, in real
     /// time a part at a time, as kFramePartNodes says. True when every frame made so far is in.
     bool takeFrames(Frame& frame) noexcept;
-    /// What a frame's next part may cost this step: kFramePartBudget_us, or what the step's other work
-    /// left of kStepWorkShare of the period (framePartNodes gives kMinFramePartNodes when it left none).
-    double partBudget_us() const noexcept;
+    /// What a frame's next part may cost this step, at `now`: kFramePartBudget_us, or what the step's other
+    /// work left of kStepWorkShare of the period (framePartNodes gives kMinFramePartNodes when it left none).
+    double partBudget_us(std::chrono::steady_clock::time_point now) const noexcept;
     /// What a node of the next part is taken to cost: the running mean, or what the `taken` nodes of this
-    /// step's parts since `intakeStart` cost, whichever is more.
-    double partCost_ns_per_node(std::size_t taken, std::chrono::steady_clock::time_point intakeStart) const noexcept;
+    /// step's parts cost (`intake`, all of them), whichever is more.
+    double partCost_ns_per_node(std::size_t taken, std::chrono::steady_clock::duration intake) const noexcept;
     /// Multi-rate, with the physics held: the edits and cuts made since it was last held, into its copy.
     void syncWorker() noexcept;
     /// Starts the physics' own copy and, on the wall clock, its thread, for the steps from `fromStep`.
