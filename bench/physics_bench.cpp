@@ -30,9 +30,9 @@ const physics::MassSpringModel& heartModel(int triangles) {
 
 void BM_SpringForces(benchmark::State& state) {
     physics::MassSpringModel model = heartModel(static_cast<int>(state.range(0)));
-    std::vector<Vec3> f(model.nodes.size());
+    physics::ForceRows f(model.nodes.size());
     for (auto _ : state) {
-        std::fill(f.begin(), f.end(), Vec3::Zero());
+        std::fill(f.begin(), f.end(), physics::ForceRow{});
         physics::accumulateSpringForces(model.springs, model.nodes.position, model.nodes.velocity, f);
         benchmark::DoNotOptimize(f.data());
     }

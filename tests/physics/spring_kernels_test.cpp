@@ -48,6 +48,12 @@ struct MovingHeart {
     }
 };
 
+std::vector<Vec3> vectorsOf(const std::vector<ForceRow>& rows) {
+    std::vector<Vec3> v;
+    for (const ForceRow& r : rows) v.emplace_back(r.x, r.y, r.z);
+    return v;
+}
+
 double largestDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b, double& scale) {
     double worst = 0;
     scale = 0;
@@ -64,8 +70,14 @@ TEST(SpringKernels, EveryInstructionSetGivesTheFormulasForcesAndTheSameBits) {
     std::iota(all.begin(), all.end(), 0u);
     ASSERT_EQ(all.size() % 16, 13u);
     ASSERT_GT(all.size(), h.collapsed);
-    // A listed subset in no particular order, of such a length too.
-    std::vector<std::uint32_t> listed{h.collapsed};
+    // A listed subset in no particular order, of such a length too, led by a spring at the last node,
+    // whose coordinates end the arrays (a load past them is what AddressSanitizer's runs would catch).
+    const auto lastNode = static_cast<std::uint32_t>(m.nodes.size() - 1);
+    std::vector<std::uint32_t> listed;
+    for (std::uint32_t k = 0; k < m.springs.size() && listed.empty(); ++k)
+        if (m.springs.a[k] == lastNode || m.springs.b[k] == lastNode) listed.push_back(k);
+    ASSERT_EQ(listed.size(), 1u);
+    listed.push_back(h.collapsed);
     for (std::uint32_t k = static_cast<std::uint32_t>(m.springs.size()); k-- > 0;)
         if (k % 3 != 1) listed.push_back(k);
     while (listed.size() % 16 != 13) listed.pop_back();
@@ -76,14 +88,16 @@ TEST(SpringKernels, EveryInstructionSetGivesTheFormulasForcesAndTheSameBits) {
     ASSERT_FALSE(targets.empty());
     for (const char* target : targets) {
         ASSERT_TRUE(kernels::forceTarget(target)) << target;
-        std::vector<Vec3> f(m.nodes.size(), Vec3::Zero()), g(m.nodes.size(), Vec3::Zero());
+        std::vector<ForceRow> fRows(m.nodes.size()), gRows(m.nodes.size());
         const kernels::SpringArrays arrays{m.springs.a.data(), m.springs.b.data(), m.springs.restLength.data(),
                                            m.springs.stiffness.data(), m.springs.damping.data()};
-        kernels::addSpringForces(arrays, all.size(), m.nodes.size(), m.nodes.position.data()->data(),
-                                 m.nodes.velocity.data()->data(), f.data()->data());
-        kernels::addListedSpringForces(arrays, listed.data(), listed.size(), m.nodes.size(),
-                                       m.nodes.position.data()->data(), m.nodes.velocity.data()->data(),
-                                       g.data()->data());
+        kernels::addSpringForces(arrays, all.size(), m.nodes.position.data()->data(), m.nodes.velocity.data()->data(),
+                                 fRows.data());
+        kernels::addListedSpringForces(arrays, listed.data(), listed.size(), m.nodes.position.data()->data(),
+                                       m.nodes.velocity.data()->data(), gRows.data());
+        const std::vector<Vec3> f = vectorsOf(fRows), g = vectorsOf(gRows);
+        for (std::size_t i = 0; i < fRows.size(); ++i)
+            ASSERT_TRUE(fRows[i].unused == 0 && gRows[i].unused == 0) << target << ": a row's fourth double changed";
         double scale = 0;
         const double worstAll = largestDifference(f, expectedAll, scale);
         EXPECT_LT(worstAll, 1e-12 * scale) << target;
@@ -125,7 +139,7 @@ TEST(SpringKernels, EveryInstructionSetGivesTheImplicitTermsOfTheJacobian) {
     MovingHeart h;
     const MassSpringModel& m = h.model;
     // A chunk in no particular order, with runs of consecutive springs, a vector's worth that only looks
-    // like one, the collapsed spring, one at the last node (whose row the vector loads cannot read) and 13
+    // like one, the collapsed spring, one at the last node (whose coordinates end the arrays) and 13
     // left over after whole vectors of 16.
     std::vector<std::uint32_t> list{h.collapsed};
     const auto lastNode = static_cast<std::uint32_t>(m.nodes.size() - 1);
@@ -148,7 +162,7 @@ TEST(SpringKernels, EveryInstructionSetGivesTheImplicitTermsOfTheJacobian) {
         ASSERT_TRUE(kernels::forceTarget(target)) << target;
         for (bool first : {true, false}) {
             kernels::SpringJacobians out;
-            kernels::springJacobians(arrays, list.data(), list.size(), m.nodes.size(), m.nodes.position.data()->data(),
+            kernels::springJacobians(arrays, list.data(), list.size(), m.nodes.position.data()->data(),
                                      m.nodes.velocity.data()->data(), step, first, out);
             int compared = 0;
             for (std::size_t i = 0; i < list.size(); ++i) {

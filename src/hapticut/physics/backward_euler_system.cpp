@@ -151,7 +151,7 @@ void BackwardEulerSystem::assembleSprings(const MassSpringModel& model, double h
     const kernels::SpringArrays arrays = springArrays(model.springs);
     for (std::size_t begin = first; begin < end; begin += kernels::SpringJacobians::kSprings) {
         const std::size_t size = std::min(kernels::SpringJacobians::kSprings, end - begin);
-        kernels::springJacobians(arrays, ordered_.data() + begin, size, x.size(), coordinates(x.data()),
+        kernels::springJacobians(arrays, ordered_.data() + begin, size, coordinates(x.data()),
                                  coordinates(model.nodes.velocity.data()), h, firstLinearisation, chunk);
         for (std::size_t i = 0; i < size; ++i) {
             const std::size_t e = begin + i;

@@ -7,7 +7,6 @@
 #include <cmath>
 
 #include "hapticut/common/reserve.h"
-#include "hapticut/physics/spring_forces.h"
 #include "hapticut/physics/strain_limit.h"
 
 namespace hapticut::physics {
@@ -31,6 +30,7 @@ void Stepper::setActiveRegion(bool on) {
 void Stepper::reserveFor(std::size_t n, std::size_t ns) {
     const std::size_t nodes = roomToGrow(n), springs = roomToGrow(ns);
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) reserveTouched(*buffer, nodes);
+    reserveTouched(forces_, nodes);
     reserveTouched(allNodes_, nodes);
     reserveTouched(allSprings_, springs);
     reserveTouched(moved_, nodes);
@@ -45,6 +45,7 @@ void Stepper::prepare(const MassSpringModel& model) {
     const std::size_t n = model.nodes.size(), ns = model.springs.size();
     reserveFor(n, ns);
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n);
+    forces_.resize(n);
     stableDt_ = stableTimeStep(model, scheme_, toolStiffness_);
     rawStableDt_ = stableDt_ / kStableSafety;
     allNodes_.resize(n);
@@ -82,6 +83,7 @@ void Stepper::topologyChanged(const MassSpringModel& model, std::span<const std:
     const std::size_t n = model.nodes.size(), ns = model.springs.size();
     if (n > x0_.capacity() || ns > springsAt_.springCapacity()) reserveFor(n, ns);
     for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n, Vec3::Zero());
+    forces_.resize(n);
     for (auto i = static_cast<std::uint32_t>(allNodes_.size()); i < n; ++i) allNodes_.push_back(i);
     for (auto k = static_cast<std::uint32_t>(allSprings_.size()); k < ns; ++k) allSprings_.push_back(k);
     implicit_.resize(n);
@@ -123,9 +125,9 @@ std::span<const std::uint32_t> Stepper::integratedNodes() const {
 
 void Stepper::accelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v) {
     if (activeRegion_)
-        computeActiveAccelerations(model, x, v, a_, region_.nodes(), region_.touched(), region_.springs());
+        computeActiveAccelerations(model, x, v, a_, region_.nodes(), region_.touched(), region_.springs(), forces_);
     else
-        computeAccelerations(model, x, v, a_);
+        computeAccelerations(model, x, v, a_, forces_);
 }
 
 StepResult Stepper::step(MassSpringModel& model, double dt_s) {

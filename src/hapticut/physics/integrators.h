@@ -12,6 +12,7 @@
 #include "hapticut/physics/mass_spring_model.h"
 #include "hapticut/physics/node_springs.h"
 #include "hapticut/physics/scheme.h"
+#include "hapticut/physics/spring_forces.h"
 #include "hapticut/physics/stability.h"
 
 namespace hapticut::physics {
@@ -97,6 +98,7 @@ private:
     double strainLimit_ = 0;
     std::size_t preparedNodes_ = static_cast<std::size_t>(-1), preparedSprings_ = 0;
     std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
+    ForceRows forces_;  // where the explicit schemes sum a stage's forces
     std::vector<std::uint32_t> allNodes_, allSprings_;
     std::vector<std::uint32_t> moved_;      // the active region's nodes in the last step
     std::vector<std::uint32_t> snapped_;    // the nodes the snap rule put back at rest in the last step

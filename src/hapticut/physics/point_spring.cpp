@@ -41,6 +41,16 @@ void PointSpring::addReaction(std::span<const Vec3> x, std::span<Vec3> f) const 
     for (std::uint32_t k = 0; k < count; ++k) f[nodes[k]] -= weights[k] * force;
 }
 
+void PointSpring::addReaction(std::span<const Vec3> x, std::span<ForceRow> f) const {
+    if (!active) return;
+    const Vec3 force = forceOnTool(x);
+    for (std::uint32_t k = 0; k < count; ++k) {
+        const Vec3 share = weights[k] * force;
+        ForceRow& row = f[nodes[k]];
+        row.x -= share.x(), row.y -= share.y(), row.z -= share.z();
+    }
+}
+
 void PointSpring::copyTo(PointSpring& other) const {
     other.active = active;
     other.count = count;

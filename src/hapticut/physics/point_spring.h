@@ -9,6 +9,7 @@
 #include <span>
 
 #include "hapticut/geometry/vec.h"
+#include "hapticut/physics/force_row.h"
 
 namespace hapticut::physics {
 
@@ -55,6 +56,8 @@ struct PointSpring {
     Vec3 forceAt(const Vec3& held_m) const;
     /// Adds the reaction to the tissue's forces: -force spread over the loaded nodes by their weights.
     void addReaction(std::span<const Vec3> x, std::span<Vec3> f) const;
+    /// The same on force rows (the explicit integrators'), to the same bits.
+    void addReaction(std::span<const Vec3> x, std::span<ForceRow> f) const;
     /// Copies what is in use (the loaded nodes' prefix of the arrays), for handing the tool on each step.
     void copyTo(PointSpring& other) const;
 };

@@ -9,73 +9,90 @@ kernels::SpringArrays springArrays(const Springs& s) {
     return {s.a.data(), s.b.data(), s.restLength.data(), s.stiffness.data(), s.damping.data()};
 }
 
-void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f) {
-    kernels::addSpringForces(springArrays(s), s.size(), x.size(), coordinates(x.data()), coordinates(v.data()),
-                             coordinates(f.data()));
+void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<ForceRow> f) {
+    kernels::addSpringForces(springArrays(s), s.size(), coordinates(x.data()), coordinates(v.data()), f.data());
 }
 
 namespace {
 
-// Over plain arrays of coordinates, which vectorise; the sums are the Vec3 expressions' to the bit.
+// Over plain arrays, which vectorise; the sums are the Vec3 expressions' to the bit.
 
-/// a = external force - positioning spring's force, for `count` nodes (R4): zero rest length from each
+/// f = external force - positioning spring's force, for `count` nodes (R4): zero rest length from each
 /// node's rest position, f = -k (x - x0) - d v. The damping acts on the whole velocity, not only along
 /// the spring: projected damping would leave motion around the anchor undamped and divide by a length
 /// that is zero at rest.
 void startWithPositioningForces(const Nodes& n, std::size_t count, const double* __restrict x,
-                                const double* __restrict v, double* __restrict a) {
+                                const double* __restrict v, ForceRow* __restrict f) {
     const double* __restrict rest = coordinates(n.restPosition.data());
     const double* __restrict external = coordinates(n.externalForce.data());
     const double* __restrict anchorStiffness = n.anchorStiffness.data();
     const double* __restrict anchorDamping = n.anchorDamping.data();
     for (std::size_t i = 0; i < count; ++i) {
         const double k = anchorStiffness[i], d = anchorDamping[i];
-        for (std::size_t c = 3 * i; c < 3 * i + 3; ++c) a[c] = external[c] - (k * (x[c] - rest[c]) + d * v[c]);
+        double row[4] = {0, 0, 0, 0};
+        for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t j = 3 * i + c;
+            row[c] = external[j] - (k * (x[j] - rest[j]) + d * v[j]);
+        }
+        f[i] = {row[0], row[1], row[2], row[3]};
     }
 }
 
-/// a = F/m + g, where a held the force F; a pinned node (no inverse mass) feels no gravity.
-void forcesToAccelerations(const Nodes& n, const Vec3& gravity, std::size_t count, double* __restrict a) {
+/// a = F/m + g, where f holds the force F; a pinned node (no inverse mass) feels no gravity.
+void forcesToAccelerations(const Nodes& n, const Vec3& gravity, std::size_t count, const ForceRow* __restrict f,
+                           double* __restrict a) {
     const double* __restrict inverseMass = n.inverseMass.data();
     const double g[3] = {gravity.x(), gravity.y(), gravity.z()};
     for (std::size_t i = 0; i < count; ++i) {
         const double m = inverseMass[i];
-        for (std::size_t c = 0; c < 3; ++c) a[3 * i + c] = m * a[3 * i + c] + (m > 0 ? g[c] : 0.0);
+        const double force[3] = {f[i].x, f[i].y, f[i].z};
+        for (std::size_t c = 0; c < 3; ++c) a[3 * i + c] = m * force[c] + (m > 0 ? g[c] : 0.0);
     }
 }
 
 }  // namespace
 
 void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
-                          std::span<Vec3> a) {
+                          std::span<Vec3> a, ForceRows& forces) {
     if (a.empty()) return;
-    startWithPositioningForces(model.nodes, a.size(), coordinates(x.data()), coordinates(v.data()),
-                               coordinates(a.data()));
-    accumulateSpringForces(model.springs, x, v, a);
+    if (forces.size() < a.size()) forces.resize(a.size());
+    const std::span<ForceRow> f(forces.data(), a.size());
+    startWithPositioningForces(model.nodes, a.size(), coordinates(x.data()), coordinates(v.data()), f.data());
+    accumulateSpringForces(model.springs, x, v, f);
     // The tissue feels each tool's force reversed, spread by the thesis's squared weights (R9).
-    for (const PointSpring& tool : model.tools) tool.addReaction(x, a);
-    forcesToAccelerations(model.nodes, model.gravity_m_per_s2, a.size(), coordinates(a.data()));
+    for (const PointSpring& tool : model.tools) tool.addReaction(x, f);
+    forcesToAccelerations(model.nodes, model.gravity_m_per_s2, a.size(), f.data(), coordinates(a.data()));
 }
 
-}  // namespace hapticut::physics
-
-namespace hapticut::physics {
+void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
+                          std::span<Vec3> a) {
+    ForceRows forces;
+    computeAccelerations(model, x, v, a, forces);
+}
 
 void computeActiveAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
                                 std::span<Vec3> a, std::span<const std::uint32_t> nodes,
-                                std::span<const std::uint32_t> touched, std::span<const std::uint32_t> springs) {
+                                std::span<const std::uint32_t> touched, std::span<const std::uint32_t> springs,
+                                ForceRows& forces) {
     const Nodes& n = model.nodes;
     const Springs& s = model.springs;
-    for (std::uint32_t i : touched) a[i] = Vec3::Zero();
+    if (forces.size() < a.size()) forces.resize(a.size());
+    const std::span<ForceRow> f(forces.data(), a.size());
+    for (std::uint32_t i : touched) f[i] = {};
     // Resting neighbours sit exactly at rest with zero velocity, so only the active nodes have
     // positioning, external and gravity forces.
-    for (std::uint32_t i : nodes)
-        a[i] = n.externalForce[i] - n.anchorStiffness[i] * (x[i] - n.restPosition[i]) - n.anchorDamping[i] * v[i];
-    kernels::addListedSpringForces(springArrays(s), springs.data(), springs.size(), x.size(), coordinates(x.data()),
-                                   coordinates(v.data()), coordinates(a.data()));
-    for (const PointSpring& tool : model.tools) tool.addReaction(x, a);
+    for (std::uint32_t i : nodes) {
+        const Vec3 start =
+            n.externalForce[i] - n.anchorStiffness[i] * (x[i] - n.restPosition[i]) - n.anchorDamping[i] * v[i];
+        f[i] = {start.x(), start.y(), start.z(), 0};
+    }
+    kernels::addListedSpringForces(springArrays(s), springs.data(), springs.size(), coordinates(x.data()),
+                                   coordinates(v.data()), f.data());
+    for (const PointSpring& tool : model.tools) tool.addReaction(x, f);
+    for (std::uint32_t i : touched) a[i] = Vec3(f[i].x, f[i].y, f[i].z);
     const Vec3 g = model.gravity_m_per_s2;
-    for (std::uint32_t i : nodes) a[i] = n.inverseMass[i] * a[i] + (n.inverseMass[i] > 0 ? g : Vec3::Zero());
+    for (std::uint32_t i : nodes)
+        a[i] = n.inverseMass[i] * Vec3(f[i].x, f[i].y, f[i].z) + (n.inverseMass[i] > 0 ? g : Vec3::Zero());
 }
 
 }  // namespace hapticut::physics

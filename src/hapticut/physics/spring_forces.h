@@ -2,6 +2,7 @@
 #pragma once
 
 #include <span>
+#include <vector>
 
 #include "hapticut/physics/mass_spring_model.h"
 #include "hapticut/physics/spring_kernels.h"
@@ -11,11 +12,18 @@ namespace hapticut::physics {
 /// The springs' arrays as the SIMD kernels read them.
 kernels::SpringArrays springArrays(const Springs& s);
 
+/// The nodes' forces as the spring kernels sum them, a row a node; kept by the caller from step to step.
+using ForceRows = std::vector<ForceRow>;
+
 /// Structural springs (R3): f_a = [k_s(|l| - r) + k_d (l'·l)/|l|] l/|l|, f_b = -f_a, with l = x_b - x_a.
-void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<Vec3> f);
+void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<ForceRow> f);
 
 /// Accelerations a = F/m for state (x, v): springs, positioning springs (R4: zero rest length from each
-/// node's rest position, damping the whole velocity), external forces and gravity.
+/// node's rest position, damping the whole velocity), external forces and gravity. The forces are
+/// summed in `forces`, which is sized here (it allocates only when the model has grown).
+void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
+                          std::span<Vec3> a, ForceRows& forces);
+/// The same with forces summed in a buffer of its own, for a single evaluation.
 void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
                           std::span<Vec3> a);
 
@@ -24,6 +32,7 @@ void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x,
 /// the caller can tell which resting neighbours are being pulled awake.
 void computeActiveAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
                                 std::span<Vec3> a, std::span<const std::uint32_t> nodes,
-                                std::span<const std::uint32_t> touched, std::span<const std::uint32_t> springs);
+                                std::span<const std::uint32_t> touched, std::span<const std::uint32_t> springs,
+                                ForceRows& forces);
 
 }  // namespace hapticut::physics

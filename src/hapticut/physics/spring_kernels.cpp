@@ -3,11 +3,17 @@
 // one the machine supports (solver_kernels.cpp's forceTarget chooses for both files).
 //
 // A spring's force takes a square root, a division and some thirty products, which the vector lanes
-// share; its two scattered additions to the node forces stay scalar, in the springs' order, so that no
-// two lanes ever add to the same node at once. The arithmetic is the scalar formula's, operation for
-// operation and without fused multiply-adds (CMakeLists.txt compiles this file with -ffp-contract=off),
-// so every target gives the scalar loop's forces to the bit and a golden force trace does not depend on
-// the machine.
+// share; it then reaches its two ends' force rows (ForceRow: four doubles, one vector) a spring at a
+// time, in the springs' order, so that no two lanes ever add to the same node at once. The arithmetic
+// is the scalar formula's, operation for operation and without fused multiply-adds (CMakeLists.txt
+// compiles this file with -ffp-contract=off), so every target gives the scalar loop's forces to the bit
+// and a golden force trace does not depend on the machine.
+//
+// Tried and not kept (Intel Xeon, Sapphire Rapids class, 9,714 heart): computing a chunk of rows first
+// and adding them in a pass of their own, and summing a run of springs with the same end a in a
+// register, each cost more than they saved (4.8 and 3.8 ns a spring against 3.5): their branches on
+// where a run ends mispredict, and the scattered additions were not what bound the loop. Neither were
+// the square root and division; the instructions a spring takes are.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "hapticut/physics/spring_kernels.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
@@ -71,9 +77,9 @@ namespace hapticut::physics::kernels::HWY_NAMESPACE {
 
 namespace hn = hwy::HWY_NAMESPACE;
 
-// Where vectors hold four doubles, a node's x, y, z (and the next node's x) come in one load and four
-// nodes are transposed into coordinate vectors: on an AMD Zen 4 a spring's twelve gathers took more than
-// twice as long as these loads and shuffles. Narrower targets gather.
+// Where vectors hold four doubles, a node's coordinates come in two 16-byte loads and four springs'
+// differences are shuffled into coordinate vectors (LoadDifferences): on an AMD Zen 4 a spring's twelve
+// gathers took more than twice as long as loads and shuffles. Narrower targets gather.
 #undef HAPTICUT_SPRING_ROWS
 #if HWY_MAX_BYTES >= 32 && HWY_TARGET != HWY_SCALAR
 #define HAPTICUT_SPRING_ROWS 1
@@ -85,34 +91,6 @@ using D = hn::ScalableTag<double>;
 using V = hn::Vec<D>;
 using DI64 = hn::RebindToSigned<D>;
 constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
-
-/// The forces of a chunk of springs before they reach the nodes: computed in one pass and added in
-/// another, since a pass that did both would stall the vector work on the scalar additions.
-struct ChunkForces {
-    static constexpr std::size_t kSprings = 256;
-    HWY_ALIGN double x[kSprings], y[kSprings], z[kSprings];
-    std::uint32_t a[kSprings], b[kSprings];  // the ends of a listed chunk's springs
-    bool apart[kSprings];
-};
-
-#if HAPTICUT_SPRING_ROWS
-/// The coordinates of four nodes (3 i each; none the last node, whose row would read past the array).
-HWY_INLINE void LoadNodes(D d, const double* HWY_RESTRICT p, const std::size_t* at, V& x, V& y, V& z) {
-    const V r0 = hn::LoadU(d, p + at[0]), r1 = hn::LoadU(d, p + at[1]);
-    const V r2 = hn::LoadU(d, p + at[2]), r3 = hn::LoadU(d, p + at[3]);
-    const V u0 = hn::InterleaveLower(d, r0, r1), u1 = hn::InterleaveUpper(d, r0, r1);  // x0 x1 z0 z1, y0 y1 . .
-    const V u2 = hn::InterleaveLower(d, r2, r3), u3 = hn::InterleaveUpper(d, r2, r3);
-    x = hn::ConcatLowerLower(d, u2, u0), y = hn::ConcatLowerLower(d, u3, u1), z = hn::ConcatUpperUpper(d, u2, u0);
-}
-#else
-HWY_INLINE void LoadNodes(D d, const double* HWY_RESTRICT p, const std::size_t* at, V& x, V& y, V& z) {
-    const DI64 di64;
-    HWY_ALIGN std::int64_t index[kMaxLanes];
-    for (std::size_t lane = 0; lane < hn::Lanes(d); ++lane) index[lane] = static_cast<std::int64_t>(at[lane]);
-    const auto i = hn::Load(di64, index);
-    x = hn::GatherIndex(d, p, i), y = hn::GatherIndex(d, p + 1, i), z = hn::GatherIndex(d, p + 2, i);
-}
-#endif
 
 /// The rest lengths, stiffnesses and dampings of springs `spring[0..lanes)`: one load each for a run of
 /// consecutive springs, gathers otherwise.
@@ -130,108 +108,140 @@ HWY_INLINE void LoadConstants(D d, const SpringArrays& s, const std::uint32_t* s
     kd = hn::GatherIndex(d, s.damping, i);
 }
 
-/// The forces of the springs with ends a[0..lanes) and b[0..lanes), `spring` their first index if they
-/// are consecutive (`list` null) or listed in `list`, into the chunk from `first` on; the scalar
-/// formula's operations in the same order. False if a row of the last node would have been read past
-/// the arrays: the caller then takes this group one by one.
-HWY_INLINE bool ComputeGroup(const SpringArrays& s, const std::uint32_t* a, const std::uint32_t* b,
-                             std::uint32_t spring, const std::uint32_t* list, std::size_t lastNode,
-                             const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, ChunkForces& chunk,
-                             std::size_t first) {
+/// Adds a spring's force to its ends: +f to a, -f to b.
+HWY_INLINE void AddToEnds(double fx, double fy, double fz, std::uint32_t a, std::uint32_t b, ForceRow* HWY_RESTRICT f) {
+    f[a].x += fx, f[a].y += fy, f[a].z += fz;
+    f[b].x -= fx, f[b].y -= fy, f[b].z -= fz;
+}
+
+#if HAPTICUT_SPRING_ROWS
+using D2 = hn::Half<D>;
+
+/// The differences p_b - p_a of four springs' ends as coordinate vectors, from half rows: a node's x and
+/// y in one 16-byte load, its y and z in another (which never reads past the last node), two springs'
+/// halves to a vector. Three shuffles then put them in coordinate order, where transposing whole rows
+/// took fourteen.
+HWY_INLINE void LoadDifferences(const double* HWY_RESTRICT p, const std::size_t* at, const std::size_t* bt, V& dx,
+                                V& dy, V& dz) {
+    const D d;
+    const D2 d2;
+    auto pair = [&](const std::size_t* t, std::size_t lo, std::size_t hi, std::size_t offset) {
+        return hn::Combine(d, hn::LoadU(d2, p + t[hi] + offset), hn::LoadU(d2, p + t[lo] + offset));
+    };
+    const V xy02 = hn::Sub(pair(bt, 0, 2, 0), pair(at, 0, 2, 0));  // dx0 dy0 | dx2 dy2
+    const V xy13 = hn::Sub(pair(bt, 1, 3, 0), pair(at, 1, 3, 0));
+    const V yz02 = hn::Sub(pair(bt, 0, 2, 1), pair(at, 0, 2, 1));  // . dz0 | . dz2
+    const V yz13 = hn::Sub(pair(bt, 1, 3, 1), pair(at, 1, 3, 1));
+    dx = hn::InterleaveLower(d, xy02, xy13), dy = hn::InterleaveUpper(d, xy02, xy13);
+    dz = hn::InterleaveUpper(d, yz02, yz13);
+}
+
+/// Four springs' forces to their ends in the springs' order, skipping those whose bit in `apart` (a
+/// mask's bits, StoreMaskBits) is clear.
+HWY_INLINE void AddGroup(V fx, V fy, V fz, const std::uint32_t* a, const std::uint32_t* b, const std::uint8_t* apart,
+                         ForceRow* HWY_RESTRICT f) {
+    const D d;
+    const V xy02 = hn::InterleaveLower(d, fx, fy), xy13 = hn::InterleaveUpper(d, fx, fy);  // fx0 fy0 | fx2 fy2
+    const V zero = hn::Zero(d);
+    const V z02 = hn::InterleaveLower(d, fz, zero), z13 = hn::InterleaveUpper(d, fz, zero);  // fz0 0 | fz2 0
+    const V rows[4] = {hn::ConcatLowerLower(d, z02, xy02), hn::ConcatLowerLower(d, z13, xy13),
+                       hn::ConcatUpperUpper(d, z02, xy02), hn::ConcatUpperUpper(d, z13, xy13)};
+    for (std::size_t lane = 0; lane < 4; ++lane) {
+        if (!(apart[0] >> lane & 1)) continue;
+        double* fa = &f[a[lane]].x;
+        hn::Store(hn::Add(hn::Load(d, fa), rows[lane]), d, fa);
+        double* fb = &f[b[lane]].x;
+        hn::Store(hn::Sub(hn::Load(d, fb), rows[lane]), d, fb);
+    }
+}
+#else
+/// The coordinates of a vector of nodes (3 i each), gathered.
+HWY_INLINE void LoadNodes(D d, const double* HWY_RESTRICT p, const std::size_t* at, V& x, V& y, V& z) {
+    const DI64 di64;
+    HWY_ALIGN std::int64_t index[kMaxLanes];
+    for (std::size_t lane = 0; lane < hn::Lanes(d); ++lane) index[lane] = static_cast<std::int64_t>(at[lane]);
+    const auto i = hn::Load(di64, index);
+    x = hn::GatherIndex(d, p, i), y = hn::GatherIndex(d, p + 1, i), z = hn::GatherIndex(d, p + 2, i);
+}
+
+HWY_INLINE void LoadDifferences(const double* HWY_RESTRICT p, const std::size_t* at, const std::size_t* bt, V& dx,
+                                V& dy, V& dz) {
+    const D d;
+    V xa, ya, za, xb, yb, zb;
+    LoadNodes(d, p, at, xa, ya, za), LoadNodes(d, p, bt, xb, yb, zb);
+    dx = hn::Sub(xb, xa), dy = hn::Sub(yb, ya), dz = hn::Sub(zb, za);
+}
+
+HWY_INLINE void AddGroup(V fx, V fy, V fz, const std::uint32_t* a, const std::uint32_t* b, const std::uint8_t* apart,
+                         ForceRow* HWY_RESTRICT f) {
+    const D d;
+    HWY_ALIGN double x[kMaxLanes], y[kMaxLanes], z[kMaxLanes];
+    hn::Store(fx, d, x), hn::Store(fy, d, y), hn::Store(fz, d, z);
+    for (std::size_t lane = 0; lane < hn::Lanes(d); ++lane)
+        if (apart[lane / 8] >> lane % 8 & 1) AddToEnds(x[lane], y[lane], z[lane], a[lane], b[lane], f);
+}
+#endif
+
+/// Spring k's force to its ends, scalar (for the springs no whole vector takes).
+HWY_INLINE void AddOne(const SpringArrays& s, std::uint32_t k, const double* HWY_RESTRICT x,
+                       const double* HWY_RESTRICT v, ForceRow* HWY_RESTRICT f) {
+    double fx, fy, fz;
+    if (springForce(s, k, x, v, fx, fy, fz)) AddToEnds(fx, fy, fz, s.a[k], s.b[k], f);
+}
+
+/// The springs' forces a vector of springs at a time, the scalar formula's operations in its order, each
+/// added to its ends before the next spring's: listed springs, or [0, count) when `list` is null.
+template <bool kListed>
+void AddForces(const SpringArrays& s, const std::uint32_t* list, std::size_t count, const double* HWY_RESTRICT x,
+               const double* HWY_RESTRICT v, ForceRow* HWY_RESTRICT f) {
     const D d;
     const std::size_t lanes = hn::Lanes(d);
-    std::size_t at[kMaxLanes], bt[kMaxLanes];
-    bool inside = true;
-    for (std::size_t lane = 0; lane < lanes; ++lane) {
-        at[lane] = 3 * std::size_t{a[lane]}, bt[lane] = 3 * std::size_t{b[lane]};
-        inside &= HAPTICUT_SPRING_ROWS == 0 || (a[lane] != lastNode && b[lane] != lastNode);
-    }
-    if (!inside) return false;
-    V xa, ya, za, xb, yb, zb, va, wa, ua, vb, wb, ub;
-    LoadNodes(d, x, at, xa, ya, za), LoadNodes(d, x, bt, xb, yb, zb);
-    LoadNodes(d, v, at, ua, va, wa), LoadNodes(d, v, bt, ub, vb, wb);
-    V rest, ks, kd;
-    if (list == nullptr) {
-        rest = hn::LoadU(d, s.restLength + spring), ks = hn::LoadU(d, s.stiffness + spring);
-        kd = hn::LoadU(d, s.damping + spring);
-    } else {
-        LoadConstants(d, s, list, false, rest, ks, kd);
-    }
-    const V dx = hn::Sub(xb, xa), dy = hn::Sub(yb, ya), dz = hn::Sub(zb, za);
-    const V len2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
-    const auto apart = hn::Not(hn::Lt(len2, hn::Set(d, kCoincident2)));
-    const V invLen = hn::Div(hn::Set(d, 1.0), hn::Sqrt(len2));
-    const V dvx = hn::Sub(ub, ua), dvy = hn::Sub(vb, va), dvz = hn::Sub(wb, wa);
-    const V stretchRate = hn::Mul(hn::Add(hn::Add(hn::Mul(dvx, dx), hn::Mul(dvy, dy)), hn::Mul(dvz, dz)), invLen);
-    const V stretch = hn::Sub(hn::Mul(len2, invLen), rest);
-    const V scale = hn::Mul(hn::Add(hn::Mul(ks, stretch), hn::Mul(kd, stretchRate)), invLen);
-    hn::Store(hn::Mul(scale, dx), d, chunk.x + first), hn::Store(hn::Mul(scale, dy), d, chunk.y + first);
-    hn::Store(hn::Mul(scale, dz), d, chunk.z + first);
-    if (hn::AllTrue(d, apart)) {
-        for (std::size_t lane = 0; lane < lanes; ++lane) chunk.apart[first + lane] = true;
-    } else {
-        std::uint8_t bits[(kMaxLanes + 7) / 8];
-        hn::StoreMaskBits(d, apart, bits);
-        for (std::size_t lane = 0; lane < lanes; ++lane) chunk.apart[first + lane] = bits[lane / 8] >> lane % 8 & 1;
-    }
-    return true;
-}
-
-/// Adds a chunk's forces to its springs' ends, in the springs' order. Springs that follow each other
-/// with the same end a (the edges' order lists a node's springs to later nodes together) sum onto it
-/// in registers and store it once, which leaves the same bits as adding each to memory in turn: only
-/// the additions to ends b, which belong to other nodes, go through memory as they come.
-HWY_INLINE void AddChunk(const std::uint32_t* HWY_RESTRICT a, const std::uint32_t* HWY_RESTRICT b,
-                         const ChunkForces& chunk, std::size_t size, double* HWY_RESTRICT f) {
-    for (std::size_t i = 0; i < size;) {
-        const std::uint32_t node = a[i];
-        double* fa = f + 3 * std::size_t{node};
-        double fx = fa[0], fy = fa[1], fz = fa[2];
-        for (; i < size && a[i] == node; ++i) {
-            if (!chunk.apart[i]) continue;  // also every spring from a node to itself
-            fx += chunk.x[i], fy += chunk.y[i], fz += chunk.z[i];
-            double* fb = f + 3 * std::size_t{b[i]};
-            fb[0] -= chunk.x[i], fb[1] -= chunk.y[i], fb[2] -= chunk.z[i];
+    auto spring = [&](std::size_t i) { return kListed ? list[i] : static_cast<std::uint32_t>(i); };
+    const SpringArrays springs = s;  // a copy the stores to f cannot alias, so its pointers stay in registers
+    std::size_t i = 0;
+    for (; i + lanes <= count; i += lanes) {
+        std::uint32_t a[kMaxLanes], b[kMaxLanes];
+        std::size_t at[kMaxLanes], bt[kMaxLanes];
+        for (std::size_t lane = 0; lane < lanes; ++lane) {
+            const std::uint32_t k = spring(i + lane);
+            a[lane] = springs.a[k], b[lane] = springs.b[k];
+            at[lane] = 3 * std::size_t{a[lane]}, bt[lane] = 3 * std::size_t{b[lane]};
         }
-        fa[0] = fx, fa[1] = fy, fa[2] = fz;
+        V dx, dy, dz, dvx, dvy, dvz;
+        LoadDifferences(x, at, bt, dx, dy, dz), LoadDifferences(v, at, bt, dvx, dvy, dvz);
+        V rest, ks, kd;
+        if (kListed) {
+            bool consecutive = true;
+            for (std::size_t lane = 1; lane < lanes; ++lane) consecutive &= list[i + lane] == list[i] + lane;
+            LoadConstants(d, springs, list + i, consecutive, rest, ks, kd);
+        } else {
+            rest = hn::LoadU(d, springs.restLength + i), ks = hn::LoadU(d, springs.stiffness + i);
+            kd = hn::LoadU(d, springs.damping + i);
+        }
+        const V len2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
+        const auto apart = hn::Not(hn::Lt(len2, hn::Set(d, kCoincident2)));
+        const V invLen = hn::Div(hn::Set(d, 1.0), hn::Sqrt(len2));
+        const V stretchRate = hn::Mul(hn::Add(hn::Add(hn::Mul(dvx, dx), hn::Mul(dvy, dy)), hn::Mul(dvz, dz)), invLen);
+        const V stretch = hn::Sub(hn::Mul(len2, invLen), rest);
+        const V scale = hn::Mul(hn::Add(hn::Mul(ks, stretch), hn::Mul(kd, stretchRate)), invLen);
+        std::uint8_t bits[(kMaxLanes + 7) / 8] = {};
+        hn::StoreMaskBits(d, apart, bits);
+        AddGroup(hn::Mul(scale, dx), hn::Mul(scale, dy), hn::Mul(scale, dz), a, b, bits, f);
     }
+    for (; i < count; ++i) AddOne(springs, spring(i), x, v, f);
 }
 
-template <bool kListed>
-void AddForces(const SpringArrays& s, const std::uint32_t* list, std::size_t count, std::size_t nodeCount,
-               const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, double* HWY_RESTRICT f) {
-    const std::size_t lanes = hn::Lanes(D());
-    const std::size_t lastNode = nodeCount - 1;
-    ChunkForces chunk;
-    for (std::size_t begin = 0; begin < count; begin += ChunkForces::kSprings) {
-        const std::size_t size = std::min(ChunkForces::kSprings, count - begin);
-        const std::uint32_t* chunkList = kListed ? list + begin : nullptr;
-        if (kListed)
-            for (std::size_t i = 0; i < size; ++i) chunk.a[i] = s.a[chunkList[i]], chunk.b[i] = s.b[chunkList[i]];
-        const std::uint32_t* a = kListed ? chunk.a : s.a + begin;
-        const std::uint32_t* b = kListed ? chunk.b : s.b + begin;
-        auto spring = [&](std::size_t i) { return kListed ? chunkList[i] : static_cast<std::uint32_t>(begin + i); };
-        std::size_t i = 0;
-        for (; i + lanes <= size; i += lanes)
-            if (!ComputeGroup(s, a + i, b + i, spring(i), kListed ? chunkList + i : nullptr, lastNode, x, v, chunk, i))
-                for (std::size_t j = i; j < i + lanes; ++j)
-                    chunk.apart[j] = springForce(s, spring(j), x, v, chunk.x[j], chunk.y[j], chunk.z[j]);
-        for (; i < size; ++i) chunk.apart[i] = springForce(s, spring(i), x, v, chunk.x[i], chunk.y[i], chunk.z[i]);
-        AddChunk(a, b, chunk, size, f);
-    }
+void AddSpringForces(const SpringArrays& s, std::size_t count, const double* HWY_RESTRICT x,
+                     const double* HWY_RESTRICT v, ForceRow* HWY_RESTRICT f) {
+    AddForces<false>(s, nullptr, count, x, v, f);
 }
 
-void AddSpringForces(const SpringArrays& s, std::size_t count, std::size_t nodeCount, const double* HWY_RESTRICT x,
-                     const double* HWY_RESTRICT v, double* HWY_RESTRICT f) {
-    AddForces<false>(s, nullptr, count, nodeCount, x, v, f);
+void AddListedSpringForces(const SpringArrays& s, const std::uint32_t* list, std::size_t count,
+                           const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, ForceRow* HWY_RESTRICT f) {
+    AddForces<true>(s, list, count, x, v, f);
 }
 
-void AddListedSpringForces(const SpringArrays& s, const std::uint32_t* list, std::size_t count, std::size_t nodeCount,
-                           const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, double* HWY_RESTRICT f) {
-    AddForces<true>(s, list, count, nodeCount, x, v, f);
-}
-
-void SpringJacobiansOf(const SpringArrays& s, const std::uint32_t* list, std::size_t count, std::size_t nodeCount,
+void SpringJacobiansOf(const SpringArrays& s, const std::uint32_t* list, std::size_t count,
                        const double* HWY_RESTRICT x, const double* HWY_RESTRICT v, double h, bool first,
                        SpringJacobians& out) {
     const D d;
@@ -240,32 +250,20 @@ void SpringJacobiansOf(const SpringArrays& s, const std::uint32_t* list, std::si
     for (; i + lanes <= count; i += lanes) {
         const std::uint32_t* spring = list + i;
         std::size_t at[kMaxLanes], bt[kMaxLanes];
-        bool inside = true;
-        for (std::size_t lane = 0; lane < lanes; ++lane) {
-            const std::uint32_t a = s.a[spring[lane]], b = s.b[spring[lane]];
-            at[lane] = 3 * std::size_t{a}, bt[lane] = 3 * std::size_t{b};
-            inside &= HAPTICUT_SPRING_ROWS == 0 || (a + 1 < nodeCount && b + 1 < nodeCount);
-        }
-        if (!inside) {  // a row of the last node would read past the arrays: this group goes one by one
-            for (std::size_t lane = 0; lane < lanes; ++lane)
-                springJacobian(s, spring[lane], x, v, h, first, out, i + lane);
-            continue;
-        }
-        V xa, ya, za, xb, yb, zb, va, wa, ua, vb, wb, ub;
-        LoadNodes(d, x, at, xa, ya, za), LoadNodes(d, x, bt, xb, yb, zb);
-        LoadNodes(d, v, at, ua, va, wa), LoadNodes(d, v, bt, ub, vb, wb);
+        for (std::size_t lane = 0; lane < lanes; ++lane)
+            at[lane] = 3 * std::size_t{s.a[spring[lane]]}, bt[lane] = 3 * std::size_t{s.b[spring[lane]]};
+        V dx, dy, dz, dvx, dvy, dvz;
+        LoadDifferences(x, at, bt, dx, dy, dz), LoadDifferences(v, at, bt, dvx, dvy, dvz);
         bool run = true;
         for (std::size_t lane = 1; lane < lanes; ++lane) run &= spring[lane] == spring[0] + lane;
         V rest, ks, kd;
         LoadConstants(d, s, spring, run, rest, ks, kd);
         const V hv = hn::Set(d, h), zero = hn::Zero(d), one = hn::Set(d, 1.0);
-        const V dx = hn::Sub(xb, xa), dy = hn::Sub(yb, ya), dz = hn::Sub(zb, za);
         const V len2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
         const auto apart = hn::Not(hn::Lt(len2, hn::Set(d, kCoincident2)));
         const V len = hn::Sqrt(len2);
         const V inverseLen = hn::Div(one, len);
         const V nx = hn::Mul(dx, inverseLen), ny = hn::Mul(dy, inverseLen), nz = hn::Mul(dz, inverseLen);
-        const V dvx = hn::Sub(ub, ua), dvy = hn::Sub(vb, va), dvz = hn::Sub(wb, wa);
         const V h2ks = hn::Mul(hn::Mul(hv, hv), ks);
         const V stretchRate = hn::Add(hn::Add(hn::Mul(dvx, nx), hn::Mul(dvy, ny)), hn::Mul(dvz, nz));
         const V alpha = hn::Max(zero, hn::Sub(one, hn::Mul(rest, inverseLen)));
@@ -341,19 +339,18 @@ HWY_EXPORT(AddListedSpringForces);
 HWY_EXPORT(SpringJacobiansOf);
 HWY_EXPORT(InvertRowBlocks);
 
-void addSpringForces(const SpringArrays& springs, std::size_t count, std::size_t nodes, const double* x,
-                     const double* v, double* f) {
-    HWY_DYNAMIC_DISPATCH(AddSpringForces)(springs, count, nodes, x, v, f);
+void addSpringForces(const SpringArrays& springs, std::size_t count, const double* x, const double* v, ForceRow* f) {
+    HWY_DYNAMIC_DISPATCH(AddSpringForces)(springs, count, x, v, f);
 }
 
-void addListedSpringForces(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
-                           const double* x, const double* v, double* f) {
-    HWY_DYNAMIC_DISPATCH(AddListedSpringForces)(springs, list, count, nodes, x, v, f);
+void addListedSpringForces(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, const double* x,
+                           const double* v, ForceRow* f) {
+    HWY_DYNAMIC_DISPATCH(AddListedSpringForces)(springs, list, count, x, v, f);
 }
 
-void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
-                     const double* x, const double* v, double h, bool firstLinearisation, SpringJacobians& out) {
-    HWY_DYNAMIC_DISPATCH(SpringJacobiansOf)(springs, list, count, nodes, x, v, h, firstLinearisation, out);
+void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, const double* x,
+                     const double* v, double h, bool firstLinearisation, SpringJacobians& out) {
+    HWY_DYNAMIC_DISPATCH(SpringJacobiansOf)(springs, list, count, x, v, h, firstLinearisation, out);
 }
 
 void invertRowBlocks(const SystemRows& rows, SymmetricBlocks& inverse, RowRange range) {

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "hapticut/physics/force_row.h"
 #include "hapticut/physics/solver_kernels.h"
 
 namespace hapticut::physics::kernels {
@@ -19,16 +20,15 @@ struct SpringArrays {
     const double* damping = nullptr;
 };
 
-/// f += the forces of springs [0, count) (spring_forces.h's formula; coincident ends give none), with x,
-/// v and f three doubles for each of `nodes` nodes. Each spring's force is the one the scalar formula
+/// f += the forces of springs [0, count) (spring_forces.h's formula; coincident ends give none), with x
+/// and v three doubles a node and f a row a node. Each spring's force is the one the scalar formula
 /// gives to the bit, and the forces reach f in the springs' order, so results do not depend on the
 /// instruction set.
-void addSpringForces(const SpringArrays& springs, std::size_t count, std::size_t nodes, const double* x,
-                     const double* v, double* f);
+void addSpringForces(const SpringArrays& springs, std::size_t count, const double* x, const double* v, ForceRow* f);
 
 /// The same for the springs listed in `list` (an active region's).
-void addListedSpringForces(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
-                           const double* x, const double* v, double* f);
+void addListedSpringForces(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, const double* x,
+                           const double* v, ForceRow* f);
 
 /// The implicit step's terms of a chunk of springs (backward_euler_system.h): whether the ends are
 /// apart (the rest is undefined where they are not), the spring's part of the right-hand side on its
@@ -43,8 +43,8 @@ struct SpringJacobians {
 
 /// The terms of the springs listed in `list[0..count)`, count at most SpringJacobians::kSprings, for a
 /// step of h seconds; `firstLinearisation` adds h² K dv to the right-hand side.
-void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, std::size_t nodes,
-                     const double* x, const double* v, double h, bool firstLinearisation, SpringJacobians& out);
+void springJacobians(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, const double* x,
+                     const double* v, double h, bool firstLinearisation, SpringJacobians& out);
 
 /// The block-Jacobi preconditioner of the range's rows of a system: each row's block, diagonal I
 /// plus its block to resting neighbours plus Σ_j (c0 I + u uᵀ) over its slots (padding slots add
