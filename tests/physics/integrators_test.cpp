@@ -43,6 +43,49 @@ TEST(Integrators, ConvergeAtTheirTheoreticalOrder) {
     }
 }
 
+// Classic RK4 written out from computeAccelerations, its stages' sums in the stepper's order: the
+// stepper's passes over every node, folded into one a stage, must give its bits exactly, with a tool
+// pressing, gravity and an external force all in play.
+TEST(Integrators, RungeKutta4OverEveryNodeIsTheTextbookSchemeToTheBit) {
+    const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart({});
+    MassSpringModel model = buildModel(mesh, Material{});
+    for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+        model.nodes.position[i] += test::wobble(i, 5e-4);
+        model.nodes.velocity[i] = test::wobble(3 * i + 1, 0.05);
+    }
+    model.gravity_m_per_s2 = Vec3(0, -9.81, 0);
+    model.nodes.externalForce[7] = Vec3(0.1, -0.2, 0.3);
+    test::pressFrontWithTool(model, mesh, 100);
+    ASSERT_TRUE(model.tools[0].active);
+
+    const double h = 2e-4, half = 0.5 * h, sixth = h / 6;
+    const std::vector<Vec3> x = model.nodes.position, v = model.nodes.velocity;
+    std::vector<Vec3> a(x.size()), xs(x.size()), vs(x.size()), xEnd = x, vEnd = v;
+    computeAccelerations(model, x, v, a);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        xs[i] = x[i] + half * v[i], vs[i] = v[i] + half * a[i];
+        xEnd[i] += sixth * v[i], vEnd[i] += sixth * a[i];
+    }
+    for (int stage = 2; stage <= 4; ++stage) {
+        computeAccelerations(model, xs, vs, a);
+        const double weight = stage == 4 ? sixth : 2 * sixth, next = stage == 3 ? h : half;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            xEnd[i] += weight * vs[i], vEnd[i] += weight * a[i];
+            xs[i] = x[i] + next * vs[i], vs[i] = v[i] + next * a[i];
+        }
+    }
+
+    Stepper stepper(Scheme::RungeKutta4);
+    stepper.setAutoSubstep(false);
+    ASSERT_TRUE(stepper.step(model, h).finite);
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            differing += model.nodes.position[i][c] != xEnd[i][c] || model.nodes.velocity[i][c] != vEnd[i][c];
+    EXPECT_EQ(differing, 0u) << "of " << 6 * x.size() << " coordinates";
+    EXPECT_GT((xEnd[7] - x[7]).norm(), 1e-6) << "the step must move the nodes";
+}
+
 // A damped spring (m = 0.01 kg, k = 40 N/m, c = 0.2 N·s/m: γ = 10/s, ω = 63.2 rad/s, underdamped):
 // x(t) = x0 e^{-γt} (cos ω_d t + γ/ω_d sin ω_d t).
 TEST(Integrators, DampedSpringMatchesAnalyticSolution) {

@@ -13,14 +13,6 @@ void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span
     kernels::addSpringForces(springArrays(s), s.size(), coordinates(x.data()), coordinates(v.data()), f.data());
 }
 
-namespace {
-
-// Over plain arrays, which vectorise; the sums are the Vec3 expressions' to the bit.
-
-/// f = external force - positioning spring's force, for `count` nodes (R4): zero rest length from each
-/// node's rest position, f = -k (x - x0) - d v. The damping acts on the whole velocity, not only along
-/// the spring: projected damping would leave motion around the anchor undamped and divide by a length
-/// that is zero at rest.
 void startWithPositioningForces(const Nodes& n, std::size_t count, const double* __restrict x,
                                 const double* __restrict v, ForceRow* __restrict f) {
     const double* __restrict rest = coordinates(n.restPosition.data());
@@ -32,13 +24,17 @@ void startWithPositioningForces(const Nodes& n, std::size_t count, const double*
         double row[4] = {0, 0, 0, 0};
         for (std::size_t c = 0; c < 3; ++c) {
             const std::size_t j = 3 * i + c;
-            row[c] = external[j] - (k * (x[j] - rest[j]) + d * v[j]);
+            row[c] = positioningForce(external[j], k, d, x[j] - rest[j], v[j]);
         }
         f[i] = {row[0], row[1], row[2], row[3]};
     }
 }
 
-/// a = F/m + g, where f holds the force F; a pinned node (no inverse mass) feels no gravity.
+namespace {
+
+// Over plain arrays; the sums are the Vec3 expressions' to the bit.
+
+/// a = F/m + g (acceleration), where f holds the force F.
 void forcesToAccelerations(const Nodes& n, const Vec3& gravity, std::size_t count, const ForceRow* __restrict f,
                            double* __restrict a) {
     const double* __restrict inverseMass = n.inverseMass.data();
@@ -46,7 +42,7 @@ void forcesToAccelerations(const Nodes& n, const Vec3& gravity, std::size_t coun
     for (std::size_t i = 0; i < count; ++i) {
         const double m = inverseMass[i];
         const double force[3] = {f[i].x, f[i].y, f[i].z};
-        for (std::size_t c = 0; c < 3; ++c) a[3 * i + c] = m * force[c] + (m > 0 ? g[c] : 0.0);
+        for (std::size_t c = 0; c < 3; ++c) a[3 * i + c] = acceleration(m, force[c], g[c]);
     }
 }
 

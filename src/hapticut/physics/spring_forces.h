@@ -15,6 +15,22 @@ kernels::SpringArrays springArrays(const Springs& s);
 /// The nodes' forces as the spring kernels sum them, a row a node; kept by the caller from step to step.
 using ForceRows = std::vector<ForceRow>;
 
+/// A coordinate of the external force less the positioning spring's (R4): zero rest length from the
+/// node's rest position, f = -k (x - x0) - d v. The damping acts on the whole velocity, not only along
+/// the spring: projected damping would leave motion around the anchor undamped and divide by a length
+/// that is zero at rest.
+inline double positioningForce(double external, double k, double d, double offset, double velocity) {
+    return external - (k * offset + d * velocity);
+}
+
+/// A coordinate of a = F/m + g; a pinned node (no inverse mass) feels no gravity.
+inline double acceleration(double inverseMass, double force, double gravity) {
+    return inverseMass * force + (inverseMass > 0 ? gravity : 0.0);
+}
+
+/// f = positioningForce for nodes [0, count) at (x, v), three doubles a node; fourth doubles zero.
+void startWithPositioningForces(const Nodes& n, std::size_t count, const double* x, const double* v, ForceRow* f);
+
 /// Structural springs (R3): f_a = [k_s(|l| - r) + k_d (l'·l)/|l|] l/|l|, f_b = -f_a, with l = x_b - x_a.
 void accumulateSpringForces(const Springs& s, std::span<const Vec3> x, std::span<const Vec3> v, std::span<ForceRow> f);
 
