@@ -35,21 +35,24 @@ Vec3 PointSpring::forceAt(const Vec3& held_m) const {
 
 Vec3 PointSpring::forceOnTool(std::span<const Vec3> x) const { return forceAt(heldPoint(x)); }
 
-void PointSpring::addReaction(std::span<const Vec3> x, std::span<Vec3> f) const {
-    if (!active) return;
-    const Vec3 force = forceOnTool(x);
-    for (std::uint32_t k = 0; k < count; ++k) f[nodes[k]] -= weights[k] * force;
+namespace {
+
+void subtract(Vec3& f, const Vec3& share) { f -= share; }
+void subtract(ForceRow& f, const Vec3& share) { f.x -= share.x(), f.y -= share.y(), f.z -= share.z(); }
+
+/// -force spread over the tool's loaded nodes by their weights, into forces of either layout.
+template <class Force>
+void spreadReaction(const PointSpring& tool, std::span<const Vec3> x, std::span<Force> f) {
+    if (!tool.active) return;
+    const Vec3 force = tool.forceOnTool(x);
+    for (std::uint32_t k = 0; k < tool.count; ++k) subtract(f[tool.nodes[k]], tool.weights[k] * force);
 }
 
-void PointSpring::addReaction(std::span<const Vec3> x, std::span<ForceRow> f) const {
-    if (!active) return;
-    const Vec3 force = forceOnTool(x);
-    for (std::uint32_t k = 0; k < count; ++k) {
-        const Vec3 share = weights[k] * force;
-        ForceRow& row = f[nodes[k]];
-        row.x -= share.x(), row.y -= share.y(), row.z -= share.z();
-    }
-}
+}  // namespace
+
+void PointSpring::addReaction(std::span<const Vec3> x, std::span<Vec3> f) const { spreadReaction(*this, x, f); }
+
+void PointSpring::addReaction(std::span<const Vec3> x, std::span<ForceRow> f) const { spreadReaction(*this, x, f); }
 
 void PointSpring::copyTo(PointSpring& other) const {
     other.active = active;
