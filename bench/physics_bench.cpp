@@ -2,6 +2,7 @@
 #include <benchmark/benchmark.h>
 
 #include <map>
+#include <random>
 
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/backward_euler_system.h"
@@ -57,6 +58,34 @@ BENCHMARK(BM_Step<physics::Scheme::ExplicitEuler>)->Arg(1619)->Arg(9714)->Arg(10
 BENCHMARK(BM_Step<physics::Scheme::Midpoint>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step<physics::Scheme::RungeKutta4>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step<physics::Scheme::SymplecticEuler>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
+
+/// The implicit steps of the whole heart at 1 ms on one thread after it is let go from small random
+/// displacements, as `hapticut bench` times them: one iteration is 50 steps, the first few with many CG
+/// iterations and Newton corrections, then settling ones with a few CG iterations.
+void BM_ImplicitSteps(benchmark::State& state) {
+    constexpr int kSteps = 50;
+    physics::MassSpringModel model = heartModel(static_cast<int>(state.range(0)));
+    physics::Stepper stepper(physics::Scheme::BackwardEuler);
+    stepper.setAutoSubstep(false);
+    physics::SolverSettings settings = stepper.solverSettings();
+    settings.threads = 1;
+    stepper.setSolverSettings(settings);
+    stepper.prepare(model);
+    std::mt19937 rng(42);
+    std::normal_distribution<double> noise(0.0, 2e-4);
+    for (auto _ : state) {
+        state.PauseTiming();
+        for (std::size_t i = 0; i < model.nodes.size(); ++i) {
+            model.nodes.position[i] = model.nodes.restPosition[i] + Vec3(noise(rng), noise(rng), noise(rng));
+            model.nodes.velocity[i] = Vec3::Zero();
+        }
+        state.ResumeTiming();
+        for (int i = 0; i < kSteps; ++i) benchmark::DoNotOptimize(stepper.step(model, 1e-3));
+    }
+    state.counters["per_step"] =
+        benchmark::Counter(kSteps, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ImplicitSteps)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMillisecond);
 
 /// The implicit step's assembly alone (matrix, right-hand side and preconditioner) of the whole heart
 /// at a 1 ms step, the heart moving: a fixed cost of every implicit step and Newton correction. The
