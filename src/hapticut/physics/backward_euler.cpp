@@ -134,7 +134,7 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
         return spent_s * (report.newtonIterations + 1) / report.newtonIterations <= paceShare_ * h;
     };
     while (report.newtonIterations < settings_.maxNewtonIterations &&
-           system_.largestRelativeMotion(model.springs, region, motion_, &pool_) > kLinearMotion) {
+           system_.movesApartMoreThan(model.springs, region, motion_, kLinearMotion, &pool_)) {
         if (!fitsOneMore()) {
             report.newtonCutShort = true;
             break;

@@ -2,6 +2,7 @@
 #include "hapticut/physics/backward_euler_system.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "hapticut/common/assert.h"
@@ -16,7 +17,6 @@ void BackwardEulerSystem::reserve(std::size_t nodes, std::size_t springs) {
     reserveTouched(diagonal_, rows);
     reserveTouched(rowStart_, nodes + 1);
     for (auto* list : {&endA_, &endB_, &slotA_, &slotB_, &ordered_, &position_}) reserveTouched(*list, springs);
-    reserveTouched(largestMotion_, springs / kernels::kChunkRows + 1);
     reserveTouched(bucketStart_, 2 * (rows / kernels::kChunkRows + 1) + 1);
     reserveTouched(column_, nodes);
     reserveTouched(restingSum_, nodes);
@@ -272,28 +272,29 @@ void BackwardEulerSystem::layOut(const Springs& s, SolveRegion region) {
     }
 }
 
-double BackwardEulerSystem::largestRelativeMotion(const Springs& springs, SolveRegion region,
-                                                  std::span<const Vec3> motion, OwnedWorkerPool* pool) {
+bool BackwardEulerSystem::movesApartMoreThan(const Springs& springs, SolveRegion region, std::span<const Vec3> motion,
+                                             double fraction, OwnedWorkerPool* pool) const {
     constexpr std::size_t kChunk = 4 * kernels::kChunkRows;  // springs
     const std::size_t listed = region.springs.size(), chunks = (listed + kChunk - 1) / kChunk;
-    largestMotion_.resize(chunks);  // reserved
-    auto largestIn = [&](std::size_t chunk) {
-        double largest2 = 0;
+    const double fraction2 = fraction * fraction;
+    std::atomic<bool> found{false};  // once set, the chunks not yet begun are skipped
+    auto search = [&](std::size_t chunk) {
+        if (found.load(std::memory_order_relaxed)) return;
         for (std::size_t e = chunk * kChunk; e < std::min(listed, (chunk + 1) * kChunk); ++e) {
             const std::uint32_t spring = region.springs[e];
             const double rest = springs.restLength[spring];
             if (rest < 1e-9) continue;
             const std::uint32_t ka = unknownOf_[springs.a[spring]], kb = unknownOf_[springs.b[spring]];
             const Vec3 ma = ka != kResting ? motion[ka] : Vec3::Zero(), mb = kb != kResting ? motion[kb] : Vec3::Zero();
-            largest2 = std::max(largest2, (mb - ma).squaredNorm() / (rest * rest));
+            if ((mb - ma).squaredNorm() > fraction2 * rest * rest) {
+                found.store(true, std::memory_order_relaxed);
+                return;
+            }
         }
-        largestMotion_[chunk] = largest2;
     };
     OwnedWorkerPool calling;
-    (pool ? *pool : calling).forEach(chunks, largestIn);
-    double largest2 = 0;
-    for (double chunkLargest2 : largestMotion_) largest2 = std::max(largest2, chunkLargest2);
-    return std::sqrt(largest2);
+    (pool ? *pool : calling).forEach(chunks, search);
+    return found.load(std::memory_order_relaxed);
 }
 
 }  // namespace hapticut::physics

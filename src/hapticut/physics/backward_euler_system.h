@@ -53,10 +53,12 @@ public:
     /// threads; the result is the same, to the bit, with any number of threads.
     void assemble(const MassSpringModel& model, double h, SolveRegion region, std::span<const Vec3> startVelocity = {},
                   OwnedWorkerPool* pool = nullptr);
-    /// The largest relative motion of a spring's ends, |m_b - m_a| / rest length, for a motion m by
-    /// unknown (zero on resting neighbours); springs shorter than a nanometre are skipped.
-    double largestRelativeMotion(const Springs& springs, SolveRegion region, std::span<const Vec3> motion,
-                                 OwnedWorkerPool* pool = nullptr);
+    /// Whether a motion m by unknown (zero on resting neighbours) moves some spring's ends apart by more
+    /// than `fraction` of its rest length, |m_b - m_a| > fraction · rest length; springs shorter than a
+    /// nanometre are skipped. It stops at the first: its caller asks no more, and the largest motion cost a
+    /// division and a dependent maximum a spring.
+    bool movesApartMoreThan(const Springs& springs, SolveRegion region, std::span<const Vec3> motion, double fraction,
+                            OwnedWorkerPool* pool = nullptr) const;
 
     /// The number of unknowns (3-vectors): the region's nodes.
     std::size_t size() const { return count_; }
@@ -122,7 +124,6 @@ private:
     std::vector<std::uint32_t> restingOf_;
     std::vector<Mat3> restingSum_;
     kernels::Field rhs_;
-    std::vector<double> largestMotion_;              // by chunk of springs, while finding the largest motion
     std::vector<kernels::SpringJacobians> scratch_;  // by thread: the springs' terms, a chunk at a time
 };
 
