@@ -347,23 +347,27 @@ int bench(const BenchOptions& o) {
         }
     }
     std::printf(
-        "\n%10s %-8s %12s %16s %12s %12s %12s %12s %12s %12s   (the implicit solve's product, the springs' forces, "
-        "the assembly laid out afresh and over the last step's layout, every instruction set, same run)\n",
-        "triangles", "target", "product us", "ns/spring-end", "springs us", "ns/spring", "assembly us", "ns/spring",
-        "kept us", "ns/spring");
+        "\n%10s %-8s %12s %16s %12s %13s %12s %12s %12s %12s %12s %12s   (the implicit solve's product, a CG "
+        "iteration's two passes and the whole iteration, the springs' forces, the assembly laid out afresh and over "
+        "the last step's layout, every instruction set, same run)\n",
+        "triangles", "target", "product us", "ns/spring-end", "passes us", "iteration us", "springs us", "ns/spring",
+        "assembly us", "ns/spring", "kept us", "ns/spring");
     nlohmann::ordered_json kernelTimes = nlohmann::ordered_json::array();
     for (int triangles : sizes) {
         const scene::Scene measured = organ(triangles);
         const physics::MassSpringModel springs = measured.buildModel();
         const std::size_t faces = measured.source.mesh.faces.size();
         for (const bench::KernelTiming& t : bench::timeSolverKernels(springs, std::min(o.seconds, 0.5))) {
-            std::printf("%10zu %-8s %12.1f %16.2f %12.1f %12.2f %12.1f %12.2f %12.1f %12.2f\n", faces, t.target.c_str(),
-                        t.product_us, t.ns_per_coupling, t.spring_forces_us, t.ns_per_spring, t.assembly_us,
-                        t.assembly_ns_per_spring, t.kept_layout_assembly_us, t.kept_layout_assembly_ns_per_spring);
+            std::printf("%10zu %-8s %12.1f %16.2f %12.1f %13.1f %12.1f %12.2f %12.1f %12.2f %12.1f %12.2f\n", faces,
+                        t.target.c_str(), t.product_us, t.ns_per_coupling, t.cg_passes_us, t.cg_iteration_us,
+                        t.spring_forces_us, t.ns_per_spring, t.assembly_us, t.assembly_ns_per_spring,
+                        t.kept_layout_assembly_us, t.kept_layout_assembly_ns_per_spring);
             kernelTimes.push_back({{"triangles", faces},
                                    {"target", t.target},
                                    {"product_us", t.product_us},
                                    {"ns_per_spring_end", t.ns_per_coupling},
+                                   {"cg_passes_us", t.cg_passes_us},
+                                   {"cg_iteration_us", t.cg_iteration_us},
                                    {"spring_forces_us", t.spring_forces_us},
                                    {"ns_per_spring", t.ns_per_spring},
                                    {"assembly_us", t.assembly_us},

@@ -346,6 +346,10 @@ TEST_F(Cli, ARemeshedModelIsRenumberedForLocalityAndBenchMeasuresIt) {
     EXPECT_EQ(j["results"][0]["integrator"], "rk4");
     ASSERT_GT(j["solver_kernels"].size(), 0u);
     EXPECT_GT(j["solver_kernels"][0]["assembly_us"].get<double>(), 0.0);
+    // A CG iteration is the product and its two passes.
+    EXPECT_GT(j["solver_kernels"][0]["cg_passes_us"].get<double>(), 0.0);
+    EXPECT_GT(j["solver_kernels"][0]["cg_iteration_us"].get<double>(),
+              j["solver_kernels"][0]["product_us"].get<double>());
 
     const CliResult heartOnly = run("bench --model " + path("r.obj") + " --cutting");
     EXPECT_EQ(heartOnly.exitCode, 2);

@@ -22,11 +22,13 @@ std::vector<KernelTiming> timeSolverKernels(const physics::MassSpringModel& mode
     system.reserve(nodes.size(), springs.size());
     system.resize(nodes.size());
     system.assemble(model, 1e-3, {nodes, nodes, springs});
-    physics::kernels::Field y, out;
-    y.resize(system.rows());
-    out.resize(system.rows());
+    // A CG iteration's vectors: the direction y, the product out, the iterate, the residual and the
+    // preconditioned residual.
+    physics::kernels::Field y, out, iterate, residual, preconditioned;
+    for (auto* field : {&y, &out, &iterate, &residual, &preconditioned}) field->resize(system.rows());
     for (std::size_t k = 0; k < nodes.size(); ++k)
         y.x[k] = std::sin(0.1 * static_cast<double>(k)), y.y[k] = 1, y.z[k] = std::cos(0.3 * static_cast<double>(k));
+    residual = system.rhs();
 
     // The springs stretched, squeezed and moving, as in a step.
     std::vector<Vec3> x = model.nodes.position, v(x.size());
@@ -52,12 +54,21 @@ std::vector<KernelTiming> timeSolverKernels(const physics::MassSpringModel& mode
         physics::kernels::forceTarget(target);
         double sink = 0;
         const double product = medianOf([&] { sink += physics::kernels::multiply(system.matrix(), y, out); });
+        // The passes with a small step and a damped direction, so that repeating them keeps every value finite.
+        const physics::kernels::RowRange rows{0, system.rows()};
+        const double update = medianOf([&] {
+            sink += physics::kernels::updatePass(rows, 1e-6, y, out, system.inverseBlocks(), iterate, residual,
+                                                 preconditioned)
+                        .r2;
+        });
+        const double direction = medianOf([&] { physics::kernels::directionPass(rows, 0.5, preconditioned, y); });
         const double forces = medianOf([&] { physics::accumulateSpringForces(model.springs, x, v, f); });
         const double assembly = medianOf([&] { system.assemble(model, 1e-3, {nodes, nodes, springs}); });
         const double kept = medianOf([&] { system.assemble(model, 1e-3, {nodes, nodes, springs, 1}); });
         const auto count = static_cast<double>(springs.size());
-        timings.push_back({target, product, 1e3 * product / (2.0 * count), forces, 1e3 * forces / count, assembly,
-                           1e3 * assembly / count, kept, 1e3 * kept / count});
+        timings.push_back({target, product, 1e3 * product / (2.0 * count), update + direction,
+                           product + update + direction, forces, 1e3 * forces / count, assembly, 1e3 * assembly / count,
+                           kept, 1e3 * kept / count});
         if (sink == 42 || !std::isfinite(f[0].x))
             timings.back().target += "";  // keeps the work from being optimised away
     }
