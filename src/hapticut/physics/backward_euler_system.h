@@ -64,7 +64,9 @@ public:
     std::size_t size() const { return count_; }
     /// The rows of the kernels' vectors: size() padded to whole slices (the padding rows are zero).
     std::size_t rows() const { return rows_; }
-    kernels::SystemRows matrix() const { return {rows_, diagonal_.data(), &toResting_, &sliced_}; }
+    kernels::SystemRows matrix() const {
+        return {rows_, diagonal_.data(), &toResting_, &sliced_, !restingSum_.empty()};
+    }
     const kernels::SymmetricBlocks& inverseBlocks() const { return inverseBlock_; }
     const kernels::Field& rhs() const { return rhs_; }
     /// How many times the rows have been laid out afresh: a preconditioner built on the layout checks it.

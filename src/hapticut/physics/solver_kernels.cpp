@@ -58,8 +58,8 @@ double Multiply(const SystemRows& a, const Field& y, Field& out, std::size_t fir
             const V yx = hn::LoadU(d, y.x.data() + row), yy = hn::LoadU(d, y.y.data() + row);
             const V yz = hn::LoadU(d, y.z.data() + row);
             // Each row's sum builds up in registers, gathering its neighbours' y; nothing is scattered.
-            V sx, sy, sz;
-            symmetricTimes(d, *a.toResting, row, yx, yy, yz, sx, sy, sz);
+            V sx = hn::Zero(d), sy = hn::Zero(d), sz = hn::Zero(d);
+            if (a.anyResting) symmetricTimes(d, *a.toResting, row, yx, yy, yz, sx, sy, sz);
             const V diag = hn::LoadU(d, a.diagonal + row);
             sx = hn::MulAdd(diag, yx, sx), sy = hn::MulAdd(diag, yy, sy), sz = hn::MulAdd(diag, yz, sz);
             for (std::size_t j = 0; j < width; ++j) {
