@@ -154,14 +154,14 @@ void HapticLoop::dropVolumeForMultiRate() noexcept {
     std::fill(model_.nodes.externalForce.begin(), model_.nodes.externalForce.end(), Vec3::Zero());
 }
 
-void HapticLoop::adoptWorker(std::unique_ptr<PhysicsWorker> worker, long fromStep) {
+void HapticLoop::adoptWorker(std::unique_ptr<PhysicsWorker> worker, long fromStep, double behind_s) {
     worker_ = std::move(worker);
     frameCursor_ = 0;
     reserveTouched(frameNodes_, roomToGrow(model_.nodes.size()));
     reserveTouched(pendingNodes_, std::size_t{1} << 14);  // what cuts change between two physics steps
     reserveTouched(pendingSprings_, std::size_t{1} << 14);
     stats_.multiRateFromStep = fromStep;
-    if (realtime_) worker_->start();
+    if (realtime_) worker_->start(behind_s);
 }
 
 void HapticLoop::watchPhysicsTime(double physics_us) noexcept {
@@ -199,7 +199,10 @@ bool HapticLoop::finishMultiRateSwitch() noexcept {
     switchingToMultiRate_ = false;
     try {
         if (builtWorker_) {
-            adoptWorker(std::move(builtWorker_), stepIndex_);
+            // The tissue stood still for every step of the switch, this one too: the physics thread's
+            // first steps simulate that time.
+            adoptWorker(std::move(builtWorker_), stepIndex_,
+                        static_cast<double>(stats_.multiRateSwitchSteps) / config_.rate_hz);
             return true;  // the edits queued meanwhile reach both copies once the physics is held
         }
     } catch (...) {

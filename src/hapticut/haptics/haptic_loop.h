@@ -358,8 +358,9 @@ private:
     void startMultiRate(long fromStep);
     /// A copy of the organ and the stepper for the physics to step on its own.
     std::unique_ptr<PhysicsWorker> makeWorker() const;
-    /// Makes `worker` the physics' own copy and, on the wall clock, starts its thread.
-    void adoptWorker(std::unique_ptr<PhysicsWorker> worker, long fromStep);
+    /// Makes `worker` the physics' own copy and, on the wall clock, starts its thread, owing it the
+    /// `behind_s` the tissue stood still before.
+    void adoptWorker(std::unique_ptr<PhysicsWorker> worker, long fromStep, double behind_s = 0);
     /// Multi-rate leaves volume off: the physics' copy has no faces to take a volume of.
     void dropVolumeForMultiRate() noexcept;
     /// Single-rate, Auto, on the wall clock: counts physics steps that took more than half the period,

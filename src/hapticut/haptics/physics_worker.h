@@ -61,8 +61,10 @@ public:
     PhysicsWorker& operator=(const PhysicsWorker&) = delete;
 
     /// Starts stepping on its own thread, each step as long as the previous one took on the wall clock
-    /// (at least one haptic period, at most maxStep_s).
-    void start();
+    /// (at least one haptic period, at most maxStep_s). `behind_s` is wall time the tissue was held still
+    /// before (Auto's switch to multi-rate, while this copy was made): the first steps simulate it too,
+    /// each within maxStep_s.
+    void start(double behind_s = 0);
     void stop();
     bool threaded() const { return thread_.joinable(); }
     /// Without the thread (simulated time): one step of dt_s, now, on the calling thread. Waits for the
@@ -97,7 +99,7 @@ public:
     long toolsOutOfReach() const { return toolsOutOfReach_.load(std::memory_order_relaxed); }
 
 private:
-    void threadMain();
+    void threadMain(double behind_s);
     /// Steps once by dt_s and fills the free frame with what moved; `lost_s` of wall time went unsimulated.
     void stepOnce(double dt_s, double lost_s = 0);
 
