@@ -329,7 +329,7 @@ TEST(PhysicsWorkerHolds, StepsLongerThanTheLongestStepSayWhatTheyLeftUnsimulated
 }
 
 // Auto's switch to multi-rate holds the tissue still while the physics' copy is made (89 ms on a rough
-// 30,000-triangle organ): the physics thread's first steps simulate that time, each within the longest
+// 60,000-face organ): the physics thread's first steps simulate that time, each within the longest
 // step. Before, they began from the moment the thread did, and the tissue stayed that far behind the
 // wall clock for the rest of the run (real-time factor 0.965 over 2.8 s).
 TEST(PhysicsWorkerHolds, TimeHeldBeforeTheThreadBeganIsSimulatedByItsFirstSteps) {

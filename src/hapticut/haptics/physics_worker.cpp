@@ -152,7 +152,7 @@ void PhysicsWorker::threadMain(double behind_s) {
     auto pause = [] { std::this_thread::sleep_for(std::chrono::microseconds(50)); };
     auto last = Clock::now();
     // Time the tissue stood still before this thread began, owed to the steps to come: the switch to
-    // multi-rate held it for 89 ms on a 30,000-triangle organ, and the tissue was that far behind the
+    // multi-rate held it for 89 ms on a rough 60,000-face organ, and the tissue was that far behind the
     // wall clock to the end of the run.
     double owed_s = std::max(0.0, behind_s);
     while (!stop_.load(std::memory_order_relaxed)) {
