@@ -1,7 +1,8 @@
 // The cutting fuzz: 10,000 random scalpel strokes on the heart in four seeded parts (so ctest can run
 // them side by side), every invariant checked after every operation that changed the mesh, the heart
-// closed throughout. Under a sanitizer, which makes every check ten times slower, a tenth of them
-// (the long runs under AddressSanitizer are by hand: docs/testing.md).
+// closed throughout. Under a sanitizer, which makes every check ten times slower, a tenth of each
+// part, and scripts/test-sanitizers runs the first part only (the long runs under AddressSanitizer are
+// by hand: docs/testing.md).
 #include <gtest/gtest.h>
 
 #include <cstdio>
