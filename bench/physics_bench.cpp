@@ -4,6 +4,7 @@
 #include <map>
 #include <random>
 
+#include "hapticut/geometry/random_vec.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/backward_euler_system.h"
 #include "hapticut/physics/integrators.h"
@@ -76,7 +77,7 @@ void BM_ImplicitSteps(benchmark::State& state) {
     for (auto _ : state) {
         state.PauseTiming();
         for (std::size_t i = 0; i < model.nodes.size(); ++i) {
-            model.nodes.position[i] = model.nodes.restPosition[i] + Vec3(noise(rng), noise(rng), noise(rng));
+            model.nodes.position[i] = model.nodes.restPosition[i] + randomVec3(noise, rng);
             model.nodes.velocity[i] = Vec3::Zero();
         }
         state.ResumeTiming();

@@ -17,6 +17,7 @@
 #include "hapticut/common/latency_histogram.h"
 #include "hapticut/common/output_path.h"
 #include "hapticut/common/worker_pool.h"
+#include "hapticut/geometry/random_vec.h"
 #include "hapticut/haptics/contact_footprint.h"
 #include "hapticut/haptics/haptic_loop.h"
 #include "hapticut/haptics/loop_scheduler.h"
@@ -208,7 +209,7 @@ int forceEvaluations(physics::Scheme s) {
 void perturb(physics::MassSpringModel& model, std::mt19937& rng) {
     std::normal_distribution<double> noise(0.0, 2e-4);
     for (std::size_t i = 0; i < model.nodes.size(); ++i) {
-        model.nodes.position[i] = model.nodes.restPosition[i] + Vec3(noise(rng), noise(rng), noise(rng));
+        model.nodes.position[i] = model.nodes.restPosition[i] + randomVec3(noise, rng);
         model.nodes.velocity[i] = Vec3::Zero();
     }
 }

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "hapticut/collision/bvh.h"
+#include "hapticut/geometry/random_vec.h"
 #include "hapticut/geometry/triangle_queries.h"
 #include "hapticut/mesh/procedural/heart.h"
 
@@ -22,9 +23,9 @@ Soup randomSoup(std::mt19937& rng, int count) {
     std::uniform_real_distribution<double> u(-0.05, 0.05), small(-0.01, 0.01);
     Soup s;
     for (int i = 0; i < count; ++i) {
-        const Vec3 c(u(rng), u(rng), u(rng));
+        const Vec3 c = randomVec3(u, rng);
         const double scale = i % 50 == 0 ? 5.0 : 1.0;
-        for (int k = 0; k < 3; ++k) s.positions.push_back(c + scale * Vec3(small(rng), small(rng), small(rng)));
+        for (int k = 0; k < 3; ++k) s.positions.push_back(c + scale * randomVec3(small, rng));
         const auto v = static_cast<std::uint32_t>(3 * i);
         s.faces.push_back({v, v + 1, v + 2});
     }
@@ -64,7 +65,7 @@ void expectMatchesBruteForce(const Bvh& bvh, const Soup& s, std::mt19937& rng, i
     std::uniform_real_distribution<double> u(-0.09, 0.09);
     std::vector<std::uint32_t> found;
     for (int q = 0; q < queries; ++q) {
-        const Vec3 p(u(rng), u(rng), u(rng)), r(u(rng), u(rng), u(rng));
+        const Vec3 p = randomVec3(u, rng), r = randomVec3(u, rng);
         const auto closest = bvh.closestPoint(s.view(), p);
         ASSERT_TRUE(closest.has_value());
         EXPECT_NEAR(closest->distance, bruteClosest(s, p), 1e-15);
@@ -134,7 +135,7 @@ TEST(Bvh, QueriesMatchBruteForceOnTheHeartAfterDeformingAndRefitting) {
     bvh.build(s.view());
     expectMatchesBruteForce(bvh, s, rng, 200);
     std::normal_distribution<double> n(0, 0.004);
-    for (Vec3& p : s.positions) p += Vec3(n(rng), n(rng), n(rng));
+    for (Vec3& p : s.positions) p += randomVec3(n, rng);
     bvh.refit(s.view());
     expectMatchesBruteForce(bvh, s, rng, 200);
 }
@@ -151,7 +152,10 @@ TEST(Bvh, BoxesGrownByAMarginHoldASurfaceThatMovedLessThanIt) {
         Soup now = reference;
         std::normal_distribution<double> n(0, 1);
         std::uniform_real_distribution<double> share(0.5, 0.999);
-        for (Vec3& p : now.positions) p += margin_m * share(rng) * Vec3(n(rng), n(rng), n(rng)).normalized();
+        for (Vec3& p : now.positions) {
+            const Vec3 direction = randomVec3(n, rng).normalized();  // before the share, as the seed's were
+            p += margin_m * share(rng) * direction;
+        }
         expectMatchesBruteForce(bvh, now, rng, 300);
         // Refitted from the reference positions, as the haptic loop refits nodes that stayed put.
         bvh.refit(reference.view());
@@ -176,7 +180,7 @@ TEST(Bvh, RefittingOnlyTheFacesRoundMovedVerticesKeepsEveryQueryExact) {
         std::vector<char> moved(s.positions.size(), 0);
         for (std::size_t v = 0; v < s.positions.size(); ++v)
             if ((s.positions[v] - centre).norm() < radius) {
-                s.positions[v] += Vec3(n(rng), n(rng), n(rng));
+                s.positions[v] += randomVec3(n, rng);
                 moved[v] = 1;
             }
         for (std::uint32_t f = 0; f < s.faces.size(); ++f)
@@ -257,10 +261,10 @@ TEST(Bvh, QueriesStayExactForOrgansOfAnySizeFarFromTheOriginAndFromFarAway) {
             Vec3 a = target, b = target;
             a[axis] -= 0.2 * scale;
             b[axis] += 0.2 * scale;
-            segments.emplace_back(a, b);                                                          // in face planes
-            segments.emplace_back(target + 1000 * scale * Vec3(n(rng), n(rng), n(rng)), target);  // from afar
-            segments.emplace_back(offset + scale * Vec3(u(rng), u(rng), u(rng)),
-                                  offset + scale * Vec3(u(rng), u(rng), u(rng)));
+            segments.emplace_back(a, b);                                                // in face planes
+            segments.emplace_back(target + 1000 * scale * randomVec3(n, rng), target);  // from afar
+            const Vec3 end = offset + scale * randomVec3(u, rng);  // the end first, as the seed's were
+            segments.emplace_back(offset + scale * randomVec3(u, rng), end);
         }
         for (const auto& [a, b] : segments) {
             int crossings = 0;

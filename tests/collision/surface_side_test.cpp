@@ -5,6 +5,7 @@
 
 #include "hapticut/collision/point_inside.h"
 #include "hapticut/collision/surface_side.h"
+#include "hapticut/geometry/random_vec.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"
 
@@ -28,12 +29,13 @@ Tally compareWithParity(const mesh::SurfaceMesh& m, std::mt19937& rng, int sampl
     Tally t;
     for (int i = 0; i < samples; ++i) {
         const mesh::Face& f = m.faces[anyFace(rng)];
-        Vec3 bary(unit(rng), unit(rng), unit(rng));
+        Vec3 bary = randomVec3(unit, rng);
         if (i % 3 == 1) bary = Vec3(1, 0, 0);      // a corner
         if (i % 3 == 2) bary = Vec3(0.5, 0.5, 0);  // an edge's midpoint
         bary /= bary.sum();
         const Vec3 on = bary.x() * m.positions[f[0]] + bary.y() * m.positions[f[1]] + bary.z() * m.positions[f[2]];
-        const Vec3 p = on + std::exp(logDistance(rng)) * Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
+        const Vec3 direction = randomVec3(gauss, rng).normalized();  // before the distance, as the seed's were
+        const Vec3 p = on + std::exp(logDistance(rng)) * direction;
         const auto near = bvh.closestPoint(view, p, 2e-3);
         if (!near) continue;
         const Side side = sideOfClosedSurface(view, topology, *near, p);
@@ -71,7 +73,7 @@ TEST(SurfaceSide, OnACrumpledHeartItIsNeverWrongAndSaysWhenItCannotTell) {
     options.triangles = 9714;
     mesh::SurfaceMesh m = mesh::procedural::makeHeart(options);
     std::normal_distribution<double> jitter(0, 0.3e-3);
-    for (Vec3& p : m.positions) p += Vec3(jitter(rng), jitter(rng), jitter(rng));
+    for (Vec3& p : m.positions) p += randomVec3(jitter, rng);
     const Tally t = compareWithParity(m, rng, 6000);
     EXPECT_EQ(t.wrong, 0);
     EXPECT_GT(t.inside + t.outside, 4000);

@@ -7,6 +7,7 @@
 #include "cutting/cuttable.h"
 #include "hapticut/cutting/cut_model.h"
 #include "hapticut/cutting/invariants.h"
+#include "hapticut/geometry/random_vec.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/mesh/procedural/primitives.h"
@@ -135,7 +136,7 @@ void randomSplit(CutModel& cut, std::mt19937& rng) {
     const mesh::Face face = cut.mesh().faces[f];
     const auto& rest = cut.mesh().positions;
     if (rng() % 2) {
-        Vec3 bary(u(rng), u(rng), u(rng));
+        Vec3 bary = randomVec3(u, rng);
         bary /= bary.sum();
         const Vec3 expected = bary.x() * rest[face[0]] + bary.y() * rest[face[1]] + bary.z() * rest[face[2]];
         const std::uint32_t v = cut.splitFace(f, bary);

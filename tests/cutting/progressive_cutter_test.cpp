@@ -9,6 +9,7 @@
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/cutting/progressive_cutter.h"
 #include "hapticut/cutting/stroke_fuzzer.h"
+#include "hapticut/geometry/random_vec.h"
 #include "hapticut/geometry/triangle.h"
 #include "hapticut/mesh/mesh_report.h"
 #include "hapticut/mesh/procedural/heart.h"
@@ -298,8 +299,8 @@ TEST(ProgressiveCutter, RandomStrokesOnTheHeartKeepEveryInvariant) {
     std::uniform_real_distribution<double> unit(-1, 1), length(0.005, 0.03);
     for (int i = 0; i < 150; ++i) {
         // Start on the surface at a random place, stroke in a random tangent direction.
-        const Vec3 start = touchPoint(cut, Vec3(unit(rng), unit(rng), unit(rng)).normalized() * 0.1);
-        const Vec3 dir = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+        const Vec3 start = touchPoint(cut, randomVec3(unit, rng).normalized() * 0.1);
+        const Vec3 dir = randomVec3(unit, rng).normalized();
         const Vec3 end = touchPoint(cut, start + length(rng) * dir);
         stroke(cut, cutter, start, end, 1 + static_cast<int>(rng() % 30));
         const InvariantReport r = checkInvariants(cut, mass, /*closed=*/true);

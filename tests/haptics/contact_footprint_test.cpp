@@ -43,7 +43,10 @@ struct Sheet {
         std::uniform_real_distribution<double> u(-jitter, jitter);
         const double h = 0.06 / cells;
         for (Vec3& p : mesh.positions)
-            if (std::abs(p.x()) < 0.03 - h / 2 && std::abs(p.y()) < 0.03 - h / 2) p += Vec3(u(rng) * h, u(rng) * h, 0);
+            if (std::abs(p.x()) < 0.03 - h / 2 && std::abs(p.y()) < 0.03 - h / 2) {
+                const double dy = u(rng) * h;  // y first, as the seed's sheet was made (random_vec.h)
+                p += Vec3(u(rng) * h, dy, 0);
+            }
         around = mesh::buildVertexFaces(mesh.faces, mesh.positions.size());
         physics::Material material;
         material.positioningStiffness_N_per_m3 = kFoundation_N_per_m3;

@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "hapticut/geometry/random_vec.h"
 #include "hapticut/haptics/loop_scheduler.h"
 #include "hapticut/haptics/replay_device.h"
 #include "hapticut/mesh/procedural/heart.h"
@@ -249,7 +250,7 @@ mesh::SurfaceMesh jitteredBy(const mesh::SurfaceMesh& smooth, double amount, uns
     mesh::SurfaceMesh jittered = smooth;
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> unit(-1, 1);
-    for (Vec3& x : jittered.positions) x += amount * Vec3(unit(rng), unit(rng), unit(rng));
+    for (Vec3& x : jittered.positions) x += amount * randomVec3(unit, rng);
     return jittered;
 }
 
@@ -450,7 +451,7 @@ mesh::SurfaceMesh heartOfSlivers(unsigned seed) {
     const double jitter = mesh::meanEdgeLength(heart) * 0.4;
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(-jitter, jitter);
-    for (Vec3& p : heart.positions) p += Vec3(u(rng), u(rng), u(rng));
+    for (Vec3& p : heart.positions) p += randomVec3(u, rng);
     mesh::computeFaceNormals(heart);
     return heart;
 }

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <random>
 
+#include "hapticut/geometry/random_vec.h"
 #include "hapticut/haptics/step_log.h"
 #include "hapticut/haptics/trajectory.h"
 #include "test_support.h"
@@ -28,14 +29,15 @@ std::vector<StepOutput> randomSteps(std::size_t count, int hands, bool oriented)
         s.cut = rng() % 50 == 0;
         for (int h = 0; h < hands; ++h) {
             HandStep& hand = s.hands[static_cast<std::size_t>(h)];
-            hand.device_m = Vec3(n(rng), n(rng), n(rng));
-            hand.proxy_m = Vec3(n(rng), n(rng), n(rng));
-            hand.force_N = 100 * Vec3(n(rng), n(rng), n(rng));
+            hand.device_m = randomVec3(n, rng);
+            hand.proxy_m = randomVec3(n, rng);
+            hand.force_N = 100 * randomVec3(n, rng);
             hand.contact = rng() % 2;
             hand.face = static_cast<std::uint32_t>(rng() % 10'000);
             hand.buttons = static_cast<std::uint32_t>(rng() % 2);
             hand.oriented = oriented;
-            hand.orientation = Eigen::Quaterniond(1, n(rng), n(rng), n(rng)).normalized();
+            const Vec3 axis = randomVec3(n, rng);
+            hand.orientation = Eigen::Quaterniond(1, axis.x(), axis.y(), axis.z()).normalized();
         }
     }
     return steps;

@@ -6,6 +6,7 @@
 
 #include <random>
 
+#include "hapticut/geometry/random_vec.h"
 #include "hapticut/mesh/procedural/heart.h"
 #include "hapticut/physics/backward_euler.h"
 #include "hapticut/physics/integrators.h"
@@ -30,8 +31,7 @@ struct AssembledHeart {
     AssembledHeart(int triangles, double h) : model(buildModel(heartOf(triangles), Material{})) {
         std::mt19937 rng(7);
         std::normal_distribution<double> noise(0, 2e-4);
-        for (std::size_t i = 0; i < model.nodes.size(); ++i)
-            model.nodes.position[i] += Vec3(noise(rng), noise(rng), noise(rng));
+        for (std::size_t i = 0; i < model.nodes.size(); ++i) model.nodes.position[i] += randomVec3(noise, rng);
         for (std::uint32_t i = 0; i < model.nodes.size(); ++i) nodes.push_back(i);
         for (std::uint32_t s = 0; s < model.springs.size(); ++s) springs.push_back(s);
         system.reserve(nodes.size(), springs.size());

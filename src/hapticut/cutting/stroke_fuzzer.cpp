@@ -7,6 +7,7 @@
 #include "hapticut/cutting/invariants.h"
 #include "hapticut/cutting/progressive_cutter.h"
 #include "hapticut/geometry/aabb.h"
+#include "hapticut/geometry/random_vec.h"
 #include "hapticut/geometry/triangle_queries.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/material.h"
@@ -62,10 +63,10 @@ StrokeFuzzResult fuzzStrokes(const mesh::SurfaceMesh& organ, const StrokeFuzzCon
                 r.stoppedEarly = true;
                 break;
             }
-            const Vec3 from =
-                touchRestSurface(cut, box.center() + Vec3(unit(rng), unit(rng), unit(rng)).normalized() * reach).point;
-            const Vec3 to =
-                touchRestSurface(cut, from + length(rng) * Vec3(unit(rng), unit(rng), unit(rng)).normalized()).point;
+            const Vec3 from = touchRestSurface(cut, box.center() + randomVec3(unit, rng).normalized() * reach).point;
+            const Vec3 direction =
+                randomVec3(unit, rng).normalized();  // before the length: the order the seeds were made in
+            const Vec3 to = touchRestSurface(cut, from + length(rng) * direction).point;
             const int samples = 1 + static_cast<int>(rng() % 40);
             for (int i = 0; i <= samples; ++i) {
                 const RestTouch t = touchRestSurface(cut, from + (to - from) * (static_cast<double>(i) / samples));
