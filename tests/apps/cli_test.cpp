@@ -491,6 +491,8 @@ TEST_F(Cli, AScalpelStrokeCutsTheHeartWithWallsThatTheExportedMeshKeepsAndAProbe
     EXPECT_NEAR(j["cutting_force_N"]["p50"].get<double>(), 2.0, 0.5);
     EXPECT_GT(j["cutting_force_min_N"].get<double>(), 0.1);
     EXPECT_LT(j["max_proxy_penetration_m"].get<double>(), 1e-4);
+    EXPECT_GE(j["proxy_push_outs"].get<long>(), 0);
+    EXPECT_LT(j["proxy_deepest_push_out_m"].get<double>(), 0.05) << "within the blade's reach of the surface";
     const auto info = nlohmann::json::parse(run("info " + path("cut.obj") + " --json").out);
     EXPECT_EQ(info["closed"], true);
     EXPECT_EQ(info["boundary_edges"], 0);

@@ -47,6 +47,7 @@ TEST(Proxy, PressingAFlatPlaneGivesHookesForceAlongTheNormal) {
         EXPECT_NEAR(f.y(), 0, 1e-12);
         EXPECT_TRUE(proxy.contact().active);
     }
+    EXPECT_EQ(proxy.pushOuts(), 0) << "every slide ended on the plane, none inside it";
 }
 
 TEST(Proxy, SlidesAlongAPlaneUnderAnObliqueDevice) {
@@ -124,6 +125,28 @@ TEST(Proxy, SurfaceMovingIntoAStationaryDevicePushesTheProxyOut) {
         }
         previousForce = force;
     }
+    // The plane reached the proxy within its reach for a contact, which carried it from then on: it
+    // was never found inside.
+    EXPECT_EQ(proxy.pushOuts(), 0);
+}
+
+// A surface that jumps over a free proxy in one step (a fast organ, a reset) leaves it inside: the
+// push-out puts it back on the surface and says how often and how deep, for the run's report.
+TEST(Proxy, APushOutIsCountedWithHowDeepTheProxyWas) {
+    Scene s = plane();
+    const Vec3 device(0.003, 0.004, 0.0);
+    GodObjectProxy proxy;
+    proxy.reset(device + Vec3(0, 0, 0.001));
+    proxy.update(device + Vec3(0, 0, 0.001), s.view(), s.bvh);  // free, a millimetre above the plane
+    EXPECT_FALSE(proxy.contact().active);
+    for (Vec3& p : s.mesh.positions) p.z() += 0.0015;  // the plane now half a millimetre above it
+    s.bvh.refit(s.view());
+    proxy.update(device, s.view(), s.bvh);
+    EXPECT_EQ(proxy.pushOuts(), 1);
+    EXPECT_NEAR(proxy.deepestPushOut_m(), 0.0005, 1e-9);
+    EXPECT_NEAR(proxy.position().z(), 0.0015 + proxy.params().offset_m, 1e-9);
+    proxy.update(device, s.view(), s.bvh);  // resting on it: nothing more to push
+    EXPECT_EQ(proxy.pushOuts(), 1);
 }
 
 /// Drags the device along a closed path through the heart at up to 0.5 m/s (0.5 mm per 1 ms step)

@@ -65,6 +65,8 @@ void GodObjectProxy::pushOutIfInside(const collision::SurfaceView& s, const coll
     const Vec3 out = near->point - position_;
     const double len = out.norm();
     position_ = near->point + params_.offset_m * (len > 0 ? Vec3(out / len) : faceNormal(s, near->face));
+    ++pushOuts_;
+    deepestPushOut_m_ = std::max(deepestPushOut_m_, len);
 }
 
 bool GodObjectProxy::insideNear(const collision::SurfaceView& s, const collision::Bvh& bvh,

@@ -58,6 +58,11 @@ public:
     /// How often ray parity decided the proxy's side of a closed surface: the faces round the nearest
     /// point disagreed (collision/surface_side.h), a fold lay over the proxy, or it was deep inside.
     long paritySideChecks() const { return paritySideChecks_; }
+    /// How often the proxy was found inside the tissue and pushed out to the nearest surface point (a
+    /// surface that swept over a free proxy, a slide that ended inside), and the deepest it was then (m).
+    /// The penetration measured after each update cannot see these; the force jumps where one happens.
+    long pushOuts() const { return pushOuts_; }
+    double deepestPushOut_m() const { return deepestPushOut_m_; }
 
     const Vec3& position() const { return position_; }
     const Contact& contact() const { return contact_; }
@@ -117,7 +122,8 @@ private:
     std::array<Plane, 3> planes_{};
     int planeCount_ = 0;
     const mesh::VertexFaces* topology_ = nullptr;
-    long fastPathContacts_ = 0, treeContactQueries_ = 0, paritySideChecks_ = 0;
+    long fastPathContacts_ = 0, treeContactQueries_ = 0, paritySideChecks_ = 0, pushOuts_ = 0;
+    double deepestPushOut_m_ = 0;
 };
 
 /// Unit normal of a face on the current (deformed) positions.

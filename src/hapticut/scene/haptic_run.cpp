@@ -174,6 +174,10 @@ Result<HapticRunResult, Error> runHaptic(cutting::CutModel& organ, std::span<con
     r.nonFiniteEvents = st.nonFiniteEvents;
     r.watchdogTripped = st.watchdogTripped;
     r.maxForce_N = st.maxForce_N;
+    for (int h = 0; h < r.handCount; ++h) {
+        r.proxyPushOuts += loop.proxy(h).pushOuts();
+        r.proxyDeepestPushOut_m = std::max(r.proxyDeepestPushOut_m, loop.proxy(h).deepestPushOut_m());
+    }
     r.finalMaxDisplacement_m = physics::maxDisplacement(model);
     r.cut = loop.cutter().stats();
     r.cutEvents = st.cutEvents;

@@ -64,6 +64,10 @@ struct HapticRunResult {
     double maxForce_N = 0;
     double maxProxyPenetration_m = 0;   // by the ray-parity test on the current surface, in every step it is closed
     long penetrationMeasuredSteps = 0;  // the steps in which it was (all, on a closed organ whose wounds have walls)
+    // How often a proxy was found inside and pushed out to the surface (GodObjectProxy::pushOuts), and
+    // the deepest it was then: what the penetration above, measured after each update, cannot see.
+    long proxyPushOuts = 0;
+    double proxyDeepestPushOut_m = 0;
     double maxDisplacement_m = 0, finalMaxDisplacement_m = 0;
     // In passes over the organ, a slice a step: the enclosed volume's change from what the anchors
     // enclose (closed organs whose wounds have walls) and the largest spring strain.

@@ -118,6 +118,8 @@ nlohmann::ordered_json hapticRunReport(const ModelSource& source, const cutting:
     j["max_force_N"] = result.maxForce_N;
     j["max_proxy_penetration_m"] = result.maxProxyPenetration_m;
     j["penetration_measured_steps"] = result.penetrationMeasuredSteps;
+    j["proxy_push_outs"] = result.proxyPushOuts;
+    j["proxy_deepest_push_out_m"] = result.proxyDeepestPushOut_m;
     j["max_displacement_m"] = result.maxDisplacement_m;
     j["final_max_displacement_m"] = result.finalMaxDisplacement_m;
     j["volume_kept"] = result.volumeKept;
