@@ -60,7 +60,7 @@ public:
     long paritySideChecks() const { return paritySideChecks_; }
     /// How often the proxy was found inside the tissue and pushed out to the nearest surface point (a
     /// surface that swept over a free proxy, a slide that ended inside), and the deepest it was then (m).
-    /// The penetration measured after each update cannot see these; the force jumps where one happens.
+    /// The penetration measured after each update cannot see these; the force can jump where one happens.
     long pushOuts() const { return pushOuts_; }
     double deepestPushOut_m() const { return deepestPushOut_m_; }
 
