@@ -6,7 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <random>
 #include <sstream>
+
+#include "hapticut/geometry/random_vec.h"
 
 namespace hapticut::test {
 
@@ -66,6 +69,21 @@ mesh::SurfaceMesh tetrahedron() {
     m.faces = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
     mesh::completeMesh(m);
     return m;
+}
+
+double meanEdgeOf(const mesh::SurfaceMesh& m) {
+    double edges = 0;
+    for (const mesh::Face& f : m.faces)
+        for (int k = 0; k < 3; ++k) edges += (m.positions[f[(k + 1) % 3]] - m.positions[f[k]]).norm();
+    return edges / (3.0 * static_cast<double>(m.faces.size()));
+}
+
+mesh::SurfaceMesh jitteredBy(const mesh::SurfaceMesh& smooth, double amount, unsigned seed) {
+    mesh::SurfaceMesh jittered = smooth;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    for (Vec3& x : jittered.positions) x += amount * randomVec3(unit, rng);
+    return jittered;
 }
 
 Vec3 wobble(std::size_t i, double size) {

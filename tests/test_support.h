@@ -37,6 +37,12 @@ mesh::SurfaceMesh tetrahedron();
 /// A deterministic, irregular offset of the given size for node i (repeatable "random" perturbations).
 Vec3 wobble(std::size_t i, double size_m);
 
+/// The mean length of a mesh's edges, each counted once per face it borders.
+double meanEdgeOf(const mesh::SurfaceMesh& mesh);
+
+/// Every vertex moved at random by up to `amount` along each axis, as a noisy segmentation leaves it.
+mesh::SurfaceMesh jitteredBy(const mesh::SurfaceMesh& smooth, double amount, unsigned seed);
+
 /// The signed volume enclosed by a closed mesh: positive when the faces point outward.
 double signedVolume(const mesh::SurfaceMesh& mesh);
 

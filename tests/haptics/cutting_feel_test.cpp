@@ -21,6 +21,7 @@
 #include "hapticut/physics/material.h"
 #include "hapticut/scene/haptic_run.h"
 #include "hapticut/scene/sample_trajectories.h"
+#include "test_support.h"
 
 namespace hapticut::haptics {
 namespace {
@@ -238,22 +239,6 @@ TEST(CuttingFeel, AcrossTheHeartTheHandFeelsTheBladeThroughoutTheCutAndTheProxyS
     }
 }
 
-double meanEdgeOf(const mesh::SurfaceMesh& m) {
-    double edges = 0;
-    for (const mesh::Face& f : m.faces)
-        for (int k = 0; k < 3; ++k) edges += (m.positions[f[(k + 1) % 3]] - m.positions[f[k]]).norm();
-    return edges / (3.0 * static_cast<double>(m.faces.size()));
-}
-
-/// Every vertex moved at random by up to `amount` along each axis, as a noisy segmentation leaves it.
-mesh::SurfaceMesh jitteredBy(const mesh::SurfaceMesh& smooth, double amount, unsigned seed) {
-    mesh::SurfaceMesh jittered = smooth;
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> unit(-1, 1);
-    for (Vec3& x : jittered.positions) x += amount * randomVec3(unit, rng);
-    return jittered;
-}
-
 /// How far along x, the scalpel stroke's way, the vertices a run added reach: the cut's span.
 double spanAlongX(const cutting::CutModel& organ, std::size_t verticesBefore) {
     double lo = 1e300, hi = -1e300;
@@ -290,7 +275,7 @@ TEST(CuttingFeel, AScalpelStrokeOverAJitteredHeartCutsAsFarAsOverTheSmoothOne) {
     ASSERT_TRUE(trajectory);
     const mesh::SurfaceMesh smooth = mesh::procedural::makeHeart({.triangles = 30000});
     const double smoothLength = strokeCut(smooth, *trajectory).length_m;
-    const double meanEdge = meanEdgeOf(smooth);
+    const double meanEdge = test::meanEdgeOf(smooth);
 #ifdef HAPTICUT_SANITIZED
     const std::vector<unsigned> seeds{6};  // the one that cut least; the code is the same for all
 #else
@@ -298,7 +283,7 @@ TEST(CuttingFeel, AScalpelStrokeOverAJitteredHeartCutsAsFarAsOverTheSmoothOne) {
 #endif
     for (unsigned seed : seeds) {
         SCOPED_TRACE(testing::Message() << "seed " << seed);
-        const mesh::SurfaceMesh jittered = jitteredBy(smooth, meanEdge / 3, seed);
+        const mesh::SurfaceMesh jittered = test::jitteredBy(smooth, meanEdge / 3, seed);
         const StrokeCut cut = strokeCut(jittered, *trajectory);
         EXPECT_EQ(cut.cuts, 1);
         // 1.04 at the least. Seed 6 cut 0.66 before a cut turned round by a crack that first ran up the
@@ -320,7 +305,7 @@ TEST(CuttingFeel, ABladeLiftedOutBesideLipsPressedThroughEachOtherLeavesTheProxy
         readTrajectory(std::filesystem::path(HAPTICUT_SOURCE_DIR) / "assets/trajectories/cut-front.csv");
     ASSERT_TRUE(trajectory);
     const mesh::SurfaceMesh smooth = mesh::procedural::makeHeart({.triangles = 9714});
-    const StrokeCut cut = strokeCut(jitteredBy(smooth, meanEdgeOf(smooth) * 0.3333, 3), *trajectory);
+    const StrokeCut cut = strokeCut(test::jitteredBy(smooth, test::meanEdgeOf(smooth) * 0.3333, 3), *trajectory);
     EXPECT_EQ(cut.cuts, 1);
     EXPECT_LT(cut.penetration_m, 5e-5);
 }
@@ -338,7 +323,7 @@ TEST(CuttingFeel, AScalpelStrokeOverAHeartJitteredByHalfAnEdgeCutsAcrossIt) {
     const mesh::SurfaceMesh smooth = mesh::procedural::makeHeart({.triangles = 9714});
     const double smoothSpan = strokeCut(smooth, *trajectory).span_m;
     EXPECT_GT(smoothSpan, 0.04);
-    const double meanEdge = meanEdgeOf(smooth);
+    const double meanEdge = test::meanEdgeOf(smooth);
 #ifdef HAPTICUT_SANITIZED
     const std::vector<unsigned> seeds{4};  // the one that cut least before; the code is the same for all
 #else
@@ -346,7 +331,7 @@ TEST(CuttingFeel, AScalpelStrokeOverAHeartJitteredByHalfAnEdgeCutsAcrossIt) {
 #endif
     for (unsigned seed : seeds) {
         SCOPED_TRACE(testing::Message() << "seed " << seed);
-        const mesh::SurfaceMesh jittered = jitteredBy(smooth, meanEdge / 2, seed);
+        const mesh::SurfaceMesh jittered = test::jitteredBy(smooth, meanEdge / 2, seed);
         const StrokeCut cut = strokeCut(jittered, *trajectory);
         EXPECT_EQ(cut.cuts, 1);
         // 0.86 at the least (seed 1).
