@@ -492,7 +492,6 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
     // Each hand's coupling spring from its device to its contact point is a force term of the physics
     // (model_.tools), so the tissue feels it reversed in every integrator stage and stiff contact stays
     // stable. Clamped, ramped in, and kept finite by the watchdog.
-    const collision::SurfaceView view = surface();
     const double ramp = std::clamp((t_s - rampStart_s_) / config_.rampTime_s, 0.0, 1.0);
     // Multi-rate: the surface is the latest physics frame's, which ages until the next one. The touched
     // triangle is carried on at its nodes' velocities for that long, so that the force follows the
@@ -521,7 +520,6 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         }
         if (!f.touching || stats_.watchdogTripped) continue;
         hand.lastContactStep = stepIndex_;
-        const Contact& contact = hand.proxy.contact();
         const double subgrid_m_per_N = loadTissue(h, tool, wasActive);
         stats_.contactNodesMax = std::max(stats_.contactNodesMax, static_cast<long>(tool.count));
         // Anchor so that at this instant the spring reads k (proxy - device): the proxy sits a small
@@ -535,7 +533,18 @@ void HapticLoop::coupleTools(Frame& frame, double t_s) noexcept {
         tool.stiffness_N_per_m = coupling_N_per_m / (1 + coupling_N_per_m * subgrid_m_per_N);
         tool.maxForce_N = std::min(hand.setup.device->maxForce_N(), hand.setup.maxForce_N) * maxForceScale_;
         tool.scale = ramp;
-        tool.normal = contact.side * faceNormal(view, contact.face);
+        // A probe pushes the way its proxy holds the device out of the tissue (they are apart while it
+        // touches), and never pulls against that. The touched face's own normal can point almost anywhere
+        // on a rough segmentation, a jittered or folded sliver: taken as the push's way, it zeroed the force
+        // of a probe pressed 3-5 mm in for one step in thirteen on a jittered heart, a 1.5 N buzz in the
+        // hand. A blade keeps the face's normal: in a wound it is a wall's, made by the cutter, and pushing
+        // along the stroke there would drag the lips with the pull the fracture takes (resistBlade); on a
+        // rough surface, pushing elsewhere changed where a cut began, and one begun at a turned-over face
+        // stalled (the cutter's own defect).
+        const bool blade = hand.setup.cutThreshold_N <= tool.maxForce_N;
+        const Contact& contact = hand.proxy.contact();
+        tool.normal = blade ? Vec3(contact.side * faceNormal(surface(), contact.face))
+                            : Vec3((hand.proxy.position() - f.sample.position_m).normalized());
         f.force_N = ahead > 0 ? forceAhead(tool, ahead) : tool.forceOnTool(model_.nodes.position);
         tool.active = true;
         if (!f.force_N.allFinite()) tripWatchdog();

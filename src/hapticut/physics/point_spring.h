@@ -38,7 +38,7 @@ struct PointSpring {
     double stiffness_N_per_m = 0;
     double maxForce_N = std::numeric_limits<double>::infinity();
     double scale = 1;            // ramp-in factor, applied after the clamp
-    Vec3 normal = Vec3::Zero();  // outward contact normal: a tool pushes, never pulls (zero: no limit)
+    Vec3 normal = Vec3::Zero();  // the way the tool pushes; it never pulls against it (zero: no limit)
 
     /// The thesis's share of the reaction for each corner of the touched triangle (R9): the squared
     /// barycentric coordinate, normalised to sum to 1 (equal thirds if all are zero). Squaring makes the
