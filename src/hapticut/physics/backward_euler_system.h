@@ -56,7 +56,7 @@ public:
     /// Whether a motion m by unknown (zero on resting neighbours) moves some spring's ends apart by more
     /// than `fraction` of its rest length, |m_b - m_a| > fraction · rest length; springs shorter than a
     /// nanometre are skipped. It stops at the first: its caller asks no more, and the largest motion cost a
-    /// division and a dependent maximum a spring.
+    /// division and a dependent maximum a spring. `region` is the one the last assemble() laid out.
     bool movesApartMoreThan(const Springs& springs, SolveRegion region, std::span<const Vec3> motion, double fraction,
                             OwnedWorkerPool* pool = nullptr) const;
 
