@@ -163,12 +163,15 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
     }
 
     snapped_.clear();
+    // Read once: the list's growth below made the loop read them again for every node.
+    const double snapDistance2 = model.snapDistance_m * model.snapDistance_m;
+    const double snapSpeed2 = model.snapSpeed_m_per_s * model.snapSpeed_m_per_s;
     for (std::uint32_t i : nodes) {
         if (!n.position[i].allFinite() || !n.velocity[i].allFinite()) result.finite = false;
         // R4: a node that is almost at rest is put back exactly at rest. dx_ and dv_, free once the
         // substeps are done, keep where the step took it.
-        if ((n.position[i] - n.restPosition[i]).squaredNorm() < model.snapDistance_m * model.snapDistance_m &&
-            n.velocity[i].squaredNorm() < model.snapSpeed_m_per_s * model.snapSpeed_m_per_s) {
+        if ((n.position[i] - n.restPosition[i]).squaredNorm() < snapDistance2 &&
+            n.velocity[i].squaredNorm() < snapSpeed2) {
             dx_[i] = n.position[i], dv_[i] = n.velocity[i];
             snapped_.push_back(i);  // reserved for every node: never allocates
             n.position[i] = n.restPosition[i];
