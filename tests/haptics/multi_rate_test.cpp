@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <thread>
+#include <vector>
 
 #include "hapticut/collision/bvh.h"
 #include "hapticut/cutting/invariants.h"
@@ -234,10 +235,15 @@ TEST(MultiRate, EditsReachThePhysicsCopy) {
     EXPECT_EQ(physics::maxDisplacement(organ.model()), 0.0) << "reset";
 }
 
-/// What a worker's frames said of the time it simulated, each per wall second.
+/// What a worker's frames said of the time it simulated: in total, each per wall second, and the
+/// first step after each hold on its own.
 struct TimeThroughHolds {
     double simulated = 0;  // the steps' dt
     double lost = 0;       // wall time the steps said they left unsimulated (longer than the longest step)
+    struct Step {
+        double dt_s = 0, lost_s = 0;
+    };
+    std::vector<Step> afterHold;
 };
 
 /// Runs a worker on the 1,619 heart through 8 holds of `hold` each (a cut or an edit reaching the
@@ -246,12 +252,20 @@ TimeThroughHolds timeThroughHolds(double maxStep_s, std::chrono::milliseconds ho
     const physics::MassSpringModel model = physics::buildModel(mesh::procedural::makeHeart({}), physics::Material{});
     PhysicsWorker worker(model, physics::Stepper(physics::Scheme::BackwardEuler), physics::Scheme::BackwardEuler, 0.001,
                          maxStep_s);
-    double lost_s = 0;
+    TimeThroughHolds times;
+    bool held = false;  // the next frame is the first step after a hold
     auto takeFrames = [&] {
         while (const PhysicsFrame* frame = worker.takeFrame()) {
             EXPECT_GE(frame->lost_s, 0.0);
             EXPECT_GT(frame->wall_s, 0.0) << "each frame says how long its step took";
-            lost_s += frame->lost_s;
+            // Time is lost only where a step could not simulate all of it: one as long as the longest step.
+            if (frame->lost_s > 0) {
+                EXPECT_EQ(frame->dt_s, maxStep_s);
+            }
+            times.simulated += frame->dt_s;
+            times.lost += frame->lost_s;
+            if (held) times.afterHold.push_back({frame->dt_s, frame->lost_s});
+            held = false;
             worker.releaseFrame();
         }
         std::this_thread::sleep_for(std::chrono::microseconds(200));
@@ -266,17 +280,32 @@ TimeThroughHolds timeThroughHolds(double maxStep_s, std::chrono::milliseconds ho
         runFor(std::chrono::milliseconds(10));
         worker.requestHold();
         while (!worker.idle()) takeFrames();
+        takeFrames();  // a frame made before the hold may still wait in the other slot
+        held = true;
         std::this_thread::sleep_for(hold);
         worker.release();
     }
     runFor(std::chrono::milliseconds(10));
     worker.stop();
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return {worker.simulatedTime_s() / wall_s, lost_s / wall_s};
+    times.simulated /= wall_s;
+    times.lost /= wall_s;
+    return times;
 }
 
-double simulatedShareThroughHolds(double maxStep_s, std::chrono::milliseconds hold) {
-    return timeThroughHolds(maxStep_s, hold).simulated;
+// The frames after the holds, checked one by one: each simulated at least its hold (`hold_s`), up to the
+// longest step, and lost time only where it simulated the longest step. A machine that keeps the physics'
+// thread from running for longer than the longest step, as a loaded one under `ctest -j2` can, makes a
+// step lose that time, as it should; the totals over the wall clock alone then said the tissue fell behind.
+void expectEachHoldSimulated(const TimeThroughHolds& times, double hold_s, double maxStep_s) {
+    ASSERT_EQ(times.afterHold.size(), 8u) << "a first step after every hold";
+    for (const TimeThroughHolds::Step& step : times.afterHold) {
+        EXPECT_GE(step.dt_s, std::min(hold_s, maxStep_s)) << "the held time is simulated by the next step";
+        EXPECT_LE(step.dt_s, maxStep_s);
+        if (hold_s > maxStep_s) {
+            EXPECT_GE(step.dt_s + step.lost_s, hold_s) << "and what it could not simulate, lost";
+        }
+    }
 }
 
 // On the wall clock the physics has its own thread: the haptic loop keeps its period while the physics
@@ -286,15 +315,16 @@ double simulatedShareThroughHolds(double maxStep_s, std::chrono::milliseconds ho
 // through a stroke of cuts. Steps that began after a hold at its end lost 0.3 s of every second while a
 // scalpel cut the 100,000-triangle heart.
 TEST(PhysicsWorkerHolds, TheHeldTimeIsSimulatedByTheNextStep) {
-    const double share = simulatedShareThroughHolds(0.05, std::chrono::milliseconds(15));
+    const TimeThroughHolds times = timeThroughHolds(0.05, std::chrono::milliseconds(15));
+    expectEachHoldSimulated(times, 0.015, 0.05);
 #ifdef HAPTICUT_SANITIZED
     // There the heart's own steps take tens of milliseconds on a loaded machine, and a step with a hold
     // outlasts the cap (0.53 under ThreadSanitizer once): the holds still run, for the sanitizer to see.
-    EXPECT_GT(share, 0.0);
+    EXPECT_GT(times.simulated, 0.0);
 #else
-    EXPECT_GT(share, 0.8) << "8 holds of 15 ms";
+    EXPECT_GT(times.simulated + times.lost, 0.8) << "8 holds of 15 ms; what was not simulated was said lost";
 #endif
-    EXPECT_LT(share, 1.05);
+    EXPECT_LT(times.simulated, 1.05);
 }
 
 // A step of a large region lasts tens of milliseconds (30-45 ms on the 1,000,000 heart under a press or
@@ -307,10 +337,14 @@ TEST(PhysicsWorkerHolds, StepsOfTensOfMillisecondsKeepRealTimeUnderTheDefaultLon
     // There the 1,619 heart's own steps take tens of milliseconds, and a step with a hold outlasts any cap.
     GTEST_SKIP() << "a sanitizer's build steps too slowly for holds to stand in for steps";
 #endif
-    const double share = simulatedShareThroughHolds(LoopConfig{}.maxPhysicsStep_s, std::chrono::milliseconds(35));
-    EXPECT_GT(share, 0.85) << "8 holds of 35 ms";
-    EXPECT_LT(share, 1.05);
-    EXPECT_LT(simulatedShareThroughHolds(0.02, std::chrono::milliseconds(35)), 0.8) << "a 20 ms cap falls behind";
+    const double longest_s = LoopConfig{}.maxPhysicsStep_s;
+    const TimeThroughHolds times = timeThroughHolds(longest_s, std::chrono::milliseconds(35));
+    expectEachHoldSimulated(times, 0.035, longest_s);
+    EXPECT_GT(times.simulated + times.lost, 0.85) << "8 holds of 35 ms";
+    EXPECT_LT(times.simulated, 1.05);
+    const TimeThroughHolds capped = timeThroughHolds(0.02, std::chrono::milliseconds(35));
+    expectEachHoldSimulated(capped, 0.035, 0.02);
+    EXPECT_LT(capped.simulated, 0.8) << "a 20 ms cap falls behind";
 }
 
 // Where the tissue falls behind, the frames say how much: the report's physics_time_lost_s. Each hold of
@@ -324,8 +358,10 @@ TEST(PhysicsWorkerHolds, StepsLongerThanTheLongestStepSayWhatTheyLeftUnsimulated
     EXPECT_GT(capped.lost, 8 * 0.015 / 0.5) << "8 holds of 35 ms in about 0.4 s, 15 ms of each lost at least";
     EXPECT_GT(capped.simulated + capped.lost, 0.9) << "the rest is one step";
     EXPECT_LT(capped.simulated + capped.lost, 1.05);
-    EXPECT_EQ(timeThroughHolds(0.05, std::chrono::milliseconds(15)).lost, 0.0)
-        << "holds shorter than the cap lose none";
+    for (const TimeThroughHolds::Step& step : timeThroughHolds(0.05, std::chrono::milliseconds(15)).afterHold)
+        if (step.dt_s < 0.05) {
+            EXPECT_EQ(step.lost_s, 0.0) << "a hold shorter than the cap loses none";
+        }
 }
 
 // Auto's switch to multi-rate holds the tissue still while the physics' copy is made (89 ms on a rough
