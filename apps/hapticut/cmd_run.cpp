@@ -307,9 +307,9 @@ int runHapticMode(const RunOptions& o, const std::filesystem::path& sceneFile, s
               << r.physicsRealtimeFactor << " simulated s per wall s; step " << r.physicsStepTime_us.p50 / 1e3
               << " ms p50, " << r.physicsStepTime_us.p99 / 1e3 << " ms p99\n";
     if (r.multiRate && config.realtime)
-        std::cout << "the tissue fell behind by " << r.physicsTimeLost_s << " s in steps longer than "
-                  << r.maxPhysicsStep_s << " s, and was " << r.physicsLagAtEnd_s
-                  << " s behind the wall clock at the end (the step in progress and a frame coming in)\n";
+        std::cout << "the tissue fell behind by " << r.physicsTimeLost_s << " s where the physics was more than "
+                  << 2 * r.maxPhysicsStep_s << " s behind (twice the longest step), and was " << r.physicsLagAtEnd_s
+                  << " s behind the wall clock at the end (the step in progress, what it owed and a frame coming in)\n";
     if (config.realtime)
         std::cout << "haptic thread: " << r.hapticScheduling
                   << (r.hapticScheduling.rfind("normal: ", 0) == 0

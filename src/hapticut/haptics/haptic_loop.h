@@ -43,8 +43,9 @@ struct LoopConfig {
     /// more than half the period in kSlowPhysicsSteps steps within a second, and multi-rate from then on.
     enum class PhysicsRate { Single, Multi, Auto } physicsRate = PhysicsRate::Auto;
     std::size_t multiRateAbove_nodes = 40'000;  // about 80,000 triangles
-    // Multi-rate: a physics step simulates as long as the previous one took, at most this long (beyond it
-    // the physics falls behind, and the report says so). Implicit steps are stable at any length, and a
+    // Multi-rate: a physics step simulates as long as the previous one took, at most this long (the
+    // steps after it simulate the rest, up to this long again; beyond that the physics falls behind, and
+    // the report says so). Implicit steps are stable at any length, and a
     // step of a large region lasts tens of milliseconds: on the 1,000,000 heart a press wakes 40,000 nodes
     // and a scalpel 50,000, and their steps took 30-45 ms. Capped at 20 ms they simulated 20 ms each and the
     // tissue fell to 0.96 of real time in the press and 0.75 under the scalpel, dragged on by the hand.
@@ -198,7 +199,8 @@ struct LoopStats {
     long multiRateSwitchSteps = 0;  // Auto: steps taken, the tissue held still, while the physics' copy was made
     double physicsTime_s = 0;       // simulated by them
     // How long each physics step took to compute on the wall clock, and the wall time left unsimulated
-    // because a multi-rate step took longer than LoopConfig::maxPhysicsStep_s (the tissue fell behind).
+    // because multi-rate steps fell behind by more than LoopConfig::maxPhysicsStep_s, more than the steps
+    // after one may carry (PhysicsWorker::start).
     LatencyHistogram physicsStepTime_us{10, 200'000};
     double physicsTimeLost_s = 0;
     long toolsOutOfReach = 0;  // multi-rate: tools a physics step left out, as they named nodes its copy lacked

@@ -24,8 +24,10 @@ struct PhysicsFrame {
     std::vector<Vec3> positions, velocities;
     double dt_s = 0;
     double wall_s = 0;  // how long the step took to compute
-    // Wall time this step did not simulate: the previous one took longer than the longest step allowed.
+    // Wall time this step left unsimulated: more had passed than the longest step allowed, and than the
+    // steps after it may carry (PhysicsWorker::start).
     double lost_s = 0;
+    double owed_s = 0;  // wall time this step left for the steps after it to simulate
     bool finite = true;
     physics::SolveReport solve;
     bool implicit = false;  // solve is the implicit scheme's
@@ -61,9 +63,11 @@ public:
     PhysicsWorker& operator=(const PhysicsWorker&) = delete;
 
     /// Starts stepping on its own thread, each step as long as the previous one took on the wall clock
-    /// (at least one haptic period, at most maxStep_s). `behind_s` is wall time the tissue was held still
-    /// before (Auto's switch to multi-rate, while this copy was made): the first steps simulate it too,
-    /// each within maxStep_s.
+    /// (at least one haptic period, at most maxStep_s). What a step cannot simulate within maxStep_s, up
+    /// to another maxStep_s, the steps after it do: the tissue catches up with the wall clock after a
+    /// long hold; more than that is lost, and the frame says so. `behind_s` is wall time the tissue was
+    /// held still before (Auto's switch to multi-rate, while this copy was made): the first steps
+    /// simulate it too, each within maxStep_s.
     void start(double behind_s = 0);
     void stop();
     bool threaded() const { return thread_.joinable(); }
@@ -100,8 +104,9 @@ public:
 
 private:
     void threadMain(double behind_s);
-    /// Steps once by dt_s and fills the free frame with what moved; `lost_s` of wall time went unsimulated.
-    void stepOnce(double dt_s, double lost_s = 0);
+    /// Steps once by dt_s and fills the free frame with what moved; `lost_s` of wall time went unsimulated,
+    /// and `owed_s` is left to the next steps.
+    void stepOnce(double dt_s, double lost_s = 0, double owed_s = 0);
 
     physics::MassSpringModel model_;
     physics::Stepper stepper_;

@@ -84,7 +84,7 @@ struct HapticRunResult {
     double physicsRealtimeFactor = 0;  // simulated physics seconds per wall-clock second
     double maxPhysicsStep_s = 0;       // multi-rate: the longest a physics step may simulate (LoopConfig)
     Summary physicsStepTime_us;        // how long the physics' steps took to compute
-    double physicsTimeLost_s = 0;      // multi-rate: wall time steps slower than maxPhysicsStep_s left unsimulated
+    double physicsTimeLost_s = 0;      // multi-rate: wall time left unsimulated, over 2 maxPhysicsStep_s behind
     double physicsLagAtEnd_s = 0;      // multi-rate: the wall time not yet simulated when the run ended
     // Cutting: what the scalpel did, how long cut events took, and whether the organ stayed sound.
     cutting::CutStats cut;

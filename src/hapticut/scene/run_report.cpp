@@ -98,14 +98,15 @@ nlohmann::ordered_json hapticRunReport(const ModelSource& source, const cutting:
     j["multi_rate_switch_steps"] = result.multiRateSwitchSteps;
     j["physics_rate_hz"] = result.physicsRate_hz;
     j["physics_realtime_factor"] = result.physicsRealtimeFactor;
-    // Slower steps than this simulate only this long: the tissue falls behind, and the factor above says so.
+    // Slower steps than this simulate only this long and leave the rest, up to this long again, to the steps
+    // after them: steps slower still make the tissue fall behind, and the factor above says so.
     j["max_physics_step_s"] =
         result.multiRate ? nlohmann::ordered_json(result.maxPhysicsStep_s) : nlohmann::ordered_json(nullptr);
     j["physics_step_us"] =
         result.physicsStepTime_us.count > 0 ? toJson(result.physicsStepTime_us) : nlohmann::ordered_json(nullptr);
-    // Where the factor above falls short of 1, multi-rate: wall time that steps slower than the longest
-    // step left unsimulated, and how far the tissue was behind the wall clock when the run ended (about
-    // one step: the one in progress and the frame not yet taken in).
+    // Where the factor above falls short of 1, multi-rate: wall time left unsimulated where the tissue was
+    // more than twice the longest step behind, and how far it was behind the wall clock when the run ended
+    // (about one step: the one in progress, what it owed and the frame not yet taken in).
     j["physics_time_lost_s"] = result.multiRate ? nlohmann::ordered_json(result.physicsTimeLost_s) : nullptr;
     j["physics_lag_at_end_s"] =
         result.multiRate && request.realtime ? nlohmann::ordered_json(result.physicsLagAtEnd_s) : nullptr;
