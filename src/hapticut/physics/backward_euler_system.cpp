@@ -11,6 +11,25 @@
 
 namespace hapticut::physics {
 
+namespace {
+
+/// Writes couplings' slots, c0 I + u uᵀ in single precision, through addresses held for a whole pass:
+/// written through the members, every store made the compiler load them again, and the assembly's
+/// scatter cost more than its kernel.
+struct CouplingSlots {
+    float* __restrict c0;
+    float* __restrict ux;
+    float* __restrict uy;
+    float* __restrict uz;
+    explicit CouplingSlots(kernels::SlicedCouplings& s)
+        : c0(s.c0.data()), ux(s.ux.data()), uy(s.uy.data()), uz(s.uz.data()) {}
+    void set(std::uint32_t slot, float c, float x, float y, float z) const {
+        c0[slot] = c, ux[slot] = x, uy[slot] = y, uz[slot] = z;
+    }
+};
+
+}  // namespace
+
 void BackwardEulerSystem::reserve(std::size_t nodes, std::size_t springs) {
     const std::size_t rows = nodes + kernels::kSliceRows;
     reserveTouched(unknownOf_, nodes);
@@ -128,8 +147,9 @@ void BackwardEulerSystem::assemble(const MassSpringModel& model, double h, Solve
                 setBlock(toResting_, k, Mat3::Zero());
                 rhs_.x[k] = rhs_.y[k] = rhs_.z[k] = 0;
                 const std::size_t first = sliced_.sliceBegin[k / kSlice] + k % kSlice;
+                const CouplingSlots slots(sliced_);
                 for (std::uint32_t j = 0; j < rowStart_[k + 1] - rowStart_[k]; ++j)
-                    setCoupling(static_cast<std::uint32_t>(first + j * kSlice), 0, 0, 0, 0);
+                    slots.set(static_cast<std::uint32_t>(first + j * kSlice), 0, 0, 0, 0);
                 continue;
             }
             setBlock(toResting_, k, restingOf_[k] == kNoResting ? Mat3::Zero() : restingSum_[restingOf_[k]]);
@@ -154,17 +174,11 @@ void BackwardEulerSystem::assembleSprings(const MassSpringModel& model, double h
     double* __restrict rx = rhs_.x.data();
     double* __restrict ry = rhs_.y.data();
     double* __restrict rz = rhs_.z.data();
-    float* __restrict sc0 = sliced_.c0.data();
-    float* __restrict sux = sliced_.ux.data();
-    float* __restrict suy = sliced_.uy.data();
-    float* __restrict suz = sliced_.uz.data();
+    const CouplingSlots slots(sliced_);
     const std::uint32_t* __restrict endA = endA_.data();
     const std::uint32_t* __restrict endB = endB_.data();
     const std::uint32_t* __restrict slotA = slotA_.data();
     const std::uint32_t* __restrict slotB = slotB_.data();
-    auto couple = [&](std::uint32_t slot, float c0, float ux, float uy, float uz) {
-        sc0[slot] = c0, sux[slot] = ux, suy[slot] = uy, suz[slot] = uz;
-    };
     for (std::size_t begin = first; begin < end; begin += kernels::SpringJacobians::kSprings) {
         const std::size_t size = std::min(kernels::SpringJacobians::kSprings, end - begin);
         kernels::springJacobians(arrays, ordered_.data() + begin, size, coordinates(x.data()),
@@ -174,7 +188,7 @@ void BackwardEulerSystem::assembleSprings(const MassSpringModel& model, double h
             const std::uint32_t ka = endA[e], kb = endB[e];
             const bool inner = ka != kResting && kb != kResting;
             if (!chunk.apart[i]) {  // coincident ends have no direction, as in the explicit force
-                if (inner) couple(slotA[e], 0, 0, 0, 0), couple(slotB[e], 0, 0, 0, 0);
+                if (inner) slots.set(slotA[e], 0, 0, 0, 0), slots.set(slotB[e], 0, 0, 0, 0);
                 continue;
             }
             const double bx = chunk.bx[i], by = chunk.by[i], bz = chunk.bz[i];
@@ -183,7 +197,7 @@ void BackwardEulerSystem::assembleSprings(const MassSpringModel& model, double h
                 rx[kb] -= bx, ry[kb] -= by, rz[kb] -= bz;
                 const auto c0 = static_cast<float>(chunk.c0[i]), ux = static_cast<float>(chunk.ux[i]);
                 const auto uy = static_cast<float>(chunk.uy[i]), uz = static_cast<float>(chunk.uz[i]);
-                couple(slotA[e], c0, ux, uy, uz), couple(slotB[e], c0, ux, uy, uz);
+                slots.set(slotA[e], c0, ux, uy, uz), slots.set(slotB[e], c0, ux, uy, uz);
                 continue;
             }
             if (ka != kResting) rx[ka] += bx, ry[ka] += by, rz[ka] += bz;
@@ -196,11 +210,6 @@ void BackwardEulerSystem::assembleSprings(const MassSpringModel& model, double h
             }
         }
     }
-}
-
-void BackwardEulerSystem::setCoupling(std::uint32_t slot, double c0, double ux, double uy, double uz) {
-    sliced_.c0[slot] = static_cast<float>(c0), sliced_.ux[slot] = static_cast<float>(ux);
-    sliced_.uy[slot] = static_cast<float>(uy), sliced_.uz[slot] = static_cast<float>(uz);
 }
 
 bool BackwardEulerSystem::layoutMatches(const Springs& s, SolveRegion region) const {

@@ -84,8 +84,6 @@ private:
     void layOut(const Springs& springs, SolveRegion region);
     /// Whether the kept layout is the one `region` would be given (checked where assertions are on).
     bool layoutMatches(const Springs& springs, SolveRegion region) const;
-    /// Sets slot `slot` of the couplings to c0 I + u uᵀ.
-    void setCoupling(std::uint32_t slot, double c0, double ux, double uy, double uz);
     /// The terms of the laid-out springs first .. end - 1 (in bucket order), with `chunk` for scratch.
     void assembleSprings(const MassSpringModel& model, double h, bool firstLinearisation, std::size_t first,
                          std::size_t end, kernels::SpringJacobians& chunk);
