@@ -98,10 +98,18 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
     for (auto* field : {&solution_, &residual_, &preconditioned_, &direction_, &product_}) field->resize(rows);
     // Every pass over the unknowns runs in chunks of rows on the pool's threads.
     forEachChunk(rows, [&](std::size_t first, std::size_t end) {
+        // The arrays held here, as in apply below: through the captures, every store reloaded them.
+        const std::uint32_t* __restrict nodes = region.nodes.data();
+        const Vec3* __restrict lastChange = deltaV_.data();
+        const Vec3* __restrict velocity = n.velocity.data();
+        Vec3* __restrict startVelocity = startVelocity_.data();
+        double* __restrict sx = solution_.x.data();
+        double* __restrict sy = solution_.y.data();
+        double* __restrict sz = solution_.z.data();
         for (std::size_t k = first; k < end; ++k) {  // the warm start; zero on the padding rows
-            const Vec3 guess = k < count ? deltaV_[region.nodes[k]] : Vec3::Zero();
-            solution_.x[k] = guess.x(), solution_.y[k] = guess.y(), solution_.z[k] = guess.z();
-            if (k < count) startVelocity_[k] = n.velocity[region.nodes[k]];
+            const Vec3 guess = k < count ? lastChange[nodes[k]] : Vec3::Zero();
+            sx[k] = guess.x(), sy[k] = guess.y(), sz[k] = guess.z();
+            if (k < count) startVelocity[k] = velocity[nodes[k]];
         }
     });
     const Preconditioner chosen = settings_.preconditioner;
@@ -173,8 +181,11 @@ SolveReport BackwardEuler::step(MassSpringModel& model, double h, SolveRegion re
         multilevelPause_ = kMultilevelPause;
     }
     forEachChunk(count, [&](std::size_t first, std::size_t end) {
-        for (std::size_t k = first; k < end; ++k)
-            deltaV_[region.nodes[k]] = n.velocity[region.nodes[k]] - startVelocity_[k];
+        const std::uint32_t* __restrict nodes = region.nodes.data();
+        const Vec3* __restrict velocity = n.velocity.data();
+        const Vec3* __restrict startVelocity = startVelocity_.data();
+        Vec3* __restrict change = deltaV_.data();
+        for (std::size_t k = first; k < end; ++k) change[nodes[k]] = velocity[nodes[k]] - startVelocity[k];
     });
     return report;
 }

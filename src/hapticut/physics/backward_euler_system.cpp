@@ -312,17 +312,21 @@ bool BackwardEulerSystem::movesApartMoreThan(const Springs& springs, SolveRegion
     // looking up each end's cost two dependent loads a spring (the check was 10.5% of a 9,714 heart's
     // step, 8.6% since).
     HAPTICUT_ASSERT(layoutMatches(springs, region));
-    const double* __restrict restLength = springs.restLength.data();
-    const std::uint32_t* __restrict ordered = ordered_.data();
-    const std::uint32_t* __restrict endA = endA_.data();
-    const std::uint32_t* __restrict endB = endB_.data();
     auto search = [&](std::size_t chunk) {
         if (found.load(std::memory_order_relaxed)) return;
-        for (std::size_t p = chunk * kChunk; p < std::min(listed, (chunk + 1) * kChunk); ++p) {
+        // The arrays and the end held in this call's own variables: captured, each was loaded again for
+        // every spring.
+        const double* __restrict restLength = springs.restLength.data();
+        const std::uint32_t* __restrict ordered = ordered_.data();
+        const std::uint32_t* __restrict endA = endA_.data();
+        const std::uint32_t* __restrict endB = endB_.data();
+        const Vec3* __restrict moved = motion.data();
+        const std::size_t end = std::min(listed, (chunk + 1) * kChunk);
+        for (std::size_t p = chunk * kChunk; p < end; ++p) {
             const double rest = restLength[ordered[p]];
             if (rest < 1e-9) continue;
             const std::uint32_t ka = endA[p], kb = endB[p];
-            const Vec3 ma = ka != kResting ? motion[ka] : Vec3::Zero(), mb = kb != kResting ? motion[kb] : Vec3::Zero();
+            const Vec3 ma = ka != kResting ? moved[ka] : Vec3::Zero(), mb = kb != kResting ? moved[kb] : Vec3::Zero();
             if ((mb - ma).squaredNorm() > fraction2 * rest * rest) {
                 found.store(true, std::memory_order_relaxed);
                 return;

@@ -143,7 +143,14 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
         if (region_.version() != regionVersion_) regionVersion_ = region_.version(), ++layout_;
     }
     const std::span<const std::uint32_t> nodes = integratedNodes();
-    for (std::uint32_t i : nodes) x0_[i] = n.position[i], v0_[i] = n.velocity[i];
+    {
+        // Held here: through the members, every store reloaded the arrays' addresses.
+        const Vec3* __restrict x = n.position.data();
+        const Vec3* __restrict v = n.velocity.data();
+        Vec3* __restrict x0 = x0_.data();
+        Vec3* __restrict v0 = v0_.data();
+        for (std::uint32_t i : nodes) x0[i] = x[i], v0[i] = v[i];
+    }
     if (activeRegion_)
         for (std::uint32_t i : region_.touched())
             xs_[i] = n.position[i], vs_[i] = n.velocity[i];  // resting neighbours, read by every stage
@@ -163,21 +170,30 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
     }
 
     snapped_.clear();
-    // Read once: the list's growth below made the loop read them again for every node.
+    // Read once: the list's growth below made the loop read them again for every node; the arrays
+    // held for the same reason.
     const double snapDistance2 = model.snapDistance_m * model.snapDistance_m;
     const double snapSpeed2 = model.snapSpeed_m_per_s * model.snapSpeed_m_per_s;
-    for (std::uint32_t i : nodes) {
-        if (!n.position[i].allFinite() || !n.velocity[i].allFinite()) result.finite = false;
-        // R4: a node that is almost at rest is put back exactly at rest. dx_ and dv_, free once the
-        // substeps are done, keep where the step took it.
-        if ((n.position[i] - n.restPosition[i]).squaredNorm() < snapDistance2 &&
-            n.velocity[i].squaredNorm() < snapSpeed2) {
-            dx_[i] = n.position[i], dv_[i] = n.velocity[i];
-            snapped_.push_back(i);  // reserved for every node: never allocates
-            n.position[i] = n.restPosition[i];
-            n.velocity[i] = Vec3::Zero();
+    bool finite = true;
+    {
+        Vec3* __restrict x = n.position.data();
+        Vec3* __restrict v = n.velocity.data();
+        const Vec3* __restrict rest = n.restPosition.data();
+        Vec3* __restrict keptX = dx_.data();
+        Vec3* __restrict keptV = dv_.data();
+        for (std::uint32_t i : nodes) {
+            finite &= x[i].allFinite() && v[i].allFinite();
+            // R4: a node that is almost at rest is put back exactly at rest. dx_ and dv_, free once the
+            // substeps are done, keep where the step took it.
+            if ((x[i] - rest[i]).squaredNorm() < snapDistance2 && v[i].squaredNorm() < snapSpeed2) {
+                keptX[i] = x[i], keptV[i] = v[i];
+                snapped_.push_back(i);  // reserved for every node: never allocates
+                x[i] = rest[i];
+                v[i] = Vec3::Zero();
+            }
         }
     }
+    result.finite = result.finite && finite;
     if (!result.finite) {
         // Roll back rather than let NaN spread through the model and into a device.
         for (std::uint32_t i : nodes) n.position[i] = x0_[i], n.velocity[i] = Vec3::Zero(), implicit_.forget(i);
