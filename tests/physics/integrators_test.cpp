@@ -252,9 +252,14 @@ TEST(Stepper, NonFiniteStateIsDetectedAndRolledBack) {
     MassSpringModel model = smallHeart();
     Stepper stepper(Scheme::RungeKutta4);
     model.nodes.externalForce[5] = Vec3(std::nan(""), 0, 0);
+    model.nodes.position[7] += Vec3(1e-4, 0, 0);  // a node away from rest, which a rollback must not move
+    const std::vector<Vec3> before = model.nodes.position;
     const StepResult r = stepper.step(model, 1e-3);
     EXPECT_FALSE(r.finite);
     EXPECT_TRUE(allFinite(model));
+    // Back where the step began, at rest.
+    EXPECT_EQ(model.nodes.position, before);
+    for (const Vec3& v : model.nodes.velocity) EXPECT_EQ(v, Vec3::Zero());
     model.nodes.externalForce[5] = Vec3::Zero();
     EXPECT_TRUE(stepper.step(model, 1e-3).finite);
 }

@@ -30,7 +30,7 @@ void Stepper::setActiveRegion(bool on) {
 
 void Stepper::reserveFor(std::size_t n, std::size_t ns) {
     const std::size_t nodes = roomToGrow(n), springs = roomToGrow(ns);
-    for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) reserveTouched(*buffer, nodes);
+    for (auto* buffer : {&x0_, &xs_, &vs_, &a_, &dx_, &dv_}) reserveTouched(*buffer, nodes);
     reserveTouched(forces_, nodes);
     reserveTouched(allNodes_, nodes);
     reserveTouched(allSprings_, springs);
@@ -45,7 +45,7 @@ void Stepper::reserveFor(std::size_t n, std::size_t ns) {
 void Stepper::prepare(const MassSpringModel& model) {
     const std::size_t n = model.nodes.size(), ns = model.springs.size();
     reserveFor(n, ns);
-    for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n);
+    for (auto* buffer : {&x0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n);
     forces_.resize(n);
     stableDt_ = stableTimeStep(model, scheme_, toolStiffness_);
     rawStableDt_ = stableDt_ / kStableSafety;
@@ -83,7 +83,7 @@ void Stepper::topologyChanged(const MassSpringModel& model, std::span<const std:
     }
     const std::size_t n = model.nodes.size(), ns = model.springs.size();
     if (n > x0_.capacity() || ns > springsAt_.springCapacity()) reserveFor(n, ns);
-    for (auto* buffer : {&x0_, &v0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n, Vec3::Zero());
+    for (auto* buffer : {&x0_, &xs_, &vs_, &a_, &dx_, &dv_}) buffer->resize(n, Vec3::Zero());
     forces_.resize(n);
     for (auto i = static_cast<std::uint32_t>(allNodes_.size()); i < n; ++i) allNodes_.push_back(i);
     for (auto k = static_cast<std::uint32_t>(allSprings_.size()); k < ns; ++k) allSprings_.push_back(k);
@@ -144,12 +144,11 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
     }
     const std::span<const std::uint32_t> nodes = integratedNodes();
     {
+        // Where a step that went non-finite puts the nodes back (at rest: their velocities are zeroed).
         // Held here: through the members, every store reloaded the arrays' addresses.
         const Vec3* __restrict x = n.position.data();
-        const Vec3* __restrict v = n.velocity.data();
         Vec3* __restrict x0 = x0_.data();
-        Vec3* __restrict v0 = v0_.data();
-        for (std::uint32_t i : nodes) x0[i] = x[i], v0[i] = v[i];
+        for (std::uint32_t i : nodes) x0[i] = x[i];
     }
     if (activeRegion_)
         for (std::uint32_t i : region_.touched())

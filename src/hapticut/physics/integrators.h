@@ -97,7 +97,7 @@ private:
     double toolStiffness_ = 0;
     double strainLimit_ = 0;
     std::size_t preparedNodes_ = static_cast<std::size_t>(-1), preparedSprings_ = 0;
-    std::vector<Vec3> x0_, v0_, xs_, vs_, a_, dx_, dv_;
+    std::vector<Vec3> x0_, xs_, vs_, a_, dx_, dv_;
     ForceRows forces_;  // where the explicit schemes sum a stage's forces
     std::vector<std::uint32_t> allNodes_, allSprings_;
     std::vector<std::uint32_t> moved_;      // the active region's nodes in the last step
