@@ -88,6 +88,29 @@ void BM_ImplicitSteps(benchmark::State& state) {
 }
 BENCHMARK(BM_ImplicitSteps)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMillisecond);
 
+/// A press held on the front of the heart, integrated as the haptic loop integrates it: implicitly, over
+/// the active region only (the nodes the press keeps off rest and their neighbours), once the press has
+/// settled. The step a user's organ costs while it is touched, where BM_ImplicitSteps wakes it all.
+void BM_ImplicitHeldPress(benchmark::State& state) {
+    physics::MassSpringModel model = scene::benchHeart(static_cast<int>(state.range(0))).buildModel();
+    physics::Stepper stepper(physics::Scheme::BackwardEuler);
+    stepper.setAutoSubstep(false);
+    physics::SolverSettings settings = stepper.solverSettings();
+    settings.threads = 1;
+    stepper.setSolverSettings(settings);
+    stepper.setActiveRegion(true);
+    stepper.prepare(model);
+    std::uint32_t front = 0;  // the node farthest along +z, where the shipped trajectories press
+    for (std::uint32_t i = 0; i < model.nodes.size(); ++i)
+        if (model.nodes.restPosition[i].z() > model.nodes.restPosition[front].z()) front = i;
+    model.nodes.externalForce[front] = Vec3(0, 0, -1);  // 1 N into the heart
+    stepper.wake(front);
+    for (int i = 0; i < 500; ++i) stepper.step(model, 1e-3);  // the press settles: 0.5 s
+    for (auto _ : state) benchmark::DoNotOptimize(stepper.step(model, 1e-3));
+    state.counters["awake_nodes"] = static_cast<double>(stepper.awakeCount());
+}
+BENCHMARK(BM_ImplicitHeldPress)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
+
 /// The implicit step's assembly alone (matrix, right-hand side and preconditioner) of the whole heart
 /// at a 1 ms step, the heart moving: a fixed cost of every implicit step and Newton correction. The
 /// second argument: 1 assembles over the last step's layout, as the steps of an unchanged region do.
