@@ -257,7 +257,7 @@ TEST(Stepper, NonFiniteStateIsDetectedAndRolledBack) {
     const StepResult r = stepper.step(model, 1e-3);
     EXPECT_FALSE(r.finite);
     EXPECT_TRUE(allFinite(model));
-    // Back where the step began, at rest.
+    // Back where the step began, and still.
     EXPECT_EQ(model.nodes.position, before);
     for (const Vec3& v : model.nodes.velocity) EXPECT_EQ(v, Vec3::Zero());
     model.nodes.externalForce[5] = Vec3::Zero();

@@ -144,7 +144,7 @@ StepResult Stepper::step(MassSpringModel& model, double dt_s) {
     }
     const std::span<const std::uint32_t> nodes = integratedNodes();
     {
-        // Where a step that went non-finite puts the nodes back (at rest: their velocities are zeroed).
+        // Where a step that goes non-finite puts the nodes back, their velocities zeroed.
         // Held here: through the members, every store reloaded the arrays' addresses.
         const Vec3* __restrict x = n.position.data();
         Vec3* __restrict x0 = x0_.data();
