@@ -60,6 +60,14 @@ BENCHMARK(BM_Step<physics::Scheme::Midpoint>)->Arg(1619)->Arg(9714)->Arg(100'000
 BENCHMARK(BM_Step<physics::Scheme::RungeKutta4>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Step<physics::Scheme::SymplecticEuler>)->Arg(1619)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMicrosecond);
 
+/// Each step taken whole (no substeps) and solved on one thread, as `bench --threads 1` measures it.
+void takeWholeStepsOnOneThread(physics::Stepper& stepper) {
+    stepper.setAutoSubstep(false);
+    physics::SolverSettings settings = stepper.solverSettings();
+    settings.threads = 1;
+    stepper.setSolverSettings(settings);
+}
+
 /// The implicit steps of the whole heart at 1 ms on one thread after it is let go from small random
 /// displacements, as `hapticut bench` times them: one iteration is 50 steps, the first few with many CG
 /// iterations and Newton corrections, then settling ones with a few CG iterations.
@@ -67,10 +75,7 @@ void BM_ImplicitSteps(benchmark::State& state) {
     constexpr int kSteps = 50;
     physics::MassSpringModel model = heartModel(static_cast<int>(state.range(0)));
     physics::Stepper stepper(physics::Scheme::BackwardEuler);
-    stepper.setAutoSubstep(false);
-    physics::SolverSettings settings = stepper.solverSettings();
-    settings.threads = 1;
-    stepper.setSolverSettings(settings);
+    takeWholeStepsOnOneThread(stepper);
     stepper.prepare(model);
     std::mt19937 rng(42);
     std::normal_distribution<double> noise(0.0, 2e-4);
@@ -94,10 +99,7 @@ BENCHMARK(BM_ImplicitSteps)->Arg(9714)->Arg(100'000)->Unit(benchmark::kMilliseco
 void BM_ImplicitHeldPress(benchmark::State& state) {
     physics::MassSpringModel model = scene::benchHeart(static_cast<int>(state.range(0))).buildModel();
     physics::Stepper stepper(physics::Scheme::BackwardEuler);
-    stepper.setAutoSubstep(false);
-    physics::SolverSettings settings = stepper.solverSettings();
-    settings.threads = 1;
-    stepper.setSolverSettings(settings);
+    takeWholeStepsOnOneThread(stepper);
     stepper.setActiveRegion(true);
     stepper.prepare(model);
     std::uint32_t front = 0;  // the node farthest along +z, where the shipped trajectories press
