@@ -26,14 +26,21 @@ std::size_t weld(SurfaceMesh& m, double eps) {
     std::vector<Vec3> kept;
     std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
     const double cell = std::max(eps, 1e-300);
+    // A tolerance of zero (every vertex at one point) or coordinates far larger than the cell give cell
+    // numbers past the range of an integer; clamped, far vertices share an edge cell and are still told
+    // apart by their distance.
+    constexpr double kLastCell = 0x1p52;
+    auto cellOf = [cell](double c) {
+        const double n = std::floor(c / cell);
+        return static_cast<long long>(n >= -kLastCell && n <= kLastCell ? n : std::copysign(kLastCell, n));
+    };
     auto key = [](long long x, long long y, long long z) {
         return (static_cast<std::uint64_t>(x) * 73856093u) ^ (static_cast<std::uint64_t>(y) * 19349663u) ^
                (static_cast<std::uint64_t>(z) * 83492791u);
     };
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
         const Vec3& p = m.positions[i];
-        const long long cx = std::llround(std::floor(p.x() / cell)), cy = std::llround(std::floor(p.y() / cell)),
-                        cz = std::llround(std::floor(p.z() / cell));
+        const long long cx = cellOf(p.x()), cy = cellOf(p.y()), cz = cellOf(p.z());
         std::int64_t found = -1;
         for (long long dx = -1; dx <= 1 && found < 0; ++dx)
             for (long long dy = -1; dy <= 1 && found < 0; ++dy)

@@ -223,6 +223,28 @@ TEST(Repair, WeldsDuplicateVerticesAndDropsDuplicateAndDegenerateFaces) {
     EXPECT_TRUE(after.closed);
 }
 
+// Found by the import fuzzer: an STL whose corners all lie at one point gives a weld tolerance of zero,
+// and its cells' numbers ran past the range of an integer. Every vertex far outside the cell grid welds
+// with its equals only.
+TEST(Repair, WeldsVerticesFarOutsideTheCellGrid) {
+    SurfaceMesh point;
+    point.positions.assign(6, Vec3(0, 0.05, 0));
+    point.faces = {{0, 1, 2}, {3, 4, 5}};
+    completeMesh(point);
+    const RepairReport r = cleanMesh(point);
+    EXPECT_EQ(r.weldedVertices, 5u);
+    EXPECT_EQ(r.degenerateFaces, 2u);
+    EXPECT_TRUE(point.faces.empty());
+
+    SurfaceMesh far = test::tetrahedron();
+    for (Vec3& p : far.positions) p = p * 1e290 + Vec3(-1e300, 1e300, 0);
+    far.positions.push_back(far.positions[0]);
+    far.faces.push_back({4, 1, 2});
+    completeMesh(far);
+    EXPECT_EQ(cleanMesh(far, {.weldEpsilon_m = 1e-12}).weldedVertices, 1u) << "only the copy, not its far neighbours";
+    EXPECT_EQ(far.positions.size(), 4u);
+}
+
 TEST(Repair, OrientsFlippedFacesOutward) {
     SurfaceMesh m = test::tetrahedron();
     std::swap(m.faces[1][1], m.faces[1][2]);
