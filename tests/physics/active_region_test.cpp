@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <vector>
 
 #include "hapticut/mesh/procedural/heart.h"
+#include "hapticut/physics/active_region.h"
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/material.h"
+#include "hapticut/physics/node_springs.h"
 #include "test_support.h"
 
 namespace hapticut::physics {
@@ -60,8 +63,8 @@ TEST(ActiveRegion, WakesOnRequestForAnExternalForce) {
     EXPECT_GT((model.nodes.position[42] - model.nodes.restPosition[42]).norm(), 1e-3);
 }
 
-// The snap rule (R4) puts a node that is almost at rest back at rest. A node that its springs pull harder
-// than its anchor holds within the snap distance is left where the step took it: put back, it could never
+// The snap rule (R4) puts a node that is almost at rest back at rest. A node that its springs pull off rest
+// (it would settle beyond the snap distance) is left where the step took it: put back, it could never
 // leave rest where the springs' pull gives way as it moves (its place of balance is within the snap
 // distance), and it stayed awake, pulled, and put back every step, with the solve working out its motion
 // only to have it undone.
@@ -83,6 +86,80 @@ TEST(ActiveRegion, NoAwakeNodeIsHeldAtRestByTheSnapRule) {
     EXPECT_GT(stepper.awakeCount(), 10u) << "the load moves a patch";
     EXPECT_EQ(heldAtRest, 0u) << "of " << stepper.awakeCount() << " awake nodes";
     EXPECT_EQ(iterations, 0) << "settled: nothing left to solve";
+}
+
+/// Where node i settles under `force` with every other node held where it is: the static solution,
+/// found by the implicit stepper with long steps, the snap rule off.
+Vec3 settledAlone(MassSpringModel model, std::uint32_t i, const Vec3& force) {
+    for (std::uint32_t k = 0; k < model.nodes.size(); ++k)
+        if (k != i) model.nodes.inverseMass[k] = 0;
+    model.nodes.externalForce[i] = force;
+    model.snapDistance_m = model.snapSpeed_m_per_s = 0;
+    Stepper stepper(Scheme::BackwardEuler);
+    SolverSettings exact = stepper.solverSettings();
+    exact.tolerance = 1e-12, exact.forceTolerance_N = 0;
+    stepper.setSolverSettings(exact);
+    for (int step = 0; step < 200; ++step) EXPECT_TRUE(stepper.step(model, 1.0).finite);
+    return model.nodes.position[i] - model.nodes.restPosition[i];
+}
+
+// The snap rule lets a node rest where it would settle within the snap distance if it alone were let
+// go: its springs to the neighbours hold it as well as its anchor. Judged by the anchor alone, the edge
+// of a held press's region woke and fell asleep again every step (below).
+TEST(ActiveRegion, ANodeRestsWhereItWouldSettleWithinTheSnapDistance) {
+    MassSpringModel model = buildModel(test::tetrahedron(), Material{});
+    // A node of small area, as in fine meshes: its springs hold it far more than its anchor does.
+    for (double& k : model.springs.stiffness) k = 30 * model.nodes.anchorStiffness[0];
+    NodeSprings springsAt;
+    springsAt.build(model.springs, model.nodes.size());
+    const Vec3 along = Vec3(0.3, -0.5, 0.8).normalized();
+    const double probe_N = 1e-3, reach = model.snapDistance_m;
+    const double settled = settledAlone(model, 0, probe_N * along).norm();
+    ASSERT_GT(settled, 0);
+    const double limit_N = probe_N * reach / settled;  // the force that moves it exactly the snap distance
+    EXPECT_GT(0.9 * limit_N, 10 * model.nodes.anchorStiffness[0] * reach) << "the anchor alone would not hold it";
+    EXPECT_FALSE(ActiveRegion::pulledOffRest(model, springsAt, 0, 0.9 * limit_N * along));
+    EXPECT_TRUE(ActiveRegion::pulledOffRest(model, springsAt, 0, 1.1 * limit_N * along));
+
+    // With no anchor and its springs in a plane, nothing holds it across that plane, however light the pull.
+    model.nodes.anchorStiffness[0] = 0;
+    const std::uint32_t dropped = springsAt.of(0)[0];
+    model.springs.stiffness[dropped] = 0;
+    std::vector<Vec3> ends;
+    for (const std::uint32_t s : springsAt.of(0))
+        if (s != dropped)
+            ends.push_back(model.nodes.position[NodeSprings::otherEnd(model.springs, s, 0)] - model.nodes.position[0]);
+    ASSERT_EQ(ends.size(), 2u);
+    const Vec3 across = ends[0].cross(ends[1]).normalized();
+    EXPECT_TRUE(ActiveRegion::pulledOffRest(model, springsAt, 0, 1e-12 * across));
+    EXPECT_FALSE(ActiveRegion::pulledOffRest(model, springsAt, 0, Vec3::Zero()));
+}
+
+// A press held on the 50,000 heart: once the tissue has settled, the same nodes stay awake. With the
+// rule judged by the anchors alone, the region's edge changed in about one step in ten here (and in every
+// step on the 100,000 heart), and each change laid the solve out afresh.
+TEST(ActiveRegion, AHeldPressKeepsTheSameAwakeNodes) {
+    mesh::procedural::HeartOptions options;
+    options.triangles = 50000;
+    MassSpringModel model = buildModel(mesh::procedural::makeHeart(options), Material{});
+    Stepper stepper(Scheme::BackwardEuler);
+    stepper.setActiveRegion(true);
+    (void)stepper.step(model, 1e-3);  // prepared, and every node asleep at rest
+    std::uint32_t front = 0;
+    for (std::uint32_t i = 0; i < model.nodes.size(); ++i)
+        if (model.nodes.restPosition[i].z() > model.nodes.restPosition[front].z()) front = i;
+    model.nodes.externalForce[front] = Vec3(0, 0, -1);
+    stepper.wake(front);
+    for (int step = 0; step < 1000; ++step) ASSERT_TRUE(stepper.step(model, 1e-3).finite);
+    const std::vector<std::uint32_t> settled(stepper.movedNodes().begin(), stepper.movedNodes().end());
+    int changed = 0;
+    for (int step = 0; step < 400; ++step) {
+        ASSERT_TRUE(stepper.step(model, 1e-3).finite);
+        changed += !std::ranges::equal(stepper.movedNodes(), settled);
+    }
+    EXPECT_GT(settled.size(), 100u) << "the load moves a patch";
+    EXPECT_EQ(changed, 0) << "steps of 400 whose awake nodes differed from the settled ones";
+    EXPECT_GT((model.nodes.position[front] - model.nodes.restPosition[front]).norm(), 1e-3);
 }
 
 }  // namespace

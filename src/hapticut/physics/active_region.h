@@ -33,15 +33,17 @@ public:
     void admit(const MassSpringModel& model, const NodeSprings& springsAt);
     /// After a step: `force` holds, for nodes(), the accelerations at the end state and, for the rest
     /// of touched(), the spring force on them in newtons (computeActiveAccelerations). Resting
-    /// neighbours pulled harder than their anchor holds within the snap distance wake next step;
-    /// awake nodes at rest with a negligible force fall asleep.
-    void updateSleep(const MassSpringModel& model, std::span<const Vec3> force);
+    /// neighbours pulled off rest (pulledOffRest) wake next step; awake nodes at rest that are not
+    /// fall asleep.
+    void updateSleep(const MassSpringModel& model, const NodeSprings& springsAt, std::span<const Vec3> force);
 
-    /// Whether node i, at rest under this force (N), is pulled harder than its anchor holds within the
-    /// snap distance: such a node wakes, stays awake, and is not put back at rest (Stepper::step).
-    static bool pulledOffRest(const MassSpringModel& model, std::uint32_t i, double force_N) {
-        return force_N > model.nodes.anchorStiffness[i] * model.snapDistance_m;
-    }
+    /// Whether node i, at rest under this force (N), would settle beyond the snap distance if it alone
+    /// were let go, held by its anchor and its springs to its neighbours where they are: such a node
+    /// wakes, stays awake, and is not put back at rest (Stepper::step). Judged by its anchor alone, a
+    /// node at the edge of a held press's region was woken by a pull its springs held within a tenth of
+    /// the snap distance, and the region changed in every step of a press held on the 100,000 heart.
+    static bool pulledOffRest(const MassSpringModel& model, const NodeSprings& springsAt, std::uint32_t i,
+                              const Vec3& force_N);
 
     /// The awake nodes: the ones integrated.
     std::span<const std::uint32_t> nodes() const { return activeNodes_; }
