@@ -136,7 +136,7 @@ TEST(ActiveRegion, ANodeRestsWhereItWouldSettleWithinTheSnapDistance) {
 }
 
 // A press held on the 50,000 heart: once the tissue has settled, the same nodes stay awake. With the
-// rule judged by the anchors alone, the region's edge changed in about one step in ten here (and in every
+// rule judged by the anchors alone, the region's edge changed in 18 of these 400 steps (and in every
 // step on the 100,000 heart), and each change laid the solve out afresh.
 TEST(ActiveRegion, AHeldPressKeepsTheSameAwakeNodes) {
     mesh::procedural::HeartOptions options;

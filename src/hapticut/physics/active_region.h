@@ -39,9 +39,9 @@ public:
 
     /// Whether node i, at rest under this force (N), would settle beyond the snap distance if it alone
     /// were let go, held by its anchor and its springs to its neighbours where they are: such a node
-    /// wakes, stays awake, and is not put back at rest (Stepper::step). Judged by its anchor alone, a
-    /// node at the edge of a held press's region was woken by a pull its springs held within a tenth of
-    /// the snap distance, and the region changed in every step of a press held on the 100,000 heart.
+    /// wakes, stays awake, and is not put back at rest (Stepper::step). Judged by its anchor alone, the
+    /// edge of a held press's region was woken by pulls its springs held within the snap distance, and
+    /// the region changed in every step of a press held on the 100,000 heart.
     static bool pulledOffRest(const MassSpringModel& model, const NodeSprings& springsAt, std::uint32_t i,
                               const Vec3& force_N);
 
