@@ -10,6 +10,7 @@
 #include "hapticut/physics/integrators.h"
 #include "hapticut/physics/material.h"
 #include "hapticut/physics/node_springs.h"
+#include "hapticut/physics/spring_forces.h"
 #include "test_support.h"
 
 namespace hapticut::physics {
@@ -160,6 +161,41 @@ TEST(ActiveRegion, AHeldPressKeepsTheSameAwakeNodes) {
     EXPECT_GT(settled.size(), 100u) << "the load moves a patch";
     EXPECT_EQ(changed, 0) << "steps of 400 whose awake nodes differed from the settled ones";
     EXPECT_GT((model.nodes.position[front] - model.nodes.restPosition[front]).norm(), 1e-3);
+}
+
+// After a step the sleep rule reads the forces on the nodes at rest, summed over each node's own springs
+// where they are few: the same forces, to rounding, as the pass over the region's springs gives.
+TEST(ActiveRegion, ANodesOwnSpringsGiveTheRegionsForceOnIt) {
+    mesh::procedural::HeartOptions options;
+    options.triangles = 9714;
+    MassSpringModel model = buildModel(mesh::procedural::makeHeart(options), Material{});
+    Stepper stepper(Scheme::BackwardEuler);
+    stepper.setActiveRegion(true);
+    (void)stepper.step(model, 1e-3);
+    model.nodes.externalForce[42] = Vec3(0.3, -0.2, 0.5);
+    stepper.wake(42);
+    for (int step = 0; step < 30; ++step) ASSERT_TRUE(stepper.step(model, 1e-3).finite);  // still moving
+    const std::span<const std::uint32_t> nodes = stepper.movedNodes();
+    std::vector<std::uint8_t> awake(model.nodes.size(), 0);
+    for (const std::uint32_t i : nodes) awake[i] = 1;
+    std::vector<std::uint32_t> touched(nodes.begin(), nodes.end()), springs;
+    std::vector<std::uint8_t> listed = awake;
+    for (std::uint32_t k = 0; k < model.springs.size(); ++k) {
+        if (!awake[model.springs.a[k]] && !awake[model.springs.b[k]]) continue;
+        springs.push_back(k);
+        for (const std::uint32_t j : {model.springs.a[k], model.springs.b[k]})
+            if (!listed[j]) listed[j] = 1, touched.push_back(j);
+    }
+    ASSERT_GT(touched.size(), nodes.size()) << "the region has resting neighbours";
+    NodeSprings springsAt;
+    springsAt.build(model.springs, model.nodes.size());
+    std::vector<Vec3> region(model.nodes.size()), own(model.nodes.size());
+    ForceRows rows;
+    computeActiveAccelerations(model, model.nodes.position, model.nodes.velocity, region, nodes, touched, springs,
+                               rows);
+    computeListedAccelerations(model, model.nodes.position, model.nodes.velocity, own, touched, awake, springsAt);
+    for (const std::uint32_t i : touched)
+        EXPECT_LE((own[i] - region[i]).norm(), 1e-9 * (region[i].norm() + 1e-9)) << "node " << i;
 }
 
 }  // namespace

@@ -32,7 +32,8 @@ public:
     /// updateSleep flagged, and the nodes wake() named; rebuilds the lists if the region changed.
     void admit(const MassSpringModel& model, const NodeSprings& springsAt);
     /// After a step: `force` holds, for nodes(), the accelerations at the end state and, for the rest
-    /// of touched(), the spring force on them in newtons (computeActiveAccelerations). Resting
+    /// of touched(), the spring force on them in newtons (computeActiveAccelerations; at least for the
+    /// nodes at rest, computeListedAccelerations). Resting
     /// neighbours pulled off rest (pulledOffRest) wake next step; awake nodes at rest that are not
     /// fall asleep.
     void updateSleep(const MassSpringModel& model, const NodeSprings& springsAt, std::span<const Vec3> force);

@@ -84,6 +84,9 @@ private:
     /// All nodes, or the awake ones.
     std::span<const std::uint32_t> integratedNodes() const;
     void accelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v);
+    /// After an active region's step: the forces at the end state into a_, for the nodes whose sleep or
+    /// snapping they decide (updateSleep).
+    void endStateForces(const MassSpringModel& model);
     /// Lowers rawStableDt_ to what node i's own modes allow.
     void lowerStableStepAt(const MassSpringModel& model, std::uint32_t i);
     /// Capacity for `n` nodes and `ns` springs, with room to grow, so that cuts rarely reallocate.
@@ -102,6 +105,7 @@ private:
     std::vector<std::uint32_t> allNodes_, allSprings_;
     std::vector<std::uint32_t> moved_;      // the active region's nodes in the last step
     std::vector<std::uint32_t> snapped_;    // the nodes the snap rule put back at rest in the last step
+    std::vector<std::uint32_t> atRest_;     // the region's touched nodes at rest after a step (endStateForces)
     std::vector<std::uint32_t> visitedIn_;  // per node: the topologyChanged call that last visited it
     std::uint32_t visit_ = 0;
     BackwardEuler implicit_;

@@ -60,6 +60,24 @@ void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x,
     forcesToAccelerations(model.nodes, model.gravity_m_per_s2, a.size(), f.data(), coordinates(a.data()));
 }
 
+void computeListedAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
+                                std::span<Vec3> a, std::span<const std::uint32_t> nodes,
+                                std::span<const std::uint8_t> awake, const NodeSprings& springsAt) {
+    const Nodes& n = model.nodes;
+    const kernels::SpringArrays springs = springArrays(model.springs);
+    const Vec3 g = model.gravity_m_per_s2;
+    for (const std::uint32_t i : nodes) {
+        // As computeActiveAccelerations: only awake nodes have positioning, external and gravity forces.
+        Vec3 f = awake[i] ? Vec3(n.externalForce[i] - n.anchorStiffness[i] * (x[i] - n.restPosition[i]) -
+                                 n.anchorDamping[i] * v[i])
+                          : Vec3::Zero();
+        const std::span<const std::uint32_t> at = springsAt.of(i);
+        kernels::addSpringForcesOn(springs, i, at.data(), at.size(), coordinates(x.data()), coordinates(v.data()),
+                                   f.data());
+        a[i] = awake[i] ? Vec3(n.inverseMass[i] * f + (n.inverseMass[i] > 0 ? g : Vec3::Zero())) : f;
+    }
+}
+
 void computeAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
                           std::span<Vec3> a) {
     ForceRows forces;

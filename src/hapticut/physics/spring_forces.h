@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "hapticut/physics/mass_spring_model.h"
+#include "hapticut/physics/node_springs.h"
 #include "hapticut/physics/spring_kernels.h"
 
 namespace hapticut::physics {
@@ -50,5 +51,13 @@ void computeActiveAccelerations(const MassSpringModel& model, std::span<const Ve
                                 std::span<Vec3> a, std::span<const std::uint32_t> nodes,
                                 std::span<const std::uint32_t> touched, std::span<const std::uint32_t> springs,
                                 ForceRows& forces);
+
+/// The same as computeActiveAccelerations, for the listed nodes of `touched` only: awake nodes (by `awake`)
+/// get their acceleration, resting ones the raw spring force in newtons, each summed over its own springs
+/// (`springsAt`), where computeActiveAccelerations sums every spring of the region. The tools' reactions
+/// are left out: the caller lists no node a tool loads.
+void computeListedAccelerations(const MassSpringModel& model, std::span<const Vec3> x, std::span<const Vec3> v,
+                                std::span<Vec3> a, std::span<const std::uint32_t> nodes,
+                                std::span<const std::uint8_t> awake, const NodeSprings& springsAt);
 
 }  // namespace hapticut::physics

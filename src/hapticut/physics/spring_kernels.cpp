@@ -345,6 +345,16 @@ void addSpringForces(const SpringArrays& springs, std::size_t count, const doubl
     HWY_DYNAMIC_DISPATCH(AddSpringForces)(springs, count, x, v, f);
 }
 
+void addSpringForcesOn(const SpringArrays& springs, std::uint32_t node, const std::uint32_t* list, std::size_t count,
+                       const double* x, const double* v, double* f) {
+    for (std::size_t e = 0; e < count; ++e) {
+        double fx, fy, fz;
+        if (!springForce(springs, list[e], x, v, fx, fy, fz)) continue;
+        const double sign = springs.a[list[e]] == node ? 1.0 : -1.0;
+        f[0] += sign * fx, f[1] += sign * fy, f[2] += sign * fz;
+    }
+}
+
 void addListedSpringForces(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, const double* x,
                            const double* v, ForceRow* f) {
     HWY_DYNAMIC_DISPATCH(AddListedSpringForces)(springs, list, count, x, v, f);

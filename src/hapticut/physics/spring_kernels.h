@@ -30,6 +30,11 @@ void addSpringForces(const SpringArrays& springs, std::size_t count, const doubl
 void addListedSpringForces(const SpringArrays& springs, const std::uint32_t* list, std::size_t count, const double* x,
                            const double* v, ForceRow* f);
 
+/// The force on `node` of the springs listed in `list[0..count)`, each an end of it, by the scalar formula
+/// (coincident ends give none), summed in the list's order into f[0..3).
+void addSpringForcesOn(const SpringArrays& springs, std::uint32_t node, const std::uint32_t* list, std::size_t count,
+                       const double* x, const double* v, double* f);
+
 /// The implicit step's terms of a chunk of springs (backward_euler_system.h): whether the ends are
 /// apart (the rest is undefined where they are not), the spring's part of the right-hand side on its
 /// end a, h f + h² K dv (the second term only for a step's first linearisation), and its block
