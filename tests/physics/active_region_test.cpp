@@ -16,6 +16,13 @@
 namespace hapticut::physics {
 namespace {
 
+/// The procedural heart's model at `triangles` triangles, with the default material.
+MassSpringModel heartModel(int triangles) {
+    mesh::procedural::HeartOptions options;
+    options.triangles = triangles;
+    return buildModel(mesh::procedural::makeHeart(options), Material{});
+}
+
 TEST(ActiveRegion, MatchesTheFullSimulationWhileOnlyTheRegionNearTheToolIsAwake) {
     mesh::procedural::HeartOptions options;
     options.triangles = 9714;
@@ -70,10 +77,7 @@ TEST(ActiveRegion, WakesOnRequestForAnExternalForce) {
 // distance), and it stayed awake, pulled, and put back every step, with the solve working out its motion
 // only to have it undone.
 TEST(ActiveRegion, NoAwakeNodeIsHeldAtRestByTheSnapRule) {
-    mesh::procedural::HeartOptions options;
-    options.triangles = 9714;
-    const mesh::SurfaceMesh mesh = mesh::procedural::makeHeart(options);
-    MassSpringModel model = buildModel(mesh, Material{});
+    MassSpringModel model = heartModel(9714);
     Stepper stepper(Scheme::BackwardEuler);
     stepper.setActiveRegion(true);
     (void)stepper.step(model, 1e-3);  // prepared, and every node asleep at rest
@@ -140,9 +144,7 @@ TEST(ActiveRegion, ANodeRestsWhereItWouldSettleWithinTheSnapDistance) {
 // rule judged by the anchors alone, the region's edge changed in 18 of these 400 steps (and in every
 // step on the 100,000 heart), and each change laid the solve out afresh.
 TEST(ActiveRegion, AHeldPressKeepsTheSameAwakeNodes) {
-    mesh::procedural::HeartOptions options;
-    options.triangles = 50000;
-    MassSpringModel model = buildModel(mesh::procedural::makeHeart(options), Material{});
+    MassSpringModel model = heartModel(50000);
     Stepper stepper(Scheme::BackwardEuler);
     stepper.setActiveRegion(true);
     (void)stepper.step(model, 1e-3);  // prepared, and every node asleep at rest
@@ -166,9 +168,7 @@ TEST(ActiveRegion, AHeldPressKeepsTheSameAwakeNodes) {
 // After a step the sleep rule reads the forces on the nodes at rest, summed over each node's own springs
 // where they are few: the same forces, to rounding, as the pass over the region's springs gives.
 TEST(ActiveRegion, ANodesOwnSpringsGiveTheRegionsForceOnIt) {
-    mesh::procedural::HeartOptions options;
-    options.triangles = 9714;
-    MassSpringModel model = buildModel(mesh::procedural::makeHeart(options), Material{});
+    MassSpringModel model = heartModel(9714);
     Stepper stepper(Scheme::BackwardEuler);
     stepper.setActiveRegion(true);
     (void)stepper.step(model, 1e-3);
