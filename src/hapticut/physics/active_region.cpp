@@ -25,7 +25,7 @@ void ActiveRegion::reset(const MassSpringModel& model) {
     activeSprings_.clear();
     wakeList_.clear();
     for (std::uint32_t i = 0; i < n; ++i)
-        if (model.nodes.position[i] != model.nodes.restPosition[i] || model.nodes.velocity[i] != Vec3::Zero()) wake(i);
+        if (!atRest(model.nodes, i)) wake(i);
     ++version_;
     dirty_ = true;
 }
@@ -147,8 +147,7 @@ void ActiveRegion::updateSleep(const MassSpringModel& model, const NodeSprings& 
         if (!awake_[i] && pulledOffRest(model, springsAt, i, force[i])) wakeNext_[i] = 1;
     std::size_t kept = 0;
     for (std::uint32_t i : activeNodes_) {
-        const bool atRest = n.position[i] == n.restPosition[i] && n.velocity[i] == Vec3::Zero();
-        if (atRest && !pulledOffRest(model, springsAt, i, force[i] * n.mass[i]) && !wakeNext_[i]) {
+        if (atRest(n, i) && !pulledOffRest(model, springsAt, i, force[i] * n.mass[i]) && !wakeNext_[i]) {
             awake_[i] = 0;
             dirty_ = true;
         } else {

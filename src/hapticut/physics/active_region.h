@@ -32,12 +32,15 @@ public:
     /// updateSleep flagged, and the nodes wake() named; rebuilds the lists if the region changed.
     void admit(const MassSpringModel& model, const NodeSprings& springsAt);
     /// After a step: `force` holds, for nodes(), the accelerations at the end state and, for the rest
-    /// of touched(), the spring force on them in newtons (computeActiveAccelerations; at least for the
-    /// nodes at rest, computeListedAccelerations). Resting
-    /// neighbours pulled off rest (pulledOffRest) wake next step; awake nodes at rest that are not
-    /// fall asleep.
+    /// of touched(), the spring force on them in newtons (computeActiveAccelerations, or
+    /// computeListedAccelerations for at least the nodes at rest). Resting neighbours pulled off rest
+    /// (pulledOffRest) wake next step; awake nodes at rest that are not fall asleep.
     void updateSleep(const MassSpringModel& model, const NodeSprings& springsAt, std::span<const Vec3> force);
 
+    /// Whether node i sits exactly at rest, still: the only state a node sleeps in.
+    static bool atRest(const Nodes& n, std::uint32_t i) {
+        return n.position[i] == n.restPosition[i] && n.velocity[i] == Vec3::Zero();
+    }
     /// Whether node i, at rest under this force (N), would settle beyond the snap distance if it alone
     /// were let go, held by its anchor and its springs to its neighbours where they are: such a node
     /// wakes, stays awake, and is not put back at rest (Stepper::step). Judged by its anchor alone, the

@@ -142,16 +142,13 @@ void Stepper::endStateForces(const MassSpringModel& model) {
     atRest_.clear();
     std::size_t springs = 0;
     for (const std::uint32_t i : region_.touched()) {
-        if (awake[i] && !(n.position[i] == n.restPosition[i] && n.velocity[i] == Vec3::Zero())) continue;
+        if (awake[i] && !ActiveRegion::atRest(n, i)) continue;
         atRest_.push_back(i);  // reserved for every node: never allocates
         springs += springsAt_.of(i).size();
     }
     bool loaded = false;
     for (const PointSpring& tool : model.tools)
-        for (std::uint32_t c = 0; tool.active && c < tool.count; ++c) {
-            const std::uint32_t i = tool.nodes[c];
-            loaded |= n.position[i] == n.restPosition[i] && n.velocity[i] == Vec3::Zero();
-        }
+        for (std::uint32_t c = 0; tool.active && c < tool.count; ++c) loaded |= ActiveRegion::atRest(n, tool.nodes[c]);
     if (loaded || 2 * springs > region_.springs().size())
         accelerations(model, n.position, n.velocity);
     else
